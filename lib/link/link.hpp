@@ -1,0 +1,67 @@
+// The one narrow seam between the device layer and every transport:
+// "execute these LBP commands, give me their replies".
+//
+// Implementations: the serial port (PipelinedLink over SerialStream), the in-process
+// simulator (PipelinedLink over the simulator's stream), and Ethernet through a
+// 7I96S/7I92T (SSLBP setup-mode passthrough).
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include "lbp/command.hpp"
+#include "lbp/error.hpp"
+
+namespace i20::link {
+
+// The transport failed. `completed` says how many commands of the batch got a valid
+// reply before the failure, so callers that must know the card's state (NV writes,
+// batch apply) can tell what took effect. Commands after `completed` may or may not
+// have reached the card: a write whose reply was lost may still have been executed.
+class LinkError : public Error {
+ public:
+  LinkError(const std::string& message, std::size_t completed = 0) : Error(message), completed_(completed) {}
+  std::size_t completed() const { return completed_; }
+
+ private:
+  std::size_t completed_;
+};
+
+// No (complete) reply within the deadline.
+class TimeoutError : public LinkError {
+ public:
+  using LinkError::LinkError;
+};
+
+// A reply arrived with a wrong CRC, or the card flagged our command as corrupt.
+class CrcError : public LinkError {
+ public:
+  using LinkError::LinkError;
+};
+
+// The transport cannot carry this command (e.g. an 8-byte access through SSLBP).
+class UnsupportedCommand : public LinkError {
+ public:
+  using LinkError::LinkError;
+};
+
+class Link {
+ public:
+  virtual ~Link() = default;
+
+  // Executes the commands in order and returns the data of each reply (CRC checked and
+  // removed), one entry per command. Throws LinkError (or a subclass) on failure, after
+  // resynchronising so that the next call starts clean.
+  virtual std::vector<lbp::Bytes> execute(std::span<const lbp::Command> batch) = 0;
+
+  // Where this link goes, for messages: "/dev/ttyUSB0", "simulator", "eth 10.0.0.2 ch 0".
+  virtual std::string describe() const = 0;
+
+  // Convenience for a batch of one.
+  lbp::Bytes execute_one(const lbp::Command& command) {
+    return execute(std::span<const lbp::Command>(&command, 1)).front();
+  }
+};
+
+}  // namespace i20::link

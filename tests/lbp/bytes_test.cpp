@@ -1,0 +1,26 @@
+// Little-endian data (facts.md section 1: the byte at the lower address is the LSB).
+#include "lbp/bytes.hpp"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+using namespace i20::lbp;
+
+TEST(Bytes, LittleEndianRoundTrip) {
+  EXPECT_EQ(to_le(0x12345678, 4), (Bytes{0x78, 0x56, 0x34, 0x12}));
+  EXPECT_EQ(read_le(Bytes{0x78, 0x56, 0x34, 0x12}), 0x12345678u);
+  EXPECT_EQ(to_le(0x0102030405060708ULL, 8), (Bytes{8, 7, 6, 5, 4, 3, 2, 1}));
+  EXPECT_EQ(read_le(to_le(150000, 4)), 150000u);
+}
+
+TEST(Bytes, ToLeTruncatesToTheRequestedWidth) {
+  EXPECT_EQ(to_le(0x1FF, 1), (Bytes{0xFF}));
+}
+
+TEST(Bytes, HexRoundTrip) {
+  EXPECT_EQ(to_hex(Bytes{0x6E, 0x10, 0x00}), "6e 10 00");
+  EXPECT_EQ(from_hex("6E 10:00aa"), (Bytes{0x6E, 0x10, 0x00, 0xAA}));
+  EXPECT_THROW(from_hex("6e1"), std::invalid_argument);
+  EXPECT_THROW(from_hex("zz"), std::invalid_argument);
+}
