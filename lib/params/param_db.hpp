@@ -1,0 +1,86 @@
+// The symbolic parameter database, loaded from YAML (params/8i20.yaml and overlays).
+//
+// The loader is strict: a bad file is rejected with "file:line: reason" (unknown keys,
+// duplicate names, overlapping addresses, ranges that do not fit the width, ...).
+// Overlays (--params FILE, the per-user file, `i20 discover` output) override keys of
+// existing entries or add new ones; an overlay with a top-level `swrevision` applies
+// only once select_firmware() is called with that revision.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "lbp/error.hpp"
+#include "params/param.hpp"
+
+namespace i20::params {
+
+// A database or overlay file is malformed. what() is "file:line: reason".
+class ParamFileError : public Error {
+ public:
+  using Error::Error;
+};
+
+// A name not in the database. what() suggests the closest names.
+class UnknownParameter : public Error {
+ public:
+  UnknownParameter(const std::string& name, std::vector<std::string> suggestions);
+  const std::vector<std::string>& suggestions() const { return suggestions_; }
+
+ private:
+  std::vector<std::string> suggestions_;
+};
+
+class ParamDb {
+ public:
+  // The database shipped with the toolkit (params/8i20.yaml, compiled in).
+  static ParamDb builtin();
+  static ParamDb load_file(const std::filesystem::path& path);
+  static ParamDb load_string(std::string_view yaml, const std::string& source_name);
+
+  void apply_overlay_file(const std::filesystem::path& path);
+  void apply_overlay_string(std::string_view yaml, const std::string& source_name);
+
+  // Applies the overlays waiting for this revision and makes it the one that
+  // address_confirmed() is judged against.
+  void select_firmware(std::uint16_t swrevision);
+  std::optional<std::uint16_t> firmware() const { return firmware_; }
+  bool address_confirmed(const Param& param) const { return param.address_confirmed(firmware_); }
+
+  // Case-insensitive lookup.
+  const Param* find(std::string_view name) const;
+  // Throws UnknownParameter with suggestions.
+  const Param& get(std::string_view name) const;
+  std::vector<std::string> suggestions(std::string_view name, std::size_t max = 3) const;
+  // The parameter whose bytes cover `address` in `space`, if any.
+  const Param* at_address(Space space, std::uint16_t address) const;
+
+  const std::vector<Param>& all() const { return params_; }
+  std::optional<std::uint16_t> simulator_swrevision() const { return simulator_swrevision_; }
+  const std::vector<std::string>& sources() const { return sources_; }
+
+ private:
+  struct PendingOverlay {
+    std::uint16_t swrevision;
+    std::string yaml;
+    std::string source;
+  };
+
+  void merge(std::string_view yaml, const std::string& source, bool is_base);
+  void check_consistency(const std::string& source) const;
+
+  std::vector<Param> params_;
+  std::optional<std::uint16_t> simulator_swrevision_;
+  std::optional<std::uint16_t> firmware_;
+  std::vector<PendingOverlay> pending_;
+  std::vector<std::string> sources_;
+};
+
+// Overlay files applied by default when present: $I20_PARAMS, then
+// $XDG_CONFIG_HOME/i20/params.yaml (or ~/.config/i20/params.yaml).
+std::vector<std::filesystem::path> default_overlay_paths();
+
+}  // namespace i20::params
