@@ -5,6 +5,7 @@
 #include <chrono>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "lbp/bytes.hpp"
 
@@ -27,6 +28,8 @@ class ByteStream {
   virtual unsigned baud() const = 0;
   // Device path or name, for messages.
   virtual std::string name() const = 0;
+  // Set-up findings worth showing in verbose output (see Link::notes()).
+  virtual std::vector<std::string> notes() const { return {}; }
 };
 
 }  // namespace i20::link

@@ -40,6 +40,14 @@ class CrcError : public LinkError {
   using LinkError::LinkError;
 };
 
+// More reply bytes arrived than the batch's commands account for: the reply framing
+// was lost (a stale or duplicated byte), so no reply of the batch can be trusted and
+// `completed` is 0 even if every reply passed its CRC.
+class FramingError : public LinkError {
+ public:
+  using LinkError::LinkError;
+};
+
 // The transport cannot carry this command (e.g. an 8-byte access through SSLBP).
 class UnsupportedCommand : public LinkError {
  public:
@@ -57,6 +65,10 @@ class Link {
 
   // Where this link goes, for messages: "/dev/ttyUSB0", "simulator", "eth 10.0.0.2 ch 0".
   virtual std::string describe() const = 0;
+
+  // What the transport found out while setting up ("low-latency mode on", "latency timer
+  // not writable: ..."), for verbose output. The library never prints.
+  virtual std::vector<std::string> notes() const { return {}; }
 
   // Convenience for a batch of one.
   lbp::Bytes execute_one(const lbp::Command& command) {
