@@ -34,8 +34,9 @@ struct Param {
   std::string twin;  // NV twin of a working parameter, or working twin of an NV one
   std::string description;
   Provenance provenance;
-  std::string guard;   // non-empty: writing needs --force, and this says why
-  std::string origin;  // "file:line" of the entry (or of its last override)
+  std::string guard;           // non-empty: writing needs --force, and this says why
+  bool self_clearing = false;  // the card resets it itself (CLEARFAULT): no read-back verify
+  std::string origin;          // "file:line" of the entry (or of its last override)
 
   std::size_t bytes() const { return width_bits / 8; }
   bool writable() const { return access == Access::ReadWrite; }

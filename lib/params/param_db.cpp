@@ -13,9 +13,9 @@
 namespace i20::params {
 namespace {
 
-const std::set<std::string> kParamKeys{"name",  "space",       "address",    "width",   "signed", "unit",
-                                       "scale", "min",         "max",        "allowed", "access", "default",
-                                       "twin",  "description", "provenance", "guard"};
+const std::set<std::string> kParamKeys{
+    "name",    "space",  "address", "width", "signed",      "unit",       "scale", "min",          "max",
+    "allowed", "access", "default", "twin",  "description", "provenance", "guard", "self_clearing"};
 const std::set<std::string> kRequiredNewKeys{"name",   "space",  "address",     "width",
                                              "signed", "access", "description", "provenance"};
 const std::set<std::string> kBaseTopKeys{"schema", "device", "simulator_swrevision", "parameters"};
@@ -192,6 +192,8 @@ void read_fields(const Reader& r, const YAML::Node& node, Param& p) {
       read_provenance(r, v, p.provenance);
     } else if (key == "guard") {
       p.guard = r.text(v, key);
+    } else if (key == "self_clearing") {
+      p.self_clearing = r.boolean(v, key);
     }
   }
   p.origin = r.where(node);
