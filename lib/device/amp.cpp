@@ -1,0 +1,287 @@
+#include "device/amp.hpp"
+
+#include <thread>
+
+#include "device/errors.hpp"
+#include "device/mode_guard.hpp"
+#include "lbp/local.hpp"
+#include "params/value.hpp"
+
+namespace i20::device {
+namespace {
+
+using params::Param;
+using params::Space;
+using Clock = std::chrono::steady_clock;
+
+lbp::DataSize size_of(const Param& p) {
+  return *lbp::data_size_for(p.bytes());
+}
+
+std::uint16_t address_of(const Param& p) {
+  if (!p.address)
+    throw SafetyError("the address of " + p.name + " is not known (" + p.provenance.source +
+                      "); give it in an overlay file with --params");
+  return *p.address;
+}
+
+lbp::Command read_command(const Param& p) {
+  return lbp::read(address_of(p), size_of(p));
+}
+
+lbp::Command write_command(const Param& p, std::int64_t raw) {
+  auto c = lbp::write(address_of(p), size_of(p), static_cast<std::uint64_t>(raw));
+  // An EEPROM cell write takes milliseconds: nothing may follow until it is answered.
+  c.barrier = p.is_nv();
+  return c;
+}
+
+// Reads of `count` bytes from `address` in as few commands as the header allows (8 bytes max).
+std::vector<lbp::Command> chunked_reads(std::uint16_t address, std::size_t count) {
+  std::vector<lbp::Command> commands;
+  for (std::size_t done = 0; done < count;) {
+    const std::size_t left = count - done;
+    const std::size_t chunk = left >= 8 ? 8 : left >= 4 ? 4 : left >= 2 ? 2 : 1;
+    commands.push_back(lbp::read(static_cast<std::uint16_t>(address + done), *lbp::data_size_for(chunk)));
+    done += chunk;
+  }
+  return commands;
+}
+
+void verify(const Param& p, std::int64_t wanted, lbp::ByteView readback) {
+  const auto got = params::raw_from_bytes(p, readback);
+  if (got != wanted)
+    throw VerifyError(p.name + ": wrote " + std::to_string(wanted) + " but the card reads back " +
+                      std::to_string(got) + (p.is_nv() ? " (EEPROM write failed?)" : ""));
+}
+
+}  // namespace
+
+Amp8i20::Amp8i20(link::Link& link, params::ParamDb& db, const std::atomic<bool>* cancel)
+    : link_(link), db_(db), cancel_(cancel) {}
+
+void Amp8i20::throw_if_cancelled() const {
+  if (cancel_ && cancel_->load())
+    throw Cancelled("interrupted; the 8I20 was left in normal (RAM) access mode");
+}
+
+std::uint16_t Amp8i20::identify() {
+  const auto rev = static_cast<std::uint16_t>(read("SWREVISION").raw);
+  db_.select_firmware(rev);
+  return rev;
+}
+
+CardInfo Amp8i20::info() {
+  namespace L = lbp::local;
+  const std::vector<lbp::Command> batch{
+      lbp::local_read(L::kGetCardName0),     lbp::local_read(L::kGetCardName0 + 1),
+      lbp::local_read(L::kGetCardName0 + 2), lbp::local_read(L::kGetCardName3),
+      lbp::local_read(L::kGetUnitAddress),   lbp::local_read(L::kGetUnitId),
+      lbp::local_read(L::kGetLbpVersion),    lbp::local_read(L::kGetStatus),
+      lbp::local_read(L::kGetCrcErrorCount), lbp::local_read(L::kGetRpcPitch),
+      lbp::local_read(L::kGetRpcSizeLow),    lbp::local_read(L::kGetRpcSizeHigh),
+      read_command(db_.get("SWREVISION")),   read_command(db_.get("UNITNUMBER")),
+  };
+  const auto r = link_.execute(batch);
+  CardInfo info;
+  for (int i = 0; i < 4; ++i) info.card_name.push_back(static_cast<char>(r[i].at(0)));
+  info.unit_address = r[4].at(0);
+  info.unit_id = r[5].at(0);
+  info.lbp_version = r[6].at(0);
+  info.lbp_status = r[7].at(0);
+  info.crc_errors = r[8].at(0);
+  info.rpc_pitch = r[9].at(0);
+  info.rpc_size = static_cast<std::uint16_t>(r[10].at(0) | (r[11].at(0) << 8));
+  info.swrevision = static_cast<std::uint16_t>(lbp::read_le(r[12]));
+  info.unit_number = static_cast<std::uint32_t>(lbp::read_le(r[13]));
+  db_.select_firmware(*info.swrevision);
+  info.working_map_confirmed = db_.address_confirmed(db_.get("FAULT"));
+  return info;
+}
+
+Value Amp8i20::read(std::string_view name) {
+  const Param* p = &db_.get(name);
+  return read(std::span<const Param* const>(&p, 1)).front();
+}
+
+std::vector<Value> Amp8i20::read(std::span<const Param* const> params) {
+  throw_if_cancelled();
+  std::vector<lbp::Command> ram, nv;
+  for (const Param* p : params) (p->is_nv() ? nv : ram).push_back(read_command(*p));
+
+  std::vector<lbp::Bytes> ram_replies, nv_replies;
+  if (!ram.empty()) ram_replies = link_.execute(ram);
+  if (!nv.empty()) {
+    throw_if_cancelled();
+    nv.insert(nv.begin(), lbp::set_nv_access(lbp::local::NvAccess::Eeprom));
+    nv.push_back(lbp::set_nv_access(lbp::local::NvAccess::Ram));
+    ModeGuard guard(link_, nv.back(), "NV (EEPROM) access mode");
+    nv_replies = link_.execute(nv);
+    guard.disarm();
+    nv_replies.erase(nv_replies.begin());
+  }
+
+  std::vector<Value> out;
+  std::size_t next_ram = 0, next_nv = 0;
+  for (const Param* p : params) {
+    const auto& bytes = p->is_nv() ? nv_replies[next_nv++] : ram_replies[next_ram++];
+    out.push_back({p, params::raw_from_bytes(*p, bytes), db_.address_confirmed(*p)});
+  }
+  return out;
+}
+
+void Amp8i20::check_write(const Param& p, std::int64_t raw, const WriteOptions& options) const {
+  if (!p.writable()) {
+    const std::string hint = p.name == "FAULT" ? ": faults clear through CLEARFAULT (i20 clear-faults)" : "";
+    throw SafetyError(p.name + " is read-only" + hint);
+  }
+  address_of(p);
+  try {
+    params::check_range(p, raw);
+  } catch (const params::ValueError& e) {
+    throw SafetyError(std::string(e.what()) + "; nothing was written");
+  }
+  if (!options.allow_unverified && !db_.address_confirmed(p)) {
+    const auto rev = db_.firmware();
+    throw SafetyError(
+        "refusing to write " + p.name + ": its address is not confirmed for this 8I20's firmware" +
+        (rev ? " (SWREVISION " + std::to_string(*rev) + ")" : std::string()) + " [" + p.provenance.source +
+        "]; run `i20 discover` or pass --allow-unverified if you know better");
+  }
+  if (!p.guard.empty() && !options.force)
+    throw SafetyError("refusing to write " + p.name + " without --force: " + p.guard);
+}
+
+WriteReport Amp8i20::write(std::string_view name, std::int64_t raw, const WriteOptions& options) {
+  const Assignment a{&db_.get(name), raw};
+  return write(std::span<const Assignment>(&a, 1), options).front();
+}
+
+std::vector<WriteReport> Amp8i20::write(std::span<const Assignment> assignments,
+                                        const WriteOptions& options) {
+  for (const auto& a : assignments) check_write(*a.param, a.raw, options);
+  std::vector<Assignment> ram, nv;
+  for (const auto& a : assignments) (a.param->is_nv() ? nv : ram).push_back(a);
+  throw_if_cancelled();
+  auto reports = write_ram(ram);
+  throw_if_cancelled();
+  auto nv_reports = write_nv(nv);
+  reports.insert(reports.end(), nv_reports.begin(), nv_reports.end());
+  return reports;
+}
+
+std::vector<WriteReport> Amp8i20::write_ram(std::span<const Assignment> batch) {
+  if (batch.empty()) return {};
+  std::vector<lbp::Command> commands;
+  for (const auto& a : batch) {
+    commands.push_back(write_command(*a.param, a.raw));
+    commands.push_back(read_command(*a.param));
+  }
+  const auto replies = link_.execute(commands);
+  std::vector<WriteReport> reports;
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    const auto& a = batch[i];
+    if (!a.param->self_clearing) verify(*a.param, a.raw, replies[2 * i + 1]);
+    reports.push_back({a.param, a.raw, !a.param->self_clearing, false});
+  }
+  return reports;
+}
+
+std::vector<WriteReport> Amp8i20::write_nv(std::span<const Assignment> batch) {
+  if (batch.empty()) return {};
+  const auto leave = lbp::set_nv_access(lbp::local::NvAccess::Ram);
+  ModeGuard guard(link_, leave, "NV (EEPROM) access mode");
+  link_.execute_one(lbp::set_nv_access(lbp::local::NvAccess::Eeprom));
+  std::vector<WriteReport> reports;
+  for (const auto& a : batch) {
+    // One cell at a time: a barrier write, then its read-back, then the next. A
+    // cancellation between cells leaves the earlier cells written and verified.
+    throw_if_cancelled();
+    const std::vector<lbp::Command> commands{write_command(*a.param, a.raw), read_command(*a.param)};
+    const auto replies = link_.execute(commands);
+    verify(*a.param, a.raw, replies[1]);
+    reports.push_back({a.param, a.raw, true, true});
+  }
+  guard.leave();
+  return reports;
+}
+
+void Amp8i20::reset(std::chrono::milliseconds wait) {
+  throw_if_cancelled();
+  try {
+    link_.execute_one(lbp::reset_processor());
+  } catch (const link::TimeoutError&) {
+    // The card may reset before its reply leaves; the cookie poll below decides.
+  }
+  const auto deadline = Clock::now() + wait;
+  while (true) {
+    try {
+      if (link_.execute_one(lbp::local_read(lbp::local::kGetCookie)).at(0) == lbp::local::kCookie) return;
+    } catch (const link::LinkError&) {
+      if (Clock::now() >= deadline)
+        throw link::TimeoutError("the 8I20 on " + link_.describe() + " did not answer within " +
+                                 std::to_string(wait.count()) + " ms after a reset: check its logic power");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+}
+
+ClearFaultsResult Amp8i20::clear_faults(const WriteOptions& options, std::chrono::milliseconds deadline) {
+  const auto& clear = db_.get("CLEARFAULT");
+  check_write(clear, 1, options);
+  ClearFaultsResult result;
+  result.fault_before = static_cast<std::uint16_t>(read("FAULT").raw);
+  const auto start = Clock::now();
+  link_.execute_one(write_command(clear, 1));
+  while (read("CLEARFAULT").raw != 0) {
+    throw_if_cancelled();
+    if (Clock::now() - start > deadline)
+      throw Error("CLEARFAULT stayed set for " + std::to_string(deadline.count()) + " ms on " +
+                  link_.describe() +
+                  ": the 8I20 did not act on it (firmware busy or a wrong CLEARFAULT address?)");
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  result.took = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start);
+  const Param* regs[] = {&db_.get("FAULT"), &db_.get("STATUS")};
+  const auto values = read(regs);
+  result.fault_after = static_cast<std::uint16_t>(values[0].raw);
+  result.status_after = static_cast<std::uint16_t>(values[1].raw);
+  return result;
+}
+
+lbp::Bytes Amp8i20::read_memory(Space space, std::uint16_t address, std::size_t count) {
+  auto commands = chunked_reads(address, count);
+  std::optional<ModeGuard> guard;
+  if (space == Space::Eeprom) {
+    commands.insert(commands.begin(), lbp::set_nv_access(lbp::local::NvAccess::Eeprom));
+    commands.push_back(lbp::set_nv_access(lbp::local::NvAccess::Ram));
+    guard.emplace(link_, commands.back(), "NV (EEPROM) access mode");
+  }
+  auto replies = link_.execute(commands);
+  if (guard) {
+    guard->disarm();
+    replies.erase(replies.begin());
+    replies.pop_back();
+  }
+  lbp::Bytes out;
+  for (const auto& r : replies) out.insert(out.end(), r.begin(), r.end());
+  return out;
+}
+
+lbp::Bytes Amp8i20::read_rpc_table() {
+  namespace L = lbp::local;
+  const std::vector<lbp::Command> sizes{lbp::local_read(L::kGetRpcSizeLow),
+                                        lbp::local_read(L::kGetRpcSizeHigh)};
+  const auto r = link_.execute(sizes);
+  const std::size_t size = r[0].at(0) | (r[1].at(0) << 8);
+  const auto leave = lbp::local_write(L::kSetRpcMemAccess, 0);
+  ModeGuard guard(link_, leave, "RPC memory access mode");
+  link_.execute_one(lbp::local_write(L::kSetRpcMemAccess, 1));
+  lbp::Bytes table;
+  for (const auto& part : link_.execute(chunked_reads(0, size)))
+    table.insert(table.end(), part.begin(), part.end());
+  guard.leave();
+  return table;
+}
+
+}  // namespace i20::device

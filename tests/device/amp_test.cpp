@@ -1,0 +1,177 @@
+// Safety rules of issue 4, enforced in the library: range, confirmation, guards, NV mode.
+#include "device/amp.hpp"
+
+#include <gtest/gtest.h>
+
+#include "device/errors.hpp"
+#include "fake_card.hpp"
+#include "lbp/local.hpp"
+
+using namespace i20;
+using namespace i20::device;
+
+namespace {
+
+class AmpTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    card.put(2164, *db.simulator_swrevision(), 2);  // SWREVISION
+  }
+  void identify_as_simulator() { amp.identify(); }
+  bool sent_any_write() const {
+    for (const auto& c : card.sent)
+      if (lbp::kind_of(c.bytes[0]) == lbp::CommandKind::Data && lbp::DataHeader::decode(c.bytes[0]).write)
+        return true;
+    return false;
+  }
+
+  test::FakeCard card;
+  params::ParamDb db = params::ParamDb::builtin();
+  Amp8i20 amp{card, db};
+};
+
+}  // namespace
+
+TEST_F(AmpTest, ReadsWorkingParametersByName) {
+  card.put(0x082C, 36000, 2);
+  EXPECT_EQ(amp.read("BRAKEONV").raw, 36000);
+}
+
+TEST_F(AmpTest, NvReadsHappenInsideNvModeAndLeaveIt) {
+  card.put(40, 19000, 2, /*nv=*/true);
+  EXPECT_EQ(amp.read("NVBRAKEONV").raw, 19000);
+  ASSERT_EQ(card.sent.size(), 3u);
+  EXPECT_EQ(card.sent.front().bytes, (lbp::Bytes{0xEC, 0x01}));
+  EXPECT_EQ(card.sent.back().bytes, (lbp::Bytes{0xEC, 0x00}));
+  EXPECT_EQ(card.nv_mode, 0);
+}
+
+TEST_F(AmpTest, NvWriteEntersWritesReadsBackAndLeaves) {
+  identify_as_simulator();
+  card.sent.clear();
+  const auto report = amp.write("NVMAXCURRENT", 2500, {});  // manual: "WPD NVMAXCURRENT 2500"
+  EXPECT_TRUE(report.verified);
+  EXPECT_TRUE(report.needs_reset);
+  EXPECT_EQ(card.get(2, 2, true), 2500u);
+  EXPECT_EQ(card.get(0x0812, 2), 0u) << "an NV write changes nothing live";
+  ASSERT_EQ(card.sent.size(), 4u);
+  EXPECT_EQ(card.sent[0].bytes, (lbp::Bytes{0xEC, 0x01}));
+  EXPECT_EQ(card.sent[1].bytes, (lbp::Bytes{0x65, 0x02, 0x00, 0xC4, 0x09}));  // 2-byte write at 2
+  EXPECT_TRUE(card.sent[1].barrier);
+  EXPECT_EQ(card.sent[2].bytes, (lbp::Bytes{0x45, 0x02, 0x00}));  // read back
+  EXPECT_EQ(card.sent[3].bytes, (lbp::Bytes{0xEC, 0x00}));
+}
+
+TEST_F(AmpTest, NvModeIsLeftEvenWhenTheWriteFails) {
+  identify_as_simulator();
+  card.fail_at = 1;  // enter NV succeeds, the write times out
+  EXPECT_THROW(amp.write("NVBRAKEONV", 32000, {}), link::TimeoutError);
+  EXPECT_EQ(card.nv_mode, 0) << "the guard must take the card out of NV mode";
+  EXPECT_EQ(card.sent.back().bytes, (lbp::Bytes{0xEC, 0x00}));
+}
+
+TEST_F(AmpTest, NvModeIsLeftWhenReadBackDisagrees) {
+  identify_as_simulator();
+  card.eeprom_stuck = true;
+  EXPECT_THROW(amp.write("NVBRAKEONV", 32000, {}), VerifyError);
+  EXPECT_EQ(card.nv_mode, 0);
+}
+
+TEST_F(AmpTest, CancelledBeforeAnythingIsSent) {
+  std::atomic<bool> cancel{true};
+  Amp8i20 cancellable(card, db, &cancel);
+  EXPECT_THROW(cancellable.write("NVBRAKEONV", 32000, {.allow_unverified = true}), Cancelled);
+  EXPECT_TRUE(card.sent.empty());
+}
+
+TEST_F(AmpTest, OutOfRangeValuesAreRefusedBeforeAnythingIsSent) {
+  identify_as_simulator();
+  card.sent.clear();
+  EXPECT_THROW(amp.write("NVMAXCURRENT", 3001, {}), SafetyError);
+  EXPECT_THROW(amp.write("NVBRAKEONV", 38600, {}), SafetyError);
+  EXPECT_THROW(amp.write("QSETPOINT", -40000, {.force = true}), SafetyError);
+  EXPECT_TRUE(card.sent.empty());
+}
+
+TEST_F(AmpTest, ReadOnlyParametersAreRefused) {
+  identify_as_simulator();
+  card.sent.clear();
+  try {
+    amp.write("FAULT", 0, {});
+    FAIL();
+  } catch (const SafetyError& e) {
+    EXPECT_NE(std::string(e.what()).find("CLEARFAULT"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(amp.write("BUSV", 0, {}), SafetyError);
+  EXPECT_TRUE(card.sent.empty());
+}
+
+TEST_F(AmpTest, UnconfirmedWorkingAddressesNeedAllowUnverified) {
+  card.put(2164, 0x0100, 2);  // a real card of a revision the database has no map for
+  amp.identify();
+  card.sent.clear();
+  try {
+    amp.write("BRAKEONV", 30000, {});
+    FAIL();
+  } catch (const SafetyError& e) {
+    EXPECT_NE(std::string(e.what()).find("not confirmed"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--allow-unverified"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(card.sent.empty());
+  // NV addresses are public facts: they work on any revision.
+  EXPECT_NO_THROW(amp.write("NVBRAKEONV", 30000, {}));
+  card.sent.clear();
+  EXPECT_NO_THROW(amp.write("BRAKEONV", 30000, {.allow_unverified = true}));
+  EXPECT_EQ(card.get(0x082C, 2), 30000u);
+}
+
+TEST_F(AmpTest, GuardedParametersNeedForceAndSayWhy) {
+  identify_as_simulator();
+  card.sent.clear();
+  try {
+    amp.write("NVBAUDRATE", 4, {});
+    FAIL();
+  } catch (const SafetyError& e) {
+    EXPECT_NE(std::string(e.what()).find("--force"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("link speed"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(card.sent.empty());
+  EXPECT_NO_THROW(amp.write("NVBAUDRATE", 4, {.force = true}));
+}
+
+TEST_F(AmpTest, BatchWritesAreAllCheckedBeforeTheFirstIsSent) {
+  identify_as_simulator();
+  card.sent.clear();
+  const std::vector<Assignment> batch{{&db.get("NVBRAKEONV"), 32000}, {&db.get("NVMAXCURRENT"), 9999}};
+  EXPECT_THROW(amp.write(batch, {}), SafetyError);
+  EXPECT_FALSE(sent_any_write());
+  EXPECT_TRUE(card.sent.empty());
+}
+
+TEST_F(AmpTest, WorkingWritesAreVerified) {
+  identify_as_simulator();
+  const auto r = amp.write("BRAKEONV", 30000, {});  // manual: "WPD BRAKEONV 30000" = 300 V
+  EXPECT_TRUE(r.verified);
+  EXPECT_FALSE(r.needs_reset);
+  EXPECT_EQ(card.get(0x082C, 2), 30000u);
+}
+
+TEST_F(AmpTest, InfoReadsNameRevisionAndUnitNumber) {
+  card.put(2344, 0x00012345, 4);
+  const auto info = amp.info();
+  EXPECT_EQ(info.card_name, "8I20");
+  EXPECT_EQ(info.swrevision, db.simulator_swrevision());
+  EXPECT_EQ(info.unit_number, 0x00012345u);
+  EXPECT_TRUE(info.working_map_confirmed);
+}
+
+TEST_F(AmpTest, ReadMemoryUsesEightByteReadsAndNvGuard) {
+  card.put(10, 0x1122334455667788ULL, 8, true);
+  card.put(18, 0xAB, 1, true);
+  const auto bytes = amp.read_memory(params::Space::Eeprom, 10, 9);
+  ASSERT_EQ(bytes.size(), 9u);
+  EXPECT_EQ(bytes[0], 0x88);
+  EXPECT_EQ(bytes[8], 0xAB);
+  EXPECT_EQ(card.nv_mode, 0);
+  EXPECT_EQ(card.sent[1].bytes[0], 0x47);  // 8-byte read with address
+}
