@@ -1,0 +1,119 @@
+// The amplifier behind the LBP interface: working parameters in RAM, NV parameters in
+// EEPROM, and the FAULT / STATUS / brake logic driven by the simulated world
+// (manual "DRIVE PARAMETER SETUP", "FAULT CONDITIONS", "STATUS REGISTER", "MOTOR BRAKE").
+//
+// Rules modelled:
+//  - power-up and reset copy every NV value into its working twin; NV writes change
+//    nothing live.
+//  - FAULT bits latch while their cause is present and are cleared only by CLEARFAULT:
+//    the host writes non-zero, and after `clearfault_delay` the card clears the bits whose
+//    cause is gone, clears the sticky STATUS bits (the manual's "or the status register
+//    is cleared"; this is the simulator's reading) and sets CLEARFAULT back to 0.
+//  - FAULTMASK: a 0 bit masks that fault from the fault output; only bit 8 is maskable.
+//  - Brake: on above BRAKEONV or the fixed 385 V, off below BRAKEOFFV (hysteresis).
+//  - STATUS bit 0 (current limited) is set above 70 C (the card's 70 C derating point);
+//    bits 3, 8 and 9 follow LinuxCNC's names (facts.md s4).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+
+#include "lbp/bytes.hpp"
+#include "sim/eeprom_store.hpp"
+#include "sim/register_map.hpp"
+#include "sim/world.hpp"
+
+namespace i20::sim {
+
+using Clock = std::chrono::steady_clock;
+using Duration = Clock::duration;
+
+inline constexpr double kFixedBrakeOnVolts = 385.0;
+inline constexpr double kFixedOverVolts = 400.0;
+inline constexpr double kOverTempC = 85.0;
+inline constexpr double kCurrentLimitC = 70.0;
+
+struct AmplifierSettings {
+  std::uint32_t unit_number = 0x00012345;
+  Duration clearfault_delay = std::chrono::milliseconds(5);
+  Duration watchdog = std::chrono::milliseconds(40);  // SSLBP sets 40 ms (manual, SSLBP)
+  bool operate_mode = false;                          // setup mode drives no motor
+};
+
+class Amplifier {
+ public:
+  Amplifier(RegisterMap map, EepromStore eeprom, World world, AmplifierSettings settings);
+
+  // Power applied: NV -> working, sticky STATUS = EXTR only.
+  void power_up(Clock::time_point now);
+  // Processor reset: NV -> working, `sticky_cause` added to the sticky bits that survive.
+  void reset(Clock::time_point now, std::uint16_t sticky_cause);
+
+  // Samples the world and brings FAULT, STATUS, BUSV, TEMPERATURE and CLEARFAULT up to
+  // `now`. Called before every command and whenever time advances.
+  void update(Clock::time_point now);
+  // A valid command arrived: feeds the operate-mode watchdog.
+  void feed_watchdog(Clock::time_point now);
+
+  lbp::Byte ram(std::uint16_t address) const { return ram_[address]; }
+  // Whether a host write of `length` bytes at `address` would touch a read-only register.
+  bool ram_write_protected(std::uint16_t address, std::size_t length) const;
+  void write_ram(std::uint16_t address, lbp::ByteView data);
+
+  EepromStore& eeprom() { return eeprom_; }
+  const EepromStore& eeprom() const { return eeprom_; }
+  World& world() { return world_; }
+  const RegisterMap& map() const { return map_; }
+  AmplifierSettings& settings() { return settings_; }
+
+  // Raw value of a register by name (RAM or EEPROM image), for tests and the control channel.
+  std::uint64_t value(std::string_view name) const;
+  // Sets a register's raw value directly, bypassing protection (tests, control channel).
+  void poke(std::string_view name, std::uint64_t value);
+
+  std::uint16_t fault() const { return latched_faults_; }
+  std::uint16_t status() const;
+  // The fault output is "off" (fault signalled) when any unmasked fault is latched.
+  bool fault_output_active() const;
+  bool brake_on() const { return brake_on_; }
+  // NVBAUDRATE index loaded at the last power-up/reset.
+  unsigned baud_index() const { return baud_index_; }
+
+  // How often the operate-mode watchdog has bitten (rising edges), and when it next would.
+  std::uint64_t watchdog_bites() const { return watchdog_bites_; }
+  std::optional<Clock::time_point> watchdog_due() const;
+
+  // CLEARFAULT never returns to 0 and nothing is cleared (injected firmware hang).
+  void set_clearfault_stuck(bool stuck) { clearfault_stuck_ = stuck; }
+  // When the pending CLEARFAULT completes, if one is pending.
+  std::optional<Clock::time_point> clearfault_due() const { return clear_due_; }
+
+ private:
+  void load_working_from_nv();
+  std::uint16_t causes(const World::Sample& sample, Clock::time_point now) const;
+  void update_brake(double bus_volts);
+  void handle_clearfault(Clock::time_point now, std::uint16_t present);
+  std::uint64_t read_raw(const Register& r) const;
+  void write_raw(const Register& r, std::uint64_t value);
+  std::uint16_t ram16(std::string_view name) const;
+
+  RegisterMap map_;
+  EepromStore eeprom_;
+  World world_;
+  AmplifierSettings settings_;
+  lbp::Bytes ram_ = lbp::Bytes(0x10000, 0);
+
+  std::uint16_t latched_faults_ = 0;
+  std::uint16_t sticky_ = 0;
+  bool brake_on_ = false;
+  double last_temperature_c_ = 0;
+  unsigned baud_index_ = 9;
+  std::optional<Clock::time_point> last_valid_command_;  // watchdog armed once set
+  std::optional<Clock::time_point> clear_due_;
+  bool clearfault_stuck_ = false;
+  std::uint16_t previous_causes_ = 0;
+  std::uint64_t watchdog_bites_ = 0;
+};
+
+}  // namespace i20::sim

@@ -1,0 +1,21 @@
+// Errors the simulator raises on purpose: bad configuration (address maps, EEPROM
+// files, control lines) and host-side failures of the served streams.
+#pragma once
+
+#include "lbp/error.hpp"
+
+namespace i20::sim {
+
+// A simulator option, address map or EEPROM image is unusable.
+class ConfigError : public Error {
+ public:
+  using Error::Error;
+};
+
+// A control line ("busv 320") could not be understood.
+class ControlError : public Error {
+ public:
+  using Error::Error;
+};
+
+}  // namespace i20::sim
