@@ -72,6 +72,15 @@ void fill_usb(PortInfo& port, const fs::path& device, const fs::path& devices_ro
   }
 }
 
+// Kernels since 6.5 put serial-base "ctrl" and "port" devices between a UART's tty and
+// its hardware; the driver worth naming is the hardware's ("serial", "ftdi_sio").
+std::string driver_of(fs::path device, const fs::path& devices_root) {
+  for (int i = 0; i < kMaxParents && is_within(device, devices_root); ++i, device = device.parent_path())
+    if (resolve(device / "subsystem").filename() != "serial-base")
+      return resolve(device / "driver").filename().string();
+  return {};
+}
+
 // /dev/serial/by-id names survive replugging and renumbering: worth showing.
 fs::path find_by_id(const fs::path& dev_root, const fs::path& device) {
   const auto target = resolve(device);
@@ -90,7 +99,7 @@ std::optional<PortInfo> describe_tty(const fs::directory_entry& entry, const Por
   PortInfo port;
   port.name = entry.path().filename().string();
   port.device = roots.dev / port.name;
-  port.driver = resolve(device / "driver").filename().string();
+  port.driver = driver_of(device, devices_root);
   fill_usb(port, device, devices_root);
   port.by_id = find_by_id(roots.dev, port.device);
   return port;

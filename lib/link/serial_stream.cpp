@@ -51,6 +51,15 @@ std::string open_failure(const std::string& path, const error_code& ec) {
   return "cannot open " + path + ": " + ec.message();
 }
 
+// "/dev/serial/by-id/usb-FTDI_..." -> "ttyUSB0"; "/dev/pts/3" -> "pts/3".
+std::string tty_name(const std::string& path) {
+  std::error_code ec;
+  const auto device = fs::canonical(path, ec);
+  if (ec) return fs::path(path).filename().string();
+  const auto relative = device.lexically_relative("/dev");
+  return relative.empty() || *relative.begin() == ".." ? device.filename().string() : relative.string();
+}
+
 }  // namespace
 
 struct SerialStream::Impl {
@@ -119,10 +128,7 @@ void SerialStream::Impl::request_low_latency() {
     else
       notes.push_back("low-latency mode: the driver refused ASYNC_LOW_LATENCY (" + errno_text(errno) + ")");
   }
-  std::error_code ec;
-  const auto device = fs::canonical(path, ec);  // /dev/serial/by-id/... -> /dev/ttyUSB0
-  notes.push_back(
-      tune_usb_latency_timer(options.sysfs_root, (ec ? fs::path(path) : device).filename().string()));
+  notes.push_back(tune_usb_latency_timer(options.sysfs_root, tty_name(path)));
 }
 
 // Runs the io_context until both the operation and its deadline timer have completed.
@@ -244,7 +250,7 @@ std::string tune_usb_latency_timer(const fs::path& sysfs_root, const std::string
   };
   const std::string before = read_value();
   if (before == "1") return "latency timer: already 1 ms";
-  const int fd = ::open(file.c_str(), O_WRONLY | O_CLOEXEC);
+  const int fd = ::open(file.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
   int error = fd < 0 ? errno : 0;
   if (fd >= 0) {
     if (::write(fd, "1", 1) != 1) error = errno;
