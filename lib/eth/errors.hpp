@@ -1,0 +1,33 @@
+// Errors of the Ethernet transport. Transport failures are link::LinkError subclasses so
+// that SslbpPassthroughLink honours the Link contract; what is wrong with the card
+// itself (not a HostMot2 card, no SSERIAL module) is a plain i20::Error.
+#pragma once
+
+#include <string>
+
+#include "link/link.hpp"
+
+namespace i20::eth {
+
+// The card answered, but not with what the request asks for (wrong size, impossible
+// values). The reply is never acted upon.
+class BadReplyError : public link::LinkError {
+ public:
+  using LinkError::LinkError;
+};
+
+// SSLBP flagged a failed transfer on the channel (DATA bit set); the message names the
+// CS error bits in words.
+class SslbpError : public link::LinkError {
+ public:
+  using LinkError::LinkError;
+};
+
+// The card is not what the target needs: no HostMot2 cookie, no SSERIAL module, no such
+// port or channel, no 8I20 on the channel.
+class DiscoveryError : public Error {
+ public:
+  using Error::Error;
+};
+
+}  // namespace i20::eth

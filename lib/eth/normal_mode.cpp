@@ -1,0 +1,240 @@
+#include "eth/normal_mode.hpp"
+
+#include <algorithm>
+
+#include "eth/errors.hpp"
+
+namespace i20::eth {
+
+namespace lbp16 = lbp::lbp16;
+namespace sslbp = lbp::hm2::sslbp;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+std::vector<unsigned> channels_of(std::uint8_t mask) {
+  std::vector<unsigned> out;
+  for (unsigned ch = 0; ch < 8; ++ch)
+    if (mask & (1u << ch)) out.push_back(ch);
+  return out;
+}
+
+std::uint32_t word(const lbp::Bytes& bytes) {
+  return static_cast<std::uint32_t>(lbp::read_le(bytes));
+}
+
+std::string hex32(std::uint32_t v) {
+  static constexpr char d[] = "0123456789ABCDEF";
+  std::string s = "0x";
+  for (int i = 7; i >= 0; --i) s.push_back(d[(v >> (4 * i)) & 0xF]);
+  return s;
+}
+
+}  // namespace
+
+const ChannelSample* LiveStatus::channel(unsigned ch) const {
+  const auto it =
+      std::find_if(channels.begin(), channels.end(), [&](const auto& s) { return s.channel == ch; });
+  return it == channels.end() ? nullptr : &*it;
+}
+
+// The one packet of every cycle, built once.
+struct NormalModeSession::Cycle {
+  std::vector<unsigned> channels;
+  std::vector<lbp16::Command> packet;
+};
+
+std::unique_ptr<NormalModeSession> NormalModeSession::open(const EthTarget& target,
+                                                           NormalModeOptions options) {
+  return open(target.card, target.sserial_port, target.channel_mask(), options);
+}
+
+std::unique_ptr<NormalModeSession> NormalModeSession::open(const HostPort& card, unsigned sserial_port,
+                                                           std::uint8_t channel_mask,
+                                                           NormalModeOptions options) {
+  auto bus = std::make_unique<UdpClient>(card.ip, card.port, options.udp);
+  return std::make_unique<NormalModeSession>(std::move(bus), sserial_port, channel_mask, options);
+}
+
+NormalModeSession::NormalModeSession(std::unique_ptr<Lbp16Transport> bus, unsigned sserial_port,
+                                     std::uint8_t channel_mask, NormalModeOptions options)
+    : bus_(std::move(bus)), options_(options), mask_(channel_mask) {
+  if (mask_ == 0) throw UsageError("a normal-mode session needs at least one channel");
+  if (options_.period.count() <= 0 || options_.period > std::chrono::milliseconds{20})
+    throw UsageError("the DOIT period must be 1..20 ms to keep the 8I20's 40 ms watchdog fed");
+  const CardIdentity card = identify(*bus_);
+  const HostMot2Info info = read_hostmot2(*bus_);
+  port_ = std::make_unique<SslbpPort>(*bus_, find_sserial_port(info, sserial_port), card.has_timer_space(),
+                                      options_.sslbp);
+  port_->stop_all();
+  const std::uint8_t failed = port_->start_normal(mask_);
+  const auto regs = port_->read_channels(mask_);
+  const auto channels = channels_of(mask_);
+  std::string problems;
+  for (std::size_t i = 0; i < channels.size(); ++i) {
+    if (failed & (1u << channels[i]))
+      problems += (problems.empty() ? "" : "; ") + std::string("ch ") + std::to_string(channels[i]) +
+                  " (CS " + hex32(regs[i].cs) + ": " + regs[i].status().describe() + ")";
+    unit_numbers_.emplace_back(channels[i], regs[i].interface0);
+  }
+  if (!problems.empty()) {
+    try {
+      port_->stop_all();
+    } catch (const Error&) {
+      // The start failure is the news; a failing stop would only hide it.
+    }
+    throw DiscoveryError("normal start failed on " + port_->describe() + ": " + problems);
+  }
+  thread_ = std::thread([this] { worker(); });
+}
+
+NormalModeSession::~NormalModeSession() {
+  try {
+    stop();
+  } catch (...) {
+    // Destructors must not throw; stop() reports the same failure to callers that ask.
+  }
+}
+
+std::string NormalModeSession::describe() const {
+  std::string s = port_->describe() + " normal mode, ch";
+  for (unsigned ch : channels_of(mask_)) s += " " + std::to_string(ch);
+  return s;
+}
+
+std::uint32_t NormalModeSession::unit_number(unsigned channel) const {
+  for (const auto& [ch, unit] : unit_numbers_)
+    if (ch == channel) return unit;
+  throw UsageError("channel " + std::to_string(channel) + " is not part of " + describe());
+}
+
+void NormalModeSession::worker() {
+  Cycle cycle;
+  cycle.channels = channels_of(mask_);
+  const auto& regs = port_->port().registers;
+  cycle.packet.push_back(lbp16::read_hm2(regs.command));
+  cycle.packet.push_back(lbp16::read_hm2(regs.data));
+  for (unsigned ch : cycle.channels)
+    for (std::uint16_t a : {regs.interface0(ch), regs.interface1(ch), regs.cs(ch)})
+      cycle.packet.push_back(lbp16::read_hm2(a));
+  for (unsigned ch : cycle.channels) cycle.packet.push_back(lbp16::write_hm2(regs.interface0(ch), 0u));
+  cycle.packet.push_back(lbp16::write_hm2(regs.command, sslbp::doit(mask_)));
+
+  std::uint64_t consecutive_missed = 0;
+  auto next = Clock::now();
+  std::unique_lock lock(mutex_);
+  while (!stop_requested_) {
+    lock.unlock();
+    try {
+      run_cycle(cycle, consecutive_missed);
+    } catch (...) {
+      fail(std::current_exception());
+      return;
+    }
+    next += options_.period;
+    if (next < Clock::now()) next = Clock::now();  // fell behind: do not burst to catch up
+    lock.lock();
+    changed_.wait_until(lock, next, [this] { return stop_requested_; });
+  }
+}
+
+void NormalModeSession::run_cycle(const Cycle& cycle, std::uint64_t& consecutive_missed) {
+  std::vector<lbp::Bytes> parts;
+  try {
+    parts = bus_->transact(cycle.packet, Resend::Never);
+  } catch (const link::TimeoutError&) {
+    ++missed_;
+    if (++consecutive_missed >= options_.max_missed_cycles)
+      throw link::TimeoutError(bus_->describe() + " stopped answering DOIT cycles (" +
+                               std::to_string(consecutive_missed) +
+                               " in a row); the 8I20 watchdog has likely bitten");
+    return;
+  }
+  consecutive_missed = 0;
+  const bool busy = (word(parts[0]) & 0xFFFF) != 0;
+  if (busy) {
+    ++late_;  // the previous DOIT had not finished: our DOIT write was not taken, data are in flux
+    return;
+  }
+  const std::uint64_t previous_doits = doits_++;
+  if (previous_doits == 0) return;  // before the first DOIT INTERFACE0 holds the unit number
+
+  const auto data = static_cast<std::uint8_t>(word(parts[1]));
+  LiveStatus status;
+  status.taken = Clock::now();
+  for (std::size_t i = 0; i < cycle.channels.size(); ++i) {
+    const unsigned ch = cycle.channels[i];
+    const std::uint32_t if0 = word(parts[2 + 3 * i]);
+    const std::uint32_t if1 = word(parts[3 + 3 * i]);
+    status.channels.push_back(ChannelSample{.channel = ch,
+                                            .bus_voltage = static_cast<std::uint16_t>(if0 >> 16),
+                                            .temperature = static_cast<std::uint16_t>(if0),
+                                            .fault = static_cast<std::uint16_t>(if1 >> 16),
+                                            .status = static_cast<std::uint16_t>(if1),
+                                            .transfer_failed = (data & (1u << ch)) != 0,
+                                            .cs = word(parts[4 + 3 * i])});
+  }
+  status.doits = doits_;
+  status.late_cycles = late_;
+  status.missed_cycles = missed_;
+  publish(std::move(status));
+}
+
+void NormalModeSession::publish(LiveStatus status) {
+  {
+    std::lock_guard lock(mutex_);
+    status.sequence = latest_ ? latest_->sequence + 1 : 1;
+    latest_ = std::move(status);
+  }
+  changed_.notify_all();
+}
+
+void NormalModeSession::fail(std::exception_ptr error) {
+  {
+    std::lock_guard lock(mutex_);
+    error_ = error;
+  }
+  changed_.notify_all();
+}
+
+std::optional<LiveStatus> NormalModeSession::latest() const {
+  std::lock_guard lock(mutex_);
+  if (error_) std::rethrow_exception(error_);
+  return latest_;
+}
+
+LiveStatus NormalModeSession::wait_for_sample(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(mutex_);
+  const bool ready = changed_.wait_for(lock, timeout, [this] {
+    return error_ || stopped_ || (latest_ && latest_->sequence > returned_sequence_);
+  });
+  if (error_) std::rethrow_exception(error_);
+  if (!ready || !latest_ || latest_->sequence <= returned_sequence_)
+    throw link::TimeoutError("no live status from " + describe() + " within " +
+                             std::to_string(timeout.count()) + " ms");
+  returned_sequence_ = latest_->sequence;
+  return *latest_;
+}
+
+bool NormalModeSession::running() const {
+  std::lock_guard lock(mutex_);
+  return !stopped_ && !stop_requested_ && !error_;
+}
+
+void NormalModeSession::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    if (stopped_) return;
+    stop_requested_ = true;
+  }
+  changed_.notify_all();
+  if (thread_.joinable()) thread_.join();
+  {
+    std::lock_guard lock(mutex_);
+    stopped_ = true;
+  }
+  changed_.notify_all();
+  port_->stop_all();
+}
+
+}  // namespace i20::eth

@@ -1,0 +1,128 @@
+// Live status of 8I20s over SSLBP normal mode (8I20 manual, "NORMAL MODE OPERATION",
+// "8I20 SPECIFIC INTERFACE REGISTER 0/1 DEFINITIONS"), for the CLI's watch and faults.
+//
+// Start: stop the port, normal start (0x900 | mask), check DATA, read each channel's
+// unit number from INTERFACE0 (only valid before the first DOIT).
+//
+// Then a worker thread runs one DOIT cycle every `period` (default 10 ms, well under the
+// 40 ms watchdog SSLBP programs into the 8I20), so the caller's own pace (printing,
+// terminal) never lets the watchdog bite. One packet per cycle: read COMMAND, DATA,
+// INTERFACE0/1 and CS of every channel (the data of the previous DOIT), write INTERFACE0
+// = 0 (QSETPOINT 0, ANGLE 0: this tool never drives a motor), write COMMAND = 0x1000 |
+// mask. Cycle packets are never resent: the next cycle replaces a lost one; a run of
+// lost cycles fails the session.
+//
+// The caller polls latest() or blocks in wait_for_sample(). stop() (and the destructor)
+// ends the thread and sends the SSLBP stop command.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "eth/card.hpp"
+#include "eth/sslbp_port.hpp"
+#include "eth/target.hpp"
+#include "eth/transport.hpp"
+#include "eth/udp_client.hpp"
+
+namespace i20::eth {
+
+struct NormalModeOptions {
+  UdpOptions udp{.timeout = std::chrono::milliseconds{20}};
+  SslbpOptions sslbp;
+  // DOIT period; at most 20 ms so that one lost cycle still leaves the 40 ms watchdog fed.
+  std::chrono::milliseconds period{10};
+  // Consecutive cycles without a reply before the session gives up.
+  unsigned max_missed_cycles = 3;
+};
+
+struct ChannelSample {
+  unsigned channel = 0;
+  std::uint16_t bus_voltage = 0;  // INTERFACE0 MSW, 10 mV per count
+  // INTERFACE0 LSW. The SSLBP chapter says "in oC", the parameter table says TEMPERATURE
+  // is 0.01 C per count (facts.md section 1); the register carries the parameter.
+  std::uint16_t temperature = 0;
+  std::uint16_t fault = 0;       // INTERFACE1 MSW
+  std::uint16_t status = 0;      // INTERFACE1 LSW
+  bool transfer_failed = false;  // the DOIT that produced this sample flagged the channel
+  std::uint32_t cs = 0;
+
+  double bus_volts() const { return bus_voltage / 100.0; }
+  double temperature_celsius() const { return temperature / 100.0; }
+};
+
+struct LiveStatus {
+  using Clock = std::chrono::steady_clock;
+  std::uint64_t sequence = 0;  // increases by one per published sample
+  Clock::time_point taken{};
+  std::vector<ChannelSample> channels{};
+  std::uint64_t doits = 0;          // DOIT commands issued so far
+  std::uint64_t late_cycles = 0;    // cycles that found the previous DOIT unfinished
+  std::uint64_t missed_cycles = 0;  // cycles whose reply was lost
+
+  const ChannelSample* channel(unsigned ch) const;
+};
+
+class NormalModeSession {
+ public:
+  // One channel, from the target.
+  static std::unique_ptr<NormalModeSession> open(const EthTarget& target, NormalModeOptions options = {});
+  // Several channels of one SSERIAL port.
+  static std::unique_ptr<NormalModeSession> open(const HostPort& card, unsigned sserial_port,
+                                                 std::uint8_t channel_mask, NormalModeOptions options = {});
+  // Over any transport. Throws DiscoveryError when a channel does not start.
+  NormalModeSession(std::unique_ptr<Lbp16Transport> bus, unsigned sserial_port, std::uint8_t channel_mask,
+                    NormalModeOptions options = {});
+  ~NormalModeSession();
+  NormalModeSession(const NormalModeSession&) = delete;
+  NormalModeSession& operator=(const NormalModeSession&) = delete;
+
+  // INTERFACE0 after the start, before the first DOIT. UsageError for a channel not in
+  // the session.
+  std::uint32_t unit_number(unsigned channel) const;
+  std::uint8_t channel_mask() const { return mask_; }
+
+  // The newest sample, nullopt until the first one. Rethrows the worker's failure.
+  std::optional<LiveStatus> latest() const;
+  // Blocks until a sample newer than the one this call returned last time. Throws
+  // link::TimeoutError when none comes in time, or the worker's failure.
+  LiveStatus wait_for_sample(std::chrono::milliseconds timeout);
+
+  // Ends the cycles and stops the SSLBP port. Idempotent; the destructor calls it and
+  // swallows errors, call it yourself to see them.
+  void stop();
+  bool running() const;
+  std::string describe() const;
+
+ private:
+  struct Cycle;
+  void worker();
+  void run_cycle(const Cycle& cycle, std::uint64_t& consecutive_missed);
+  void publish(LiveStatus status);
+  void fail(std::exception_ptr error);
+
+  std::unique_ptr<Lbp16Transport> bus_;
+  std::unique_ptr<SslbpPort> port_;
+  NormalModeOptions options_;
+  std::uint8_t mask_;
+  std::vector<std::pair<unsigned, std::uint32_t>> unit_numbers_{};
+
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::optional<LiveStatus> latest_{};
+  std::exception_ptr error_;
+  bool stop_requested_ = false;
+  bool stopped_ = false;
+  std::uint64_t returned_sequence_ = 0;
+  std::uint64_t doits_ = 0, late_ = 0, missed_ = 0;  // worker-only
+  std::thread thread_;
+};
+
+}  // namespace i20::eth

@@ -1,0 +1,192 @@
+#include "eth/sslbp_port.hpp"
+
+#include <algorithm>
+#include <thread>
+
+#include "eth/errors.hpp"
+
+namespace i20::eth {
+
+namespace lbp16 = lbp::lbp16;
+namespace sslbp = lbp::hm2::sslbp;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+std::string hex16(std::uint32_t v) {
+  static constexpr char d[] = "0123456789ABCDEF";
+  std::string s = "0x";
+  for (int i = 3; i >= 0; --i) s.push_back(d[(v >> (4 * i)) & 0xF]);
+  return s;
+}
+
+std::uint32_t word(const lbp::Bytes& bytes) {
+  return static_cast<std::uint32_t>(lbp::read_le(bytes));
+}
+
+}  // namespace
+
+SslbpPort::SslbpPort(Lbp16Transport& bus, SserialPort port, bool timer_space, SslbpOptions options)
+    : bus_(bus), port_(port), timer_space_(timer_space), options_(options) {}
+
+std::string SslbpPort::describe() const {
+  return bus_.describe() + " SSERIAL port " + std::to_string(port_.index);
+}
+
+std::vector<lbp16::Command> SslbpPort::read_back(std::span<const std::uint16_t> results) const {
+  std::vector<lbp16::Command> reads{lbp16::read_hm2(port_.registers.command),
+                                    lbp16::read_hm2(port_.registers.data)};
+  for (std::uint16_t address : results) reads.push_back(lbp16::read_hm2(address));
+  return reads;
+}
+
+SslbpPort::Reading SslbpPort::parse(const std::vector<lbp::Bytes>& parts, std::size_t first,
+                                    std::size_t results) const {
+  Reading r;
+  r.command = word(parts[first]) & 0xFFFF;  // 16 bits, right justified
+  r.completion.data = static_cast<std::uint8_t>(word(parts[first + 1]));
+  for (std::size_t i = 0; i < results; ++i) r.completion.results.push_back(word(parts[first + 2 + i]));
+  return r;
+}
+
+Completion SslbpPort::run(std::span<const lbp16::Command> before, std::uint32_t command,
+                          std::span<const std::uint16_t> results, bool repeatable,
+                          std::chrono::microseconds settle) {
+  std::vector<lbp16::Command> packet(before.begin(), before.end());
+  packet.push_back(lbp16::write_hm2(port_.registers.command, command));
+  if (timer_space_ && settle.count() > 0) {
+    const auto us = static_cast<std::uint16_t>(std::min<std::int64_t>(settle.count(), 0xFFFF));
+    packet.push_back(lbp16::write(lbp16::space::kTimers, kWaitMicrosecondsAddress, lbp16::Width::Bits16,
+                                  lbp::to_le(us, 2), false));
+  }
+  const std::size_t first_read = packet.size();
+  const auto reads = read_back(results);
+  packet.insert(packet.end(), reads.begin(), reads.end());
+
+  unsigned round_trips = 0;
+  for (unsigned attempt = 0;; ++attempt) {
+    try {
+      ++round_trips;
+      const Reading r = parse(bus_.transact(packet, Resend::Never), first_read, results.size());
+      if (r.command == 0) {
+        Completion c = r.completion;
+        c.round_trips = round_trips;
+        return c;
+      }
+      return poll(results, command, round_trips);
+    } catch (const link::TimeoutError&) {
+      // The reply is lost, the packet maybe too. A read-only probe tells which: a busy
+      // COMMAND means it arrived and is running.
+      ++round_trips;
+      const Reading probe = parse(bus_.transact(read_back(results)), 0, results.size());
+      if (probe.command != 0) return poll(results, command, round_trips);
+      if (!repeatable || attempt >= options_.lost_reply_retries)
+        throw link::TimeoutError("the reply to SSLBP command " + hex16(command) + " on " + describe() +
+                                 " was lost and the command " +
+                                 (repeatable
+                                      ? "still got no answer when resent"
+                                      : "cannot be resent safely: it may or may not have taken effect"));
+    }
+  }
+}
+
+Completion SslbpPort::poll(std::span<const std::uint16_t> results, std::uint32_t command,
+                           unsigned round_trips) {
+  const auto deadline = Clock::now() + options_.command_timeout;
+  const auto reads = read_back(results);
+  for (unsigned polls = 0;; ++polls) {
+    if (polls > 0) std::this_thread::sleep_for(options_.poll_pause);
+    ++round_trips;
+    const Reading r = parse(bus_.transact(reads), 0, results.size());
+    if (r.command == 0) {
+      Completion c = r.completion;
+      c.round_trips = round_trips;
+      return c;
+    }
+    if (Clock::now() >= deadline)
+      throw link::TimeoutError("SSLBP on " + describe() + " did not finish command " + hex16(command) +
+                               " within " + std::to_string(options_.command_timeout.count()) +
+                               " ms (COMMAND still reads " + hex16(r.command) + ")");
+  }
+}
+
+std::uint8_t SslbpPort::run(std::uint32_t command) {
+  return run({}, command, {}, /*repeatable=*/true).data;
+}
+
+bool SslbpPort::wait_idle() {
+  try {
+    poll({}, 0, 0);
+    return true;
+  } catch (const link::TimeoutError&) {
+    return false;
+  }
+}
+
+void SslbpPort::stop_all() {
+  run(sslbp::stop());
+}
+
+std::uint8_t SslbpPort::start_setup(std::uint8_t mask) {
+  return run(sslbp::start_setup(mask));
+}
+
+std::uint8_t SslbpPort::start_normal(std::uint8_t mask) {
+  return run(sslbp::start_normal(mask));
+}
+
+std::uint8_t SslbpPort::read_local(std::uint16_t address) {
+  return run(sslbp::read_local(address));
+}
+
+std::uint32_t SslbpPort::read_local32(std::uint16_t address) {
+  std::uint32_t value = 0;
+  for (unsigned i = 0; i < 4; ++i)
+    value |= std::uint32_t{read_local(static_cast<std::uint16_t>(address + i))} << (8 * i);
+  return value;
+}
+
+SslbpParameters SslbpPort::read_parameters() {
+  namespace param = sslbp::param;
+  SslbpParameters p;
+  p.interface_type = read_local(param::kInterfaceType);
+  p.width = read_local(param::kWidth);
+  p.version_major = read_local(param::kMajorVersion);
+  p.version_minor = read_local(param::kMinorVersion);
+  p.channel_start = read_local(param::kChannelStart);
+  p.channel_stride = read_local(param::kChannelStride);
+  p.processor_type = read_local(param::kProcessorType);
+  p.channels = read_local(param::kChannels);
+  p.clock_hz = read_local32(param::kClock);
+  return p;
+}
+
+std::uint32_t SslbpPort::read_baud_rate(const SslbpParameters& parameters, unsigned channel) {
+  const unsigned address =
+      parameters.channel_start + channel * parameters.channel_stride + sslbp::param::kBaudRateOffset;
+  if (parameters.channel_start == 0 || address + 4 > sslbp::kLocalAddressMask + 1) return 0;
+  return read_local32(static_cast<std::uint16_t>(address));
+}
+
+std::vector<ChannelRegisters> SslbpPort::read_channels(std::uint8_t mask) {
+  std::vector<lbp16::Command> reads;
+  std::vector<unsigned> channels;
+  for (unsigned ch = 0; ch < 8; ++ch) {
+    if (!(mask & (1u << ch))) continue;
+    channels.push_back(ch);
+    for (std::uint16_t a : {port_.registers.cs(ch), port_.registers.interface0(ch),
+                            port_.registers.interface1(ch), port_.registers.interface2(ch)})
+      reads.push_back(lbp16::read_hm2(a));
+  }
+  if (reads.empty()) return {};
+  const auto parts = bus_.transact(reads);
+  std::vector<ChannelRegisters> out;
+  for (std::size_t i = 0; i < channels.size(); ++i)
+    out.push_back(ChannelRegisters{.cs = word(parts[4 * i]),
+                                   .interface0 = word(parts[4 * i + 1]),
+                                   .interface1 = word(parts[4 * i + 2]),
+                                   .interface2 = word(parts[4 * i + 3])});
+  return out;
+}
+
+}  // namespace i20::eth

@@ -1,0 +1,123 @@
+// Host side of one SSERIAL port's SSLBP processor (8I20 manual, "SSLBP"): the COMMAND and
+// DATA registers, local parameters, and the per-channel CS/INTERFACE registers.
+//
+// Every operation has the same shape: write some registers, write COMMAND, then read
+// COMMAND back until it is 0 and take DATA and whatever else the caller needs. The
+// writes and the first read-back share one packet; on LBP16 version 3 cards a WaituS
+// write (space 4) between them lets quick commands finish inside that packet, so most
+// operations cost one round trip. Polling continues with read-only packets until a
+// deadline.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "eth/card.hpp"
+#include "eth/transport.hpp"
+#include "lbp/hostmot2.hpp"
+
+namespace i20::eth {
+
+struct SslbpOptions {
+  // A start probes every selected channel and "may be many mS" (manual): allow 2 s.
+  std::chrono::milliseconds command_timeout{2000};
+  // Pause between read-back polls after the first repeat, so a slow start is not
+  // answered by a flood of packets.
+  std::chrono::microseconds poll_pause{250};
+  // How often a packet with writes is resent when its reply is lost and the operation
+  // is repeatable (only after a read-only probe found COMMAND idle).
+  unsigned lost_reply_retries = 2;
+};
+
+struct SslbpParameters {
+  std::uint8_t interface_type = 0;
+  std::uint8_t width = 0;
+  std::uint8_t version_major = 0;
+  std::uint8_t version_minor = 0;
+  std::uint8_t channel_start = 0;
+  std::uint8_t channel_stride = 0;
+  std::uint8_t processor_type = 0;
+  std::uint8_t channels = 0;
+  std::uint32_t clock_hz = 0;
+
+  std::string version() const { return std::to_string(version_major) + "." + std::to_string(version_minor); }
+};
+
+struct ChannelRegisters {
+  std::uint32_t cs = 0;
+  std::uint32_t interface0 = 0;  // unit number after a start
+  std::uint32_t interface1 = 0;  // card name after a start ("8I20" = 0x30324938)
+  std::uint32_t interface2 = 0;
+
+  lbp::hm2::sslbp::ChannelStatus status() const { return {cs}; }
+  std::string name() const { return lbp::hm2::sslbp::name_of_word(interface1); }
+};
+
+struct Completion {
+  std::uint8_t data = 0;                 // DATA after COMMAND cleared
+  std::vector<std::uint32_t> results{};  // the requested registers, same order
+  unsigned round_trips = 0;
+};
+
+class SslbpPort {
+ public:
+  // `timer_space`: the card has LBP16 space 4 (CardIdentity::has_timer_space()).
+  SslbpPort(Lbp16Transport& bus, SserialPort port, bool timer_space, SslbpOptions options = {});
+
+  // The general operation: `before` (register writes), COMMAND = `command`, a WaituS of
+  // `settle` when the card has the timer space, then COMMAND, DATA and `results` read
+  // back until COMMAND is 0. `repeatable`: executing the operation twice is harmless, so
+  // it may be resent when its reply is lost. Throws link::TimeoutError when COMMAND does
+  // not clear in time or the card stops answering.
+  Completion run(std::span<const lbp::lbp16::Command> before, std::uint32_t command,
+                 std::span<const std::uint16_t> results, bool repeatable,
+                 std::chrono::microseconds settle = std::chrono::microseconds{0});
+  // COMMAND alone; returns DATA.
+  std::uint8_t run(std::uint32_t command);
+
+  // Waits for COMMAND to read 0 (after an error left it busy). False on timeout.
+  bool wait_idle();
+
+  void stop_all();
+  // Return DATA: a set bit marks a channel that failed to start.
+  std::uint8_t start_setup(std::uint8_t mask);
+  std::uint8_t start_normal(std::uint8_t mask);
+
+  std::uint8_t read_local(std::uint16_t address);
+  std::uint32_t read_local32(std::uint16_t address);  // little endian, 4 local reads
+  SslbpParameters read_parameters();
+  // The baud rate SSLBP uses towards `channel` (0 when the firmware does not say).
+  std::uint32_t read_baud_rate(const SslbpParameters& parameters, unsigned channel);
+
+  // CS, INTERFACE0..2 of the channels in `mask`, one packet.
+  std::vector<ChannelRegisters> read_channels(std::uint8_t mask);
+
+  const SserialPort& port() const { return port_; }
+  Lbp16Transport& bus() { return bus_; }
+  bool timer_space() const { return timer_space_; }
+  const SslbpOptions& options() const { return options_; }
+  // "192.168.1.121 SSERIAL port 0", for messages.
+  std::string describe() const;
+
+ private:
+  struct Reading {
+    std::uint32_t command = 0;
+    Completion completion;
+  };
+  Reading parse(const std::vector<lbp::Bytes>& parts, std::size_t first, std::size_t results) const;
+  std::vector<lbp::lbp16::Command> read_back(std::span<const std::uint16_t> results) const;
+  Completion poll(std::span<const std::uint16_t> results, std::uint32_t command, unsigned round_trips);
+
+  Lbp16Transport& bus_;
+  SserialPort port_;
+  bool timer_space_;
+  SslbpOptions options_;
+};
+
+// Space 4 WaituS: writing it delays the card's processing of the rest of the packet.
+inline constexpr std::uint16_t kWaitMicrosecondsAddress = 0x0002;
+
+}  // namespace i20::eth

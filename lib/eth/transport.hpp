@@ -1,0 +1,48 @@
+// The seam between the LBP16 users (discovery, SSLBP, passthrough, normal mode) and the
+// UDP socket: "send these LBP16 commands as one packet, give me each read's data".
+// Tests put fault-injecting transports here; production uses UdpClient.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "lbp/lbp16.hpp"
+
+namespace i20::eth {
+
+// Whether a packet may be sent again when its reply does not come back. LBP16 has no
+// acknowledgement other than the reply, so a lost reply leaves a write's fate unknown.
+enum class Resend {
+  IfReadOnly,  // default: resend only packets without writes
+  Idempotent,  // the caller vouches that executing the packet twice is harmless
+  Never,       // one attempt, even for reads (periodic traffic that the next cycle replaces)
+};
+
+struct TransportStats {
+  std::uint64_t packets_sent = 0;  // every send, resends included
+  std::uint64_t replies = 0;       // accepted replies
+  std::uint64_t resends = 0;
+  std::uint64_t timeouts = 0;         // attempts that saw no acceptable reply in time
+  std::uint64_t foreign_ignored = 0;  // datagrams from another address or port
+  std::uint64_t stale_ignored = 0;    // late replies to earlier packets
+};
+
+class Lbp16Transport {
+ public:
+  virtual ~Lbp16Transport() = default;
+
+  // Sends the commands as one packet and returns the data of each (empty for writes).
+  // Throws link::TimeoutError when no reply comes back, eth::BadReplyError when the reply
+  // has the wrong size.
+  virtual std::vector<lbp::Bytes> transact(std::span<const lbp::lbp16::Command> commands,
+                                           Resend resend = Resend::IfReadOnly) = 0;
+
+  // "192.168.1.121" (":PORT" appended when not 27181), for messages.
+  virtual std::string describe() const = 0;
+
+  virtual TransportStats stats() const = 0;
+};
+
+}  // namespace i20::eth

@@ -1,0 +1,65 @@
+// LBP16 over UDP to one card (7I96S/7I92T manuals, "HOST COMMUNICATION", "LBP16").
+//
+// Rules this client keeps:
+// - Replies are accepted only from the card's own IP:port; anything else is ignored.
+// - Every packet starts by writing a fresh sequence number to the Scratch register of
+//   space 6 (the manual: "Can be used for sequence numbers") and reading it back, so the
+//   reply names the packet it answers. Late replies to earlier packets are dropped
+//   instead of being taken for the current one, and every packet gets a reply, even one
+//   that only writes (the manual asks for a read after writes "for host synchronization").
+// - A reply of the wrong size is never acted upon: BadReplyError.
+// - Only packets without writes are resent after a timeout, unless the caller says the
+//   packet is idempotent (Resend::Idempotent). The sequence-number write is not counted:
+//   repeating it is harmless by design.
+//
+// Not thread-safe: one caller at a time (NormalModeSession hands its client to its
+// worker thread and takes it back when the thread has stopped).
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include "eth/transport.hpp"
+
+namespace i20::eth {
+
+struct UdpOptions {
+  // Wait for one reply. A card on a LAN answers in well under a millisecond; 50 ms
+  // leaves room for a busy host without making a dead card slow to report.
+  std::chrono::milliseconds timeout{50};
+  // Extra attempts for packets that may be resent (see Resend).
+  unsigned retries = 2;
+  // Sequence-number tagging through space 6 Scratch (see above). Off only for cards
+  // whose firmware lacks space 6; then stale replies cannot be told apart.
+  bool sequence_tags = true;
+};
+
+class UdpClient final : public Lbp16Transport {
+ public:
+  // `ip` must be an IPv4 literal; throws UsageError otherwise. Binds an ephemeral local
+  // port, to which the card routes its replies.
+  UdpClient(const std::string& ip, std::uint16_t port = lbp::lbp16::kUdpPort, UdpOptions options = {});
+  ~UdpClient() override;
+  UdpClient(const UdpClient&) = delete;
+  UdpClient& operator=(const UdpClient&) = delete;
+
+  std::vector<lbp::Bytes> transact(std::span<const lbp::lbp16::Command> commands,
+                                   Resend resend = Resend::IfReadOnly) override;
+  std::string describe() const override;
+  TransportStats stats() const override { return stats_; }
+
+  std::uint16_t local_port() const;
+  const UdpOptions& options() const { return options_; }
+
+  // Space 6 Scratch, where the sequence numbers go.
+  static constexpr std::uint16_t kScratchAddress = 0x0018;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  UdpOptions options_;
+  TransportStats stats_;
+};
+
+}  // namespace i20::eth
