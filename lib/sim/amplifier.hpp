@@ -87,7 +87,9 @@ class Amplifier {
   // CLEARFAULT never returns to 0 and nothing is cleared (injected firmware hang).
   void set_clearfault_stuck(bool stuck) { clearfault_stuck_ = stuck; }
   // When the pending CLEARFAULT completes, if one is pending.
-  std::optional<Clock::time_point> clearfault_due() const { return clear_due_; }
+  std::optional<Clock::time_point> clearfault_due() const {
+    return clearfault_stuck_ ? std::nullopt : clear_due_;
+  }
 
  private:
   void load_working_from_nv();

@@ -213,7 +213,7 @@ std::optional<Clock::time_point> Virtual8i20::next_event() const {
   if (!powered_) return std::nullopt;
   consider(busy_until_);
   consider(deaf_until_);
-  consider(framer_.deadline());
+  if (!busy_until_) consider(framer_.deadline());  // quiet-line rules wait for the EEPROM
   if (!outbox_.empty() && outbox_.front().release > now_) consider(outbox_.front().release);
   consider(amplifier_.clearfault_due());
   consider(amplifier_.watchdog_due());

@@ -1,0 +1,268 @@
+#include "sim/control.hpp"
+
+#include <cstdio>
+#include <sstream>
+#include <vector>
+
+#include "sim/bits.hpp"
+#include "sim/error.hpp"
+
+namespace i20::sim {
+namespace {
+
+struct NamedFault {
+  const char* name;
+  std::uint16_t bit;
+};
+
+constexpr NamedFault kFaults[] = {
+    {"watchdog", fault::kWatchdog}, {"noenable", fault::kNoEnable}, {"overtemp", fault::kOverTemp},
+    {"overcurrent", fault::kOverCurrent}, {"uloop", fault::kULoop}, {"vloop", fault::kVLoop},
+    {"wloop", fault::kWLoop}, {"buslow", fault::kBusLow}, {"bushigh", fault::kBusHigh},
+    {"busmax", fault::kBusMax}, {"module", fault::kModule}, {"overrun", fault::kSerialOverrun},
+    {"framing", fault::kSerialFraming},
+};
+
+const char* kHelp =
+    "busv VOLTS                 motor bus voltage, e.g. busv 320\n"
+    "temp CELSIUS               card temperature, e.g. temp 45\n"
+    "enable on|off              enable input\n"
+    "noise busv|temp AMPLITUDE  uniform noise on each sample, e.g. noise busv 0.5\n"
+    "seed N                     restart the noise sequence from seed N\n"
+    "fault NAME|BIT on|off      hold a hardware fault cause, e.g. fault overcurrent on\n"
+    "                           (watchdog noenable overtemp overcurrent uloop vloop wloop buslow\n"
+    "                            bushigh busmax module overrun framing, or a bit number)\n"
+    "corrupt RATE               probability 0..1 that a reply byte is corrupted\n"
+    "drop RATE                  probability 0..1 that a reply is lost\n"
+    "delay MS                   extra latency before each reply\n"
+    "reset-after N|off          reset the card right after N more commands\n"
+    "clearfault-stuck on|off    CLEARFAULT never returns to 0\n"
+    "eeprom-power-loss off|lost|torn   power fails during the next EEPROM write\n"
+    "mute-after N|off           execute N more commands, then stop answering\n"
+    "power off|on|cycle         switch the card's logic power\n"
+    "get NAME                   raw value of a parameter, e.g. get FAULT\n"
+    "set NAME VALUE             force a parameter's raw value (bypasses protection)\n"
+    "show                       the state at a glance\n"
+    "help                       this list\n";
+
+std::vector<std::string> words(std::string_view line) {
+  std::istringstream in{std::string(line)};
+  std::vector<std::string> out;
+  for (std::string w; in >> w;) out.push_back(w);
+  return out;
+}
+
+[[noreturn]] void fail(const std::string& why) {
+  throw ControlError(why);
+}
+
+void need(const std::vector<std::string>& w, std::size_t count, const char* form) {
+  if (w.size() != count) fail(std::string("expected '") + form + "'");
+}
+
+double number(const std::string& text, const char* form) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size()) return v;
+  } catch (const std::exception&) {
+  }
+  fail("'" + text + "' is not a number in '" + form + "'");
+}
+
+std::uint64_t integer(const std::string& text, const char* form) {
+  try {
+    std::size_t used = 0;
+    const unsigned long long v = std::stoull(text, &used, 0);
+    if (used == text.size()) return v;
+  } catch (const std::exception&) {
+  }
+  fail("'" + text + "' is not a whole number in '" + form + "'");
+}
+
+bool on_off(const std::string& text, const char* form) {
+  if (text == "on" || text == "1" || text == "true") return true;
+  if (text == "off" || text == "0" || text == "false") return false;
+  fail("'" + text + "' is neither on nor off in '" + form + "'");
+}
+
+double rate(const std::string& text, const char* form) {
+  const double r = number(text, form);
+  if (r < 0 || r > 1) fail("rate " + text + " is outside 0..1 in '" + form + "'");
+  return r;
+}
+
+std::optional<std::uint64_t> count_or_off(const std::string& text, const char* form) {
+  if (text == "off") return std::nullopt;
+  return integer(text, form);
+}
+
+std::uint16_t fault_bit(const std::string& text) {
+  for (const auto& f : kFaults)
+    if (text == f.name) return f.bit;
+  const auto n = integer(text, "fault NAME|BIT on|off");
+  if (n > 15) fail("fault bit " + text + " is outside 0..15");
+  return static_cast<std::uint16_t>(1u << n);
+}
+
+std::string hex16(unsigned v) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "0x%04X", v);
+  return buf;
+}
+
+std::string upper(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string world_command(Virtual8i20& card, const std::vector<std::string>& w) {
+  auto& s = card.world().settings();
+  const std::string& c = w[0];
+  if (c == "busv") {
+    need(w, 2, "busv VOLTS");
+    s.bus_volts = number(w[1], "busv VOLTS");
+  } else if (c == "temp") {
+    need(w, 2, "temp CELSIUS");
+    s.temperature_c = number(w[1], "temp CELSIUS");
+  } else if (c == "enable") {
+    need(w, 2, "enable on|off");
+    s.enable = on_off(w[1], "enable on|off");
+  } else if (c == "noise") {
+    need(w, 3, "noise busv|temp AMPLITUDE");
+    const double a = number(w[2], "noise busv|temp AMPLITUDE");
+    if (w[1] == "busv")
+      s.bus_noise_volts = a;
+    else if (w[1] == "temp")
+      s.temp_noise_c = a;
+    else
+      fail("expected 'noise busv|temp AMPLITUDE'");
+  } else if (c == "seed") {
+    need(w, 2, "seed N");
+    s.noise_seed = integer(w[1], "seed N");
+    card.world().reseed();
+  } else if (c == "fault") {
+    need(w, 3, "fault NAME|BIT on|off");
+    const std::uint16_t bit = fault_bit(w[1]);
+    if (on_off(w[2], "fault NAME|BIT on|off"))
+      s.forced_faults |= bit;
+    else
+      s.forced_faults &= static_cast<std::uint16_t>(~bit);
+  } else {
+    return {};
+  }
+  return "ok";
+}
+
+std::string injection_command(Virtual8i20& card, const std::vector<std::string>& w) {
+  auto& inj = card.injection();
+  const std::string& c = w[0];
+  if (c == "corrupt") {
+    need(w, 2, "corrupt RATE");
+    inj.corrupt_rate = rate(w[1], "corrupt RATE");
+  } else if (c == "drop") {
+    need(w, 2, "drop RATE");
+    inj.drop_rate = rate(w[1], "drop RATE");
+  } else if (c == "delay") {
+    need(w, 2, "delay MS");
+    inj.reply_delay = std::chrono::duration_cast<Duration>(
+        std::chrono::duration<double, std::milli>(number(w[1], "delay MS")));
+  } else if (c == "reset-after") {
+    need(w, 2, "reset-after N|off");
+    inj.reset_after_commands = count_or_off(w[1], "reset-after N|off");
+  } else if (c == "clearfault-stuck") {
+    need(w, 2, "clearfault-stuck on|off");
+    inj.clearfault_stuck = on_off(w[1], "clearfault-stuck on|off");
+  } else if (c == "eeprom-power-loss") {
+    need(w, 2, "eeprom-power-loss off|lost|torn");
+    if (w[1] == "off")
+      inj.eeprom_power_loss = EepromPowerLoss::None;
+    else if (w[1] == "lost")
+      inj.eeprom_power_loss = EepromPowerLoss::Lost;
+    else if (w[1] == "torn")
+      inj.eeprom_power_loss = EepromPowerLoss::Torn;
+    else
+      fail("expected 'eeprom-power-loss off|lost|torn'");
+  } else if (c == "mute-after") {
+    need(w, 2, "mute-after N|off");
+    inj.answer_limit = count_or_off(w[1], "mute-after N|off");
+  } else {
+    return {};
+  }
+  return "ok";
+}
+
+std::string card_command(Virtual8i20& card, const std::vector<std::string>& w, Clock::time_point now) {
+  const std::string& c = w[0];
+  if (c == "power") {
+    need(w, 2, "power off|on|cycle");
+    if (w[1] == "off")
+      card.power_off();
+    else if (w[1] == "cycle" || (w[1] == "on" && !card.powered()))
+      card.power_cycle(now);
+    else if (w[1] != "on")
+      fail("expected 'power off|on|cycle'");
+    return "ok";
+  }
+  if (c == "get") {
+    need(w, 2, "get NAME");
+    card.advance(now);
+    try {
+      return std::to_string(card.amplifier().value(upper(w[1])));
+    } catch (const ConfigError& e) {
+      fail(e.what());
+    }
+  }
+  if (c == "set") {
+    need(w, 3, "set NAME VALUE");
+    try {
+      card.amplifier().poke(upper(w[1]), integer(w[2], "set NAME VALUE"));
+    } catch (const ConfigError& e) {
+      fail(e.what());
+    }
+    return "ok";
+  }
+  if (c == "show") {
+    card.advance(now);
+    return describe_state(card);
+  }
+  if (c == "help") return control_help();
+  return {};
+}
+
+}  // namespace
+
+std::string apply_control(Virtual8i20& card, std::string_view line, Clock::time_point now) {
+  const auto w = words(line.substr(0, line.find('#')));
+  if (w.empty()) return {};
+  card.advance(now);
+  for (auto* handler : {world_command, injection_command}) {
+    if (auto answer = handler(card, w); !answer.empty()) {
+      card.advance(now);
+      return answer;
+    }
+  }
+  if (auto answer = card_command(card, w, now); !answer.empty()) return answer;
+  fail("unknown control command '" + w[0] + "': try 'help'");
+}
+
+std::string control_help() {
+  return kHelp;
+}
+
+std::string describe_state(Virtual8i20& card) {
+  const auto& s = card.world().settings();
+  const auto& amp = card.amplifier();
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "power=%s mode=%s baud=%u busv=%.2fV temp=%.2fC enable=%s fault=%s status=%s "
+                "lbp_status=0x%02X fault_output=%s brake=%s crc_errors=%u",
+                card.powered() ? "on" : "off", card.mode() == FramingMode::Setup ? "setup" : "operate",
+                card.baud(), s.bus_volts, s.temperature_c, s.enable ? "on" : "off", hex16(amp.fault()).c_str(),
+                hex16(amp.status()).c_str(), card.lbp_registers().status,
+                amp.fault_output_active() ? "fault" : "ok", amp.brake_on() ? "on" : "off",
+                card.lbp_registers().crc_errors);
+  return buf;
+}
+
+}  // namespace i20::sim
