@@ -136,9 +136,11 @@ void SerialStream::Impl::request_low_latency() {
 // them, and as a last resort close the port so no handler outlives the caller's frame.
 void SerialStream::Impl::run_until_done(const bool& op_done, const bool& timer_done,
                                         Clock::time_point deadline) {
+  const auto give_up =
+      deadline < Clock::time_point::max() - kCancelGrace ? deadline + kCancelGrace : deadline;
   io.restart();
-  const auto now = Clock::now();
-  io.run_for((deadline > now ? deadline - now : Clock::duration::zero()) + kCancelGrace);
+  // run_for returns as soon as both handlers ran; slices keep a far deadline from overflowing.
+  while (!(op_done && timer_done) && Clock::now() < give_up) io.run_for(std::chrono::seconds(1));
   if (op_done && timer_done) return;
   error_code ignored;
   port.cancel(ignored);

@@ -128,6 +128,20 @@ TEST(SerialStream, ReadReturnsNothingAtTheDeadline) {
   EXPECT_EQ(read_exactly(stream, 1), Bytes{0x42});
 }
 
+TEST(SerialStream, FarDeadlineReturnsAsSoonAsBytesArrive) {
+  Pty pty;
+  SerialStream stream(pty.slave_path());
+  std::thread sender([&] {
+    std::this_thread::sleep_for(100ms);
+    pty.send(Bytes{7});
+  });
+  lbp::Byte buffer[8];
+  const auto start = Clock::now();
+  EXPECT_EQ(stream.read_some(buffer, Clock::time_point::max()), 1u);
+  EXPECT_LT(Clock::now() - start, 2s);
+  sender.join();
+}
+
 TEST(SerialStream, DeadlineInThePastStillReturnsBufferedBytes) {
   Pty pty;
   SerialStream stream(pty.slave_path());
