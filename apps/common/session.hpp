@@ -1,0 +1,64 @@
+// What every app shares: the global options (where the 8I20 is, which database), and a
+// session that opens the link, loads the database and identifies the card on first use.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "device/amp.hpp"
+#include "link/link.hpp"
+#include "params/param_db.hpp"
+
+namespace CLI {
+class App;
+}
+
+namespace i20::app {
+
+struct GlobalOptions {
+  std::string port;        // serial device (or COMn)
+  bool sim = false;        // the built-in simulator, in-process
+  std::string sim_eeprom;  // EEPROM image file for --sim (persists NV values)
+  std::string eth;         // Ethernet card address (7I96S / 7I92T)
+  unsigned channel = 0;    // SSERIAL channel on the Ethernet card
+  unsigned baud = 115200;
+  unsigned timeout_ms = 50;
+  std::vector<std::string> params_files;
+  bool no_user_params = false;
+  bool json = false;
+  bool verbose = false;
+};
+
+// Adds --port/--sim/--eth/... to an app (the i20 umbrella, wpd, rpd).
+void add_target_options(CLI::App& app, GlobalOptions& options);
+void add_database_options(CLI::App& app, GlobalOptions& options);
+
+// The built-in database plus the per-user overlay and --params files, in that order.
+params::ParamDb load_database(const GlobalOptions& options);
+
+// Opens the link the options describe. Throws i20::Error with advice when no target was
+// given or it cannot be opened.
+std::unique_ptr<link::Link> open_link(const GlobalOptions& options);
+
+class Session {
+ public:
+  explicit Session(GlobalOptions options);
+  ~Session();
+
+  const GlobalOptions& options() const { return options_; }
+  params::ParamDb& db();
+  link::Link& link();
+  // The card client; identifies the card (SWREVISION selects the database map) first.
+  device::Amp8i20& amp();
+  // Link and adapter notes (e.g. low-latency mode not available), for --verbose.
+  std::vector<std::string> notes() const;
+
+ private:
+  GlobalOptions options_;
+  std::unique_ptr<params::ParamDb> db_;
+  std::unique_ptr<link::Link> link_;
+  std::unique_ptr<device::Amp8i20> amp_;
+};
+
+}  // namespace i20::app

@@ -1,0 +1,40 @@
+// State shared by the i20 subcommands: global options and a lazily opened session.
+#pragma once
+
+#include <iosfwd>
+#include <memory>
+
+#include "errors.hpp"
+#include "json.hpp"
+#include "session.hpp"
+
+namespace CLI {
+class App;
+}
+
+namespace i20::cli {
+
+struct Context {
+  app::GlobalOptions options;
+  int exit_code = app::kOk;
+
+  app::Session& session() {
+    if (!session_) session_ = std::make_unique<app::Session>(options);
+    return *session_;
+  }
+  // Prints JSON documents the same way everywhere.
+  void print_json(const app::Json& json) const;
+  // Asks "question [y/N]" on the terminal; false without a terminal (use --yes there).
+  bool confirm(const std::string& question) const;
+  // Verbose link notes and statistics to stderr.
+  void print_notes();
+
+ private:
+  std::unique_ptr<app::Session> session_;
+};
+
+// Each registers its subcommands on the umbrella app.
+void register_param_commands(CLI::App& app, Context& ctx);
+void register_discover_command(CLI::App& app, Context& ctx);
+
+}  // namespace i20::cli
