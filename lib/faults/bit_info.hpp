@@ -1,0 +1,44 @@
+// What the knowledge base says about one bit of the 8I20's FAULT or STATUS register.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace i20::faults {
+
+enum class Register { Fault, Status };
+
+// How much the bit matters to someone whose axis just dropped out.
+enum class Severity {
+  Fault,    // the drive is (or was) off because of it
+  Warning,  // the drive may run, but something is not right
+  Info,     // normal operation; shown for completeness
+};
+
+struct BitInfo {
+  Register reg = Register::Fault;
+  unsigned bit = 0;          // 0..15
+  std::string name;          // the manual's name (LinuxCNC-only bits: see source)
+  std::string slug;          // short lowercase id for the command line
+  std::string linuxcnc_pin;  // HAL pin suffix LinuxCNC shows, "" if none
+  Severity severity = Severity::Fault;
+  std::string meaning;              // one line
+  std::vector<std::string> causes;  // most likely first
+  std::vector<std::string> checks;  // what to check on the machine, in order
+  bool sticky = false;              // stays set after its cause is gone
+  bool maskable = false;            // a 0 in FAULTMASK keeps it off the fault output
+  bool clears_while_cause_persists = false;
+  std::string source;  // manual section or facts.md
+  std::string origin;  // "file:line" of the entry
+
+  std::uint16_t mask() const { return static_cast<std::uint16_t>(1u << bit); }
+};
+
+// "FAULT" / "STATUS": the register names the manual and the parameter database use.
+std::string_view to_string(Register reg);
+// "fault" / "warning" / "info": the spelling params/faults.yaml uses.
+std::string_view to_string(Severity severity);
+
+}  // namespace i20::faults

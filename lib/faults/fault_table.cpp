@@ -1,0 +1,136 @@
+#include "faults/fault_table.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <optional>
+
+namespace i20::faults {
+namespace {
+
+bool same_text(std::string_view a, std::string_view b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+           return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
+         });
+}
+
+bool names(const BitInfo& b, std::string_view key) {
+  return same_text(b.slug, key) || same_text(b.name, key) ||
+         (!b.linuxcnc_pin.empty() && same_text(b.linuxcnc_pin, key));
+}
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  for (auto& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// "8" -> 8; anything else (including "08x" or "99") -> no bit.
+std::optional<unsigned> bit_number(std::string_view key) {
+  unsigned value = 0;
+  const auto [ptr, ec] = std::from_chars(key.data(), key.data() + key.size(), value);
+  if (key.empty() || ec != std::errc() || ptr != key.data() + key.size() || value > 15) return std::nullopt;
+  return value;
+}
+
+}  // namespace
+
+const std::vector<BitInfo>& FaultTable::bits(Register reg) const {
+  return reg == Register::Fault ? fault_ : status_;
+}
+
+const std::vector<std::string>& FaultTable::notes(Register reg) const {
+  return reg == Register::Fault ? fault_notes_ : status_notes_;
+}
+
+const BitInfo* FaultTable::find(Register reg, unsigned bit) const {
+  const auto& list = bits(reg);
+  const auto it = std::ranges::find(list, bit, &BitInfo::bit);
+  return it == list.end() ? nullptr : &*it;
+}
+
+const BitInfo* FaultTable::find(std::string_view key) const {
+  if (bit_number(key)) return nullptr;  // a bare number is ambiguous without a register
+  if (const BitInfo* b = find(Register::Fault, key)) return b;
+  return find(Register::Status, key);
+}
+
+const BitInfo* FaultTable::find(Register reg, std::string_view key) const {
+  if (const auto bit = bit_number(key)) return find(reg, *bit);
+  const auto& list = bits(reg);
+  const auto it = std::ranges::find_if(list, [&](const BitInfo& b) { return names(b, key); });
+  return it == list.end() ? nullptr : &*it;
+}
+
+const BitInfo& FaultTable::get(Register reg, std::string_view key) const {
+  if (const BitInfo* b = find(reg, key)) return *b;
+  const auto reg_name = std::string(to_string(reg));
+  std::string message;
+  if (const auto bit = bit_number(key)) {
+    message = reg_name + " bit " + std::to_string(*bit) + " is reserved: the 8I20 manual does not define it";
+  } else if (const BitInfo* other = find(key)) {
+    message = "'" + std::string(key) + "' is a " + std::string(to_string(other->reg)) + " bit, not a " +
+              reg_name + " bit";
+  } else {
+    message = "unknown " + lower(reg_name) + " bit '" + std::string(key) + "'";
+  }
+  auto near = suggestions(reg, key);
+  if (!near.empty()) {
+    message += ": did you mean ";
+    for (std::size_t i = 0; i < near.size(); ++i)
+      message += (i ? (i + 1 == near.size() ? " or " : ", ") : "") + near[i];
+    message += "?";
+  } else {
+    message += " (the " + reg_name + " bits are listed in params/faults.yaml)";
+  }
+  throw UnknownBit(message, std::move(near));
+}
+
+std::uint16_t FaultTable::defined_bits(Register reg) const {
+  std::uint16_t out = 0;
+  for (const auto& b : bits(reg)) out |= b.mask();
+  return out;
+}
+
+std::uint16_t FaultTable::maskable_bits() const {
+  std::uint16_t out = 0;
+  for (const auto& b : fault_)
+    if (b.maskable) out |= b.mask();
+  return out;
+}
+
+std::vector<std::string> FaultTable::suggestions(Register reg, std::string_view key, std::size_t max) const {
+  if (bit_number(key)) return {};
+  const auto wanted = lower(key);
+  const std::size_t tolerance = std::max<std::size_t>(2, wanted.size() / 3);
+  std::vector<std::pair<std::size_t, std::string>> scored;
+  for (const auto& b : bits(reg)) {
+    // Score against every spelling of the bit; suggest its slug, the CLI's word.
+    std::size_t best = std::min(edit_distance(wanted, b.slug), edit_distance(wanted, lower(b.name)));
+    const bool contains = wanted.size() >= 3 && (b.slug.find(wanted) != std::string::npos ||
+                                                 lower(b.name).find(wanted) != std::string::npos);
+    if (contains) best = std::min(best, tolerance);
+    if (best <= tolerance) scored.emplace_back(best, b.slug);
+  }
+  std::ranges::sort(scored);
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < scored.size() && i < max; ++i) out.push_back(scored[i].second);
+  return out;
+}
+
+}  // namespace i20::faults

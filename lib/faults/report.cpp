@@ -1,0 +1,103 @@
+#include "faults/report.hpp"
+
+#include <cstdio>
+
+#include "faults/decode.hpp"
+#include "faults/fault_mask.hpp"
+
+namespace i20::faults {
+namespace {
+
+std::string hex4(std::uint16_t v) {
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "0x%04X", static_cast<unsigned>(v));
+  return buf;
+}
+
+ReportLine reserved_line(Register reg, unsigned bit) {
+  ReportLine line;
+  line.bit = bit;
+  line.reserved = true;
+  line.severity = Severity::Warning;
+  line.meaning = "reserved/undocumented bit " + std::to_string(bit) + " set";
+  line.causes = {
+      "The 8I20 manual does not define this bit: newer firmware, or a value that did not come from "
+      "this card's " +
+      std::string(to_string(reg)) + " register"};
+  line.checks = {"Make sure the value was read from the 8I20's " + std::string(to_string(reg)) +
+                     " register, not from SSLBP's CS or Interface registers",
+                 "Note the raw value and SWREVISION and ask Mesa; do not assume the bit is harmless"};
+  line.source = "not in the 8I20 manual's " +
+                std::string(reg == Register::Fault ? "FAULT CONDITIONS" : "STATUS REGISTER") + " table";
+  return line;
+}
+
+ReportLine line_for(const DecodedBit& d) {
+  if (d.reserved()) return reserved_line(d.reg, d.bit);
+  const BitInfo& b = *d.info;
+  ReportLine line;
+  line.bit = b.bit;
+  line.name = b.name;
+  line.slug = b.slug;
+  line.linuxcnc_pin = b.linuxcnc_pin;
+  line.severity = b.severity;
+  line.meaning = b.meaning;
+  line.causes = b.causes;
+  line.checks = b.checks;
+  line.sticky = b.sticky;
+  line.maskable = b.maskable;
+  line.clears_while_cause_persists = b.clears_while_cause_persists;
+  line.source = b.source;
+  return line;
+}
+
+// "FAULT 0x0102: 2 faults set: NOENABLEFAULT (bit 1), BUSLOVFAULT (bit 8, masked)".
+std::string title_for(const Report& r) {
+  const bool fault = r.reg == Register::Fault;
+  std::string title = std::string(to_string(r.reg)) + " " + hex4(r.value);
+  if (r.faultmask) title += " (FAULTMASK " + hex4(*r.faultmask) + ")";
+  const auto n = r.lines.size();
+  if (n == 0) return title + (fault ? ": no faults" : ": no bits set");
+  title += ": " + std::to_string(n) +
+           (fault ? (n == 1 ? " fault" : " faults") : (n == 1 ? " bit" : " bits")) + " set: ";
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& line = r.lines[i];
+    title += (i ? ", " : "") + (line.reserved ? "reserved" : line.name) + " (bit " +
+             std::to_string(line.bit) + (line.masked ? ", masked" : "") + ")";
+  }
+  return title;
+}
+
+Report build(Register reg, std::uint16_t value, const FaultTable& table) {
+  Report r;
+  r.reg = reg;
+  r.value = value;
+  for (const auto& d : decode(reg, value, table).bits) r.lines.push_back(line_for(d));
+  if (value != 0) r.notes = table.notes(reg);
+  return r;
+}
+
+}  // namespace
+
+Report fault_report(std::uint16_t fault, std::optional<std::uint16_t> faultmask, const FaultTable& table) {
+  Report r = build(Register::Fault, fault, table);
+  r.faultmask = faultmask;
+  if (faultmask) {
+    const MaskState state = mask_state(fault, *faultmask, table);
+    for (auto& line : r.lines) line.masked = state.masked & (1u << line.bit);
+    r.fault_output_on = state.fault_output_on();
+  } else if ((fault & ~table.maskable_bits()) != 0 || fault == 0) {
+    // Without FAULTMASK the answer is still certain unless only maskable bits are set.
+    r.fault_output_on = fault == 0;
+  }
+  r.title = title_for(r);
+  return r;
+}
+
+Report status_report(std::uint16_t status, const FaultTable& table) {
+  Report r = build(Register::Status, status, table);
+  r.title = title_for(r);
+  return r;
+}
+
+}  // namespace i20::faults
