@@ -95,6 +95,7 @@ void Virtual8i20::service(Clock::time_point now) {
   amplifier_.set_clearfault_stuck(injection_.clearfault_stuck);
   if (deaf_until_ && now_ >= *deaf_until_) deaf_until_.reset();
   Clock::time_point cursor = now_;
+  bool expired = false;
   for (;;) {
     if (busy_until_) {
       if (now_ < *busy_until_) break;
@@ -104,11 +105,17 @@ void Virtual8i20::service(Clock::time_point now) {
     }
     if (deaf(cursor)) break;
     auto frame = framer_.next(rpc_table_);
-    if (!frame) break;
+    if (!frame) {
+      // Nothing ready: the quiet-line rules may drop a partial command (setup mode) or
+      // close a packet (operate mode), once per pass.
+      if (busy_until_ || expired) break;
+      framer_.expire(now_);
+      expired = true;
+      continue;
+    }
     execute(*frame, cursor);
     if (!powered_) return;
   }
-  if (!busy_until_) framer_.expire(now_);
   note_framer_events();
   amplifier_.update(std::max(cursor, now_));
 }

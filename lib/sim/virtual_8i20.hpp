@@ -123,6 +123,8 @@ class Virtual8i20 {
   const DeviceStats& stats() const { return stats_; }
   bool eeprom_busy() const { return busy_until_.has_value(); }
   std::size_t rx_pending() const { return framer_.pending(); }
+  bool framer_resyncing() const { return framer_.resyncing(); }
+  std::size_t framer_dropped_bytes() const { return framer_.dropped_bytes(); }
   FramingMode mode() const { return options_.mode; }
   void set_trace(Trace trace) { trace_ = std::move(trace); }
 
