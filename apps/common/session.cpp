@@ -65,10 +65,10 @@ params::ParamDb load_database(const GlobalOptions& options) {
   return db;
 }
 
-std::unique_ptr<link::Link> open_link(const GlobalOptions& o) {
+std::unique_ptr<link::Link> open_link(const GlobalOptions& o, const params::ParamDb& db) {
   link::PipelinedLinkOptions link_options;
   link_options.base_timeout = std::chrono::milliseconds(o.timeout_ms);
-  if (o.sim) return open_sim_link(o.sim_eeprom, link_options);
+  if (o.sim) return open_sim_link(db, o.sim_eeprom, link_options);
   if (!o.eth.empty()) return open_eth_link(o.eth, o.channel, o.timeout_ms);
   if (!o.port.empty()) {
     link::SerialOptions serial;
@@ -90,7 +90,7 @@ params::ParamDb& Session::db() {
 }
 
 link::Link& Session::link() {
-  if (!link_) link_ = open_link(options_);
+  if (!link_) link_ = open_link(options_, db());
   return *link_;
 }
 

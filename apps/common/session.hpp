@@ -39,7 +39,7 @@ params::ParamDb load_database(const GlobalOptions& options);
 
 // Opens the link the options describe. Throws i20::Error with advice when no target was
 // given or it cannot be opened.
-std::unique_ptr<link::Link> open_link(const GlobalOptions& options);
+std::unique_ptr<link::Link> open_link(const GlobalOptions& options, const params::ParamDb& db);
 
 class Session {
  public:

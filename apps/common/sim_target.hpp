@@ -6,12 +6,13 @@
 
 #include "link/link.hpp"
 #include "link/pipelined_link.hpp"
+#include "params/param_db.hpp"
 
 namespace i20::app {
 
 // The built-in simulator behind a PipelinedLink (the same framing code as a serial
 // port). `eeprom_file` may be empty (EEPROM lives in memory for this run).
-std::unique_ptr<link::Link> open_sim_link(const std::string& eeprom_file,
+std::unique_ptr<link::Link> open_sim_link(const params::ParamDb& db, const std::string& eeprom_file,
                                           const link::PipelinedLinkOptions& options);
 
 // An 8I20 on SSERIAL channel `channel` of a 7I96S/7I92T at `address` (IP[:PORT]).

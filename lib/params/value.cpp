@@ -67,7 +67,7 @@ std::optional<std::pair<double, std::string>> split_number_unit(const std::strin
 int decimals(const Param& param) {
   int places = 0;
   double step = param.scale;
-  while (places < 6 && std::abs(step - std::round(step)) > 1e-9) {
+  while (places < 4 && std::abs(step - std::round(step)) > 1e-9) {
     step *= 10;
     ++places;
   }
