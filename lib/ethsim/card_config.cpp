@@ -1,0 +1,143 @@
+#include "ethsim/card_config.hpp"
+
+#include <algorithm>
+#include <cctype>
+
+#include "lbp/error.hpp"
+
+namespace i20::ethsim {
+
+namespace hm2 = lbp::hm2;
+
+namespace {
+
+constexpr std::uint8_t kClockLow = 1;
+constexpr std::uint8_t kOutput = 0x80;
+
+hm2::Idrom base_idrom(const char* board_name, std::uint32_t io_ports, std::uint32_t port_width) {
+  hm2::Idrom idrom;
+  idrom.type = 3;
+  idrom.offset_to_modules = 0x40;
+  idrom.offset_to_pins = 0x40 + hm2::kMaxModules * hm2::ModuleDescriptor::kBytes;
+  idrom.board_name = board_name;
+  idrom.fpga_size = 20;
+  idrom.fpga_pins = 256;
+  idrom.io_ports = io_ports;
+  idrom.io_width = io_ports * port_width;
+  idrom.port_width = port_width;
+  idrom.clock_low = 100'000'000;
+  idrom.clock_high = 200'000'000;
+  idrom.instance_stride0 = 0x04;
+  idrom.instance_stride1 = 0x40;
+  idrom.register_stride0 = 0x100;
+  idrom.register_stride1 = 0x04;
+  return idrom;
+}
+
+hm2::ModuleDescriptor module(std::uint8_t gtag, std::uint8_t version, std::uint8_t instances,
+                             std::uint16_t base, std::uint8_t registers, std::uint8_t strides,
+                             std::uint32_t multiple) {
+  return hm2::ModuleDescriptor{.gtag = gtag,
+                               .version = version,
+                               .clock_tag = kClockLow,
+                               .instances = instances,
+                               .base_address = base,
+                               .registers = registers,
+                               .strides = strides,
+                               .multiple_registers = multiple};
+}
+
+// SSERIAL: register stride 0 (0x100), instance stride 1 (0x40): the usual layout.
+hm2::ModuleDescriptor sserial(std::uint8_t ports) {
+  return module(hm2::gtag::kSserial, 0, ports, 0x5B00, hm2::sserial_reg::kCount, 0x10, 0x3C);
+}
+
+hm2::PinDescriptor gpio() {
+  return hm2::PinDescriptor{};
+}
+
+hm2::PinDescriptor pin(std::uint8_t tag, std::uint8_t unit, std::uint8_t secondary_pin) {
+  return hm2::PinDescriptor{.secondary_pin = secondary_pin,
+                            .secondary_tag = tag,
+                            .secondary_unit = unit,
+                            .primary_tag = hm2::gtag::kIoPort};
+}
+
+// SSERIAL pins of one channel: RX in, TX out (pin numbers 1-based by channel).
+void sserial_pins(std::vector<hm2::PinDescriptor>& pins, std::uint8_t port, unsigned channel, bool txen) {
+  const auto n = static_cast<std::uint8_t>(channel + 1);
+  pins.push_back(pin(hm2::gtag::kSserial, port, n));
+  pins.push_back(pin(hm2::gtag::kSserial, port, static_cast<std::uint8_t>(kOutput | n)));
+  if (txen) pins.push_back(pin(hm2::gtag::kSserial, port, static_cast<std::uint8_t>(kOutput | 0x10 | n)));
+}
+
+CardConfig preset_7i96s() {
+  CardConfig c;
+  c.card_name = "7I96S";
+  c.idrom = base_idrom("MESA7I96", 3, 17);
+  c.modules = {module(hm2::gtag::kWatchdog, 0, 1, 0x0C00, 3, 0x00, 0),
+               module(hm2::gtag::kIoPort, 0, 3, 0x1000, 5, 0x00, 0x1F),
+               module(hm2::gtag::kEncoder, 2, 1, 0x3000, 5, 0x00, 0x03),
+               module(hm2::gtag::kStepGen, 2, 5, 0x2000, 10, 0x00, 0x1FF),
+               sserial(1),
+               module(hm2::gtag::kLed, 0, 1, 0x0200, 1, 0x00, 0)};
+  // Port 0: five step/dir pairs, encoder A/B/index, GPIO; port 1: GPIO (isolated inputs),
+  // then the RS-422 SSERIAL channel at pins 30/31 (TB2 16..19) and its internal TXEN at 32;
+  // port 2: GPIO (the 25-pin expansion connector).
+  for (std::uint8_t unit = 0; unit < 5; ++unit) {
+    c.pins.push_back(pin(hm2::gtag::kStepGen, unit, kOutput | 1));
+    c.pins.push_back(pin(hm2::gtag::kStepGen, unit, kOutput | 2));
+  }
+  for (std::uint8_t p = 1; p <= 3; ++p) c.pins.push_back(pin(hm2::gtag::kEncoder, 0, p));
+  while (c.pins.size() < 30) c.pins.push_back(gpio());
+  sserial_pins(c.pins, 0, 0, /*txen=*/true);
+  while (c.pins.size() < c.idrom.io_width) c.pins.push_back(gpio());
+  c.sserial_ports = 1;
+  c.channels_per_port = 1;
+  return c;
+}
+
+CardConfig preset_7i92t() {
+  CardConfig c;
+  c.card_name = "7I92T";
+  c.mac = {0x00, 0x60, 0x1B, 0x92, 0x00, 0x01};
+  c.idrom = base_idrom("MESA7I92", 2, 17);
+  c.modules = {module(hm2::gtag::kWatchdog, 0, 1, 0x0C00, 3, 0x00, 0),
+               module(hm2::gtag::kIoPort, 0, 2, 0x1000, 5, 0x00, 0x1F), sserial(2),
+               module(hm2::gtag::kLed, 0, 1, 0x0200, 1, 0x00, 0)};
+  for (std::uint8_t port = 0; port < 2; ++port) {
+    for (unsigned ch = 0; ch < 8; ++ch) sserial_pins(c.pins, port, ch, /*txen=*/false);
+    c.pins.push_back(gpio());
+  }
+  c.sserial_ports = 2;
+  c.channels_per_port = 8;
+  return c;
+}
+
+}  // namespace
+
+CardKind parse_card_kind(std::string_view text) {
+  std::string lower(text);
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char ch) { return std::tolower(ch); });
+  if (lower == "7i96s") return CardKind::I7i96s;
+  if (lower == "7i92t") return CardKind::I7i92t;
+  throw UsageError("unknown card '" + std::string(text) + "': the virtual card can be 7i96s or 7i92t");
+}
+
+std::string_view card_kind_name(CardKind kind) {
+  return kind == CardKind::I7i96s ? "7I96S" : "7I92T";
+}
+
+CardConfig CardConfig::preset(CardKind kind) {
+  return kind == CardKind::I7i96s ? preset_7i96s() : preset_7i92t();
+}
+
+const hm2::ModuleDescriptor& CardConfig::sserial_module() const {
+  const auto it =
+      std::find_if(modules.begin(), modules.end(), [](const auto& m) { return hm2::is_sserial(m.gtag); });
+  if (it == modules.end()) throw UsageError("card configuration without an SSERIAL module");
+  return *it;
+}
+
+}  // namespace i20::ethsim

@@ -1,0 +1,143 @@
+#include "ethsim/server.hpp"
+
+#include <algorithm>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/address_v4.hpp>
+#include <boost/asio/ip/udp.hpp>
+
+#include "ethsim/virtual_8i20_remote.hpp"
+#include "lbp/error.hpp"
+
+namespace i20::ethsim {
+
+namespace asio = boost::asio;
+using asio::ip::udp;
+using Clock = std::chrono::steady_clock;
+
+struct CardServer::Socket {
+  asio::io_context io;
+  udp::socket socket{io};
+  lbp::Bytes buffer = lbp::Bytes(65536);
+
+  void wait_readable(Clock::time_point deadline) {
+    bool ready = false;
+    socket.async_wait(udp::socket::wait_read, [&](const boost::system::error_code& ec) { ready = !ec; });
+    io.restart();
+    io.run_until(deadline);
+    if (!ready) {
+      socket.cancel();
+      io.restart();
+      io.run();
+    }
+  }
+};
+
+namespace {
+
+RemoteFactory amplifier_factory(const ServerOptions& options) {
+  return [options](unsigned port, unsigned channel) -> std::unique_ptr<RemoteLbpDevice> {
+    const auto& list = options.amplifiers;
+    const auto it = std::find(list.begin(), list.end(), ChannelAddress{port, channel});
+    if (it == list.end()) return nullptr;
+    const auto index = static_cast<std::uint32_t>(it - list.begin());
+    sim::DeviceOptions device = options.amplifier;
+    device.mode = options.operate_mode ? sim::FramingMode::Operate : sim::FramingMode::Setup;
+    device.amplifier.unit_number += index;
+    if (device.eeprom_file && list.size() > 1)
+      device.eeprom_file->replace_filename(device.eeprom_file->stem().string() + "-p" + std::to_string(port) +
+                                           "c" + std::to_string(channel) +
+                                           device.eeprom_file->extension().string());
+    return std::make_unique<Virtual8i20Remote>(std::move(device), Clock::now());
+  };
+}
+
+}  // namespace
+
+eth::HostPort parse_listen_address(std::string_view text) {
+  return eth::parse_host_port(text);
+}
+
+CardServer::CardServer(ServerOptions options)
+    : options_(std::move(options)), socket_(std::make_unique<Socket>()) {
+  VirtualCardOptions card;
+  card.config = CardConfig::preset(options_.card);
+  card.sslbp = options_.sslbp;
+  card.remotes = options_.remotes ? options_.remotes : amplifier_factory(options_);
+  for (const auto& a : options_.amplifiers)
+    if (!options_.remotes &&
+        (a.port >= card.config.sserial_ports || a.channel >= card.config.channels_per_port))
+      throw UsageError("the virtual " + std::string(card_kind_name(options_.card)) + " has no SSERIAL port " +
+                       std::to_string(a.port) + " channel " + std::to_string(a.channel));
+  card_ = std::make_unique<VirtualCard>(std::move(card), Clock::now());
+
+  eth::require_ipv4(options_.listen.ip);
+  const udp::endpoint endpoint(asio::ip::make_address_v4(options_.listen.ip), options_.listen.port);
+  boost::system::error_code ec;
+  socket_->socket.open(udp::v4(), ec);
+  if (!ec) socket_->socket.bind(endpoint, ec);
+  if (ec)
+    throw Error("cannot listen on UDP " + options_.listen.ip + ":" + std::to_string(options_.listen.port) +
+                ": " + ec.message() + " (another card simulator running? use ADDR:PORT to pick another)");
+  socket_->socket.non_blocking(true);
+}
+
+CardServer::~CardServer() {
+  stop();
+}
+
+eth::HostPort CardServer::address() const {
+  const auto local = socket_->socket.local_endpoint();
+  return eth::HostPort{.ip = local.address().to_string(), .port = local.port()};
+}
+
+std::string CardServer::describe() const {
+  const auto a = address();
+  return "virtual " + std::string(card_kind_name(options_.card)) + " at " + a.ip + ":" +
+         std::to_string(a.port);
+}
+
+void CardServer::start() {
+  if (thread_.joinable()) return;
+  stop_requested_ = false;
+  thread_ = std::thread([this] { run(nullptr); });
+}
+
+void CardServer::stop() {
+  stop_requested_ = true;
+  if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id()) thread_.join();
+}
+
+void CardServer::run(const std::atomic<bool>* stop_flag) {
+  while (!stop_requested_ && !(stop_flag && stop_flag->load())) serve_once(Clock::now() + options_.tick);
+}
+
+void CardServer::serve_once(Clock::time_point until) {
+  socket_->wait_readable(until);
+  for (;;) {
+    boost::system::error_code ec;
+    udp::endpoint sender;
+    const std::size_t n = socket_->socket.receive_from(asio::buffer(socket_->buffer), sender, 0, ec);
+    if (ec) break;  // would block: nothing more queued
+    std::optional<lbp::Bytes> reply;
+    Clock::time_point ready;
+    {
+      std::lock_guard lock(mutex_);
+      reply = card_->handle(lbp::ByteView(socket_->buffer.data(), n), Clock::now());
+      ready = card_->card_time();
+    }
+    if (!reply) continue;
+    // A WaituS in the packet holds the reply back, as on the card.
+    if (ready > Clock::now()) std::this_thread::sleep_until(ready);
+    socket_->socket.send_to(asio::buffer(*reply), sender, 0, ec);
+  }
+  std::lock_guard lock(mutex_);
+  card_->advance(Clock::now());
+}
+
+sim::Virtual8i20* CardServer::amplifier(VirtualCard& card, unsigned port, unsigned channel) {
+  if (port >= card.sserial_ports() || channel >= card.config().channels_per_port) return nullptr;
+  auto* remote = dynamic_cast<Virtual8i20Remote*>(card.sslbp(port).remote(channel));
+  return remote ? &remote->device() : nullptr;
+}
+
+}  // namespace i20::ethsim

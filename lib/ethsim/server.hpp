@@ -1,0 +1,102 @@
+// The virtual card on the network: a UDP server that answers LBP16 like a 7I96S (or a
+// 7I92T) with virtual 8I20s behind its SSERIAL channels. Real clients work against it
+// unchanged: this toolkit, mesaflash, LinuxCNC's hm2_eth.
+//
+//   ethsim::ServerOptions options;                 // 127.0.0.1:27181, 7I96S, 8I20 on ch 0
+//   options.listen = eth::parse_host_port("127.0.0.2:27181");
+//   ethsim::CardServer server(options);            // binds now: errors surface here
+//   server.start();                                // background thread ...
+//   server.stop();                                 // ... or server.run(&flag) in this one
+//
+// The server replies from its bound address to the sender's address and port. A packet
+// that wrote WaituS is answered only when the card's clock has caught up, as the real
+// card would. Between packets the card's time keeps running (every `tick`), so SSLBP
+// chatters and the 8I20s' watchdogs bite on time.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "eth/target.hpp"
+#include "ethsim/card_config.hpp"
+#include "ethsim/virtual_card.hpp"
+#include "sim/virtual_8i20.hpp"
+
+namespace i20::ethsim {
+
+struct ChannelAddress {
+  unsigned port = 0;
+  unsigned channel = 0;
+  bool operator==(const ChannelAddress&) const = default;
+};
+
+struct ServerOptions {
+  // Where to listen. Port 0 picks a free one (tests); the cards use 27181.
+  eth::HostPort listen{.ip = "127.0.0.1", .port = lbp::lbp16::kUdpPort};
+  CardKind card = CardKind::I7i96s;
+  // Channels with a virtual 8I20 (port = SSERIAL instance). Unit numbers count up from
+  // amplifier.amplifier.unit_number in this order; an EEPROM file gets a "-pPcC" suffix
+  // when there is more than one amplifier.
+  std::vector<ChannelAddress> amplifiers{{0, 0}};
+  sim::DeviceOptions amplifier = sim::DeviceOptions{};  // mode is forced to operate (see below)
+  bool operate_mode = true;  // the 8I20s' W6 jumper: a running machine is in operate mode
+  SslbpConfig sslbp{};
+  // Replaces `amplifiers` entirely when set (tests put scripted remotes here).
+  RemoteFactory remotes{};
+  // Card time granularity between packets.
+  std::chrono::milliseconds tick{2};
+};
+
+// "ADDR[:PORT]" (default port 27181). Throws UsageError.
+eth::HostPort parse_listen_address(std::string_view text);
+
+class CardServer {
+ public:
+  // Builds the card and binds the socket. Throws Error naming the address when the port
+  // is taken or the address is not local.
+  explicit CardServer(ServerOptions options);
+  ~CardServer();
+  CardServer(const CardServer&) = delete;
+  CardServer& operator=(const CardServer&) = delete;
+
+  // Serves on a background thread until stop().
+  void start();
+  // Serves on the calling thread until stop() or until *stop_flag becomes true (a signal
+  // handler may set it); checked every tick.
+  void run(const std::atomic<bool>* stop_flag = nullptr);
+  void stop();
+
+  eth::HostPort address() const;  // the bound address, port 0 resolved
+  std::string describe() const;   // "virtual 7I96S at 127.0.0.1:40000"
+
+  // Runs `f` on the card while the server holds it still (inspect or change the 8I20s).
+  template <class F>
+  auto with_card(F&& f) {
+    std::lock_guard lock(mutex_);
+    return f(*card_);
+  }
+
+  // The virtual 8I20 on a channel, when the server built it (nullptr otherwise). Use it
+  // inside with_card().
+  sim::Virtual8i20* amplifier(VirtualCard& card, unsigned port, unsigned channel);
+
+ private:
+  struct Socket;
+  void serve_once(std::chrono::steady_clock::time_point until);
+
+  ServerOptions options_;
+  std::unique_ptr<Socket> socket_;
+  std::mutex mutex_;
+  std::unique_ptr<VirtualCard> card_;
+  std::atomic<bool> stop_requested_{false};
+  std::thread thread_;
+};
+
+}  // namespace i20::ethsim
