@@ -136,6 +136,7 @@ void run_set(Context& ctx, const SetOptions& o) {
       throw UsageError("'" + a + "' is not NAME=VALUE (e.g. NVBRAKEONV=320V or NVMAXCURRENT=750)");
     const auto& p = db.get(a.substr(0, eq));
     batch.push_back({&p, params::parse_value(p, a.substr(eq + 1))});
+    device::check_offline(p, batch.back().raw, o.write);  // before the link is even opened
   }
   auto& amp = ctx.session().amp();
   for (const auto& b : batch) amp.check_write(*b.param, b.raw, o.write);  // all before the first write

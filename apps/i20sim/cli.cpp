@@ -35,12 +35,14 @@ struct Raw {
   std::string eeprom, params, address_map, enable = "on", power_loss = "off";
   std::optional<std::uint64_t> random_map, reset_after, mute_after;
   std::uint64_t unit_number = 0x00012345;
-  double eeprom_word_ms = 2, clearfault_ms = 5, watchdog_ms = 40, reset_ms = 1, delay_ms = 0, turnaround_us = 0;
+  double eeprom_word_ms = 2, clearfault_ms = 5, watchdog_ms = 40, reset_ms = 1, delay_ms = 0,
+         turnaround_us = 0;
   std::vector<std::string> faults;
 };
 
 RegisterMap build_map(const Raw& raw) {
-  RegisterMap map = raw.params.empty() ? RegisterMap::builtin() : register_map_from(params::ParamDb::load_file(raw.params));
+  RegisterMap map =
+      raw.params.empty() ? RegisterMap::builtin() : register_map_from(params::ParamDb::load_file(raw.params));
   if (!raw.address_map.empty()) map = RegisterMap::with_overrides(std::move(map), raw.address_map);
   if (raw.random_map) map = map.shuffled(*raw.random_map);
   return map;
@@ -50,47 +52,94 @@ void add_options(CLI::App& app, Invocation& o, Raw& raw) {
   auto& d = o.sim.device;
   auto& w = d.world;
   auto& inj = d.injection;
-  app.add_flag("--pty", o.pty, "Serve on a new pseudo-terminal; its path is printed alone on stdout's first line");
+  app.add_flag("--pty", o.pty,
+               "Serve on a new pseudo-terminal; its path is printed alone on stdout's first line");
   app.add_flag("--print-map", o.print_map, "Print the register map and the preloaded RPC table, then exit");
   app.add_flag("--trace", o.trace, "Log every command, reply and framing event to stderr");
-  app.add_option("--control", o.server.control_fifo, "Also read control lines from this FIFO (created if missing), e.g. /tmp/i20.ctl");
-  app.add_flag("--no-stdin", [&](std::int64_t) { o.server.read_stdin = false; }, "Do not read control lines from stdin");
+  app.add_option("--control", o.server.control_fifo,
+                 "Also read control lines from this FIFO (created if missing), e.g. /tmp/i20.ctl");
+  app.add_flag(
+      "--no-stdin", [&](std::int64_t) { o.server.read_stdin = false; },
+      "Do not read control lines from stdin");
 
   const char* card = "Card";
-  app.add_option("--eeprom", raw.eeprom, "EEPROM image file; created with defaults if missing, written through on every NV write, e.g. card.eeprom")->group(card);
-  app.add_option("--params", raw.params, "Parameter database YAML the map is built from (default: the built-in params/8i20.yaml)")->group(card);
-  app.add_option("--address-map", raw.address_map, "Override addresses: lines 'FAULT = 0x0900', 'revision = 0xE121'")->group(card);
-  app.add_option("--random-map", raw.random_map, "Shuffle the working RAM addresses with this seed (SWREVISION changes too), e.g. 7")->group(card);
-  app.add_option("--unit-number", raw.unit_number, "UNITNUMBER the card reports, e.g. 0x00012345")->group(card);
-  app.add_flag("--operate", [&](std::int64_t) { d.mode = FramingMode::Operate; }, "Operate mode: timing-only framing at NVBAUDRATE, 40 ms watchdog (default: setup mode)")->group(card);
-  app.add_option("--rx-buffer", d.rx_buffer_bytes, "Receive buffer in bytes; more is dropped (LBP status bit 4)")->capture_default_str()->group(card);
-  app.add_option("--eeprom-word-ms", raw.eeprom_word_ms, "EEPROM write time per 16-bit word, ms")->capture_default_str()->group(card);
-  app.add_option("--clearfault-delay-ms", raw.clearfault_ms, "Delay before the card acts on CLEARFAULT, ms")->capture_default_str()->group(card);
-  app.add_option("--watchdog-ms", raw.watchdog_ms, "Operate-mode watchdog, ms")->capture_default_str()->group(card);
-  app.add_option("--reset-ms", raw.reset_ms, "Time the card is deaf after 0xFE 0x5A, ms")->capture_default_str()->group(card);
+  app.add_option("--eeprom", raw.eeprom,
+                 "EEPROM image file; created with defaults if missing, written through on every NV write, "
+                 "e.g. card.eeprom")
+      ->group(card);
+  app.add_option("--params", raw.params,
+                 "Parameter database YAML the map is built from (default: the built-in params/8i20.yaml)")
+      ->group(card);
+  app.add_option("--address-map", raw.address_map,
+                 "Override addresses: lines 'FAULT = 0x0900', 'revision = 0xE121'")
+      ->group(card);
+  app.add_option("--random-map", raw.random_map,
+                 "Shuffle the working RAM addresses with this seed (SWREVISION changes too), e.g. 7")
+      ->group(card);
+  app.add_option("--unit-number", raw.unit_number, "UNITNUMBER the card reports, e.g. 0x00012345")
+      ->group(card);
+  app.add_flag(
+         "--operate", [&](std::int64_t) { d.mode = FramingMode::Operate; },
+         "Operate mode: timing-only framing at NVBAUDRATE, 40 ms watchdog (default: setup mode)")
+      ->group(card);
+  app.add_option("--rx-buffer", d.rx_buffer_bytes,
+                 "Receive buffer in bytes; more is dropped (LBP status bit 4)")
+      ->capture_default_str()
+      ->group(card);
+  app.add_option("--eeprom-word-ms", raw.eeprom_word_ms, "EEPROM write time per 16-bit word, ms")
+      ->capture_default_str()
+      ->group(card);
+  app.add_option("--clearfault-delay-ms", raw.clearfault_ms, "Delay before the card acts on CLEARFAULT, ms")
+      ->capture_default_str()
+      ->group(card);
+  app.add_option("--watchdog-ms", raw.watchdog_ms, "Operate-mode watchdog, ms")
+      ->capture_default_str()
+      ->group(card);
+  app.add_option("--reset-ms", raw.reset_ms, "Time the card is deaf after 0xFE 0x5A, ms")
+      ->capture_default_str()
+      ->group(card);
 
   const char* world = "World";
-  app.add_option("--busv", w.bus_volts, "Motor bus voltage, V, e.g. --busv 48")->capture_default_str()->group(world);
+  app.add_option("--busv", w.bus_volts, "Motor bus voltage, V, e.g. --busv 48")
+      ->capture_default_str()
+      ->group(world);
   app.add_option("--temp", w.temperature_c, "Card temperature, C")->capture_default_str()->group(world);
-  app.add_option("--enable", raw.enable, "Enable input: on|off")->check(CLI::IsMember({"on", "off"}))->capture_default_str()->group(world);
+  app.add_option("--enable", raw.enable, "Enable input: on|off")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str()
+      ->group(world);
   app.add_option("--busv-noise", w.bus_noise_volts, "+- noise on BUSV samples, V")->group(world);
   app.add_option("--temp-noise", w.temp_noise_c, "+- noise on TEMPERATURE samples, C")->group(world);
   app.add_option("--noise-seed", w.noise_seed, "Seed of the measurement noise")->group(world);
-  app.add_option("--fault", raw.faults, "Hold a hardware fault cause (repeatable): overcurrent, module, uloop, overrun, framing, ... or a bit")->group(world);
+  app.add_option("--fault", raw.faults,
+                 "Hold a hardware fault cause (repeatable): overcurrent, module, uloop, overrun, framing, "
+                 "... or a bit")
+      ->group(world);
 
   const char* inject = "Fault injection";
-  app.add_option("--corrupt", inj.corrupt_rate, "Probability 0..1 that a reply byte is corrupted, e.g. 0.01")->check(CLI::Range(0.0, 1.0))->group(inject);
-  app.add_option("--drop", inj.drop_rate, "Probability 0..1 that a reply is lost (the command still runs)")->check(CLI::Range(0.0, 1.0))->group(inject);
+  app.add_option("--corrupt", inj.corrupt_rate, "Probability 0..1 that a reply byte is corrupted, e.g. 0.01")
+      ->check(CLI::Range(0.0, 1.0))
+      ->group(inject);
+  app.add_option("--drop", inj.drop_rate, "Probability 0..1 that a reply is lost (the command still runs)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->group(inject);
   app.add_option("--delay-ms", raw.delay_ms, "Extra latency before every reply, ms")->group(inject);
-  app.add_option("--reset-after", raw.reset_after, "Reset the card right after N commands (mid-batch reset)")->group(inject);
+  app.add_option("--reset-after", raw.reset_after, "Reset the card right after N commands (mid-batch reset)")
+      ->group(inject);
   app.add_flag("--clearfault-stuck", inj.clearfault_stuck, "CLEARFAULT never returns to 0")->group(inject);
-  app.add_option("--eeprom-power-loss", raw.power_loss, "Power fails during the first EEPROM write: off|lost|torn")->check(CLI::IsMember({"off", "lost", "torn"}))->group(inject);
+  app.add_option("--eeprom-power-loss", raw.power_loss,
+                 "Power fails during the first EEPROM write: off|lost|torn")
+      ->check(CLI::IsMember({"off", "lost", "torn"}))
+      ->group(inject);
   app.add_option("--mute-after", raw.mute_after, "Execute N commands, then stop answering")->group(inject);
   app.add_option("--seed", inj.seed, "Seed of the injection randomness")->group(inject);
 
   const char* wire = "Wire time";
-  app.add_flag("--wire-time", o.sim.wire.emulate_wire_time, "Each byte takes 10 bit times at the card's baud")->group(wire);
-  app.add_option("--turnaround-us", raw.turnaround_us, "Extra latency per reply burst (a USB adapter adds ~1000 us)")->group(wire);
+  app.add_flag("--wire-time", o.sim.wire.emulate_wire_time, "Each byte takes 10 bit times at the card's baud")
+      ->group(wire);
+  app.add_option("--turnaround-us", raw.turnaround_us,
+                 "Extra latency per reply burst (a USB adapter adds ~1000 us)")
+      ->group(wire);
 }
 
 void apply(Invocation& o, const Raw& raw) {
@@ -109,7 +158,8 @@ void apply(Invocation& o, const Raw& raw) {
   d.injection.eeprom_power_loss = raw.power_loss == "lost"   ? EepromPowerLoss::Lost
                                   : raw.power_loss == "torn" ? EepromPowerLoss::Torn
                                                              : EepromPowerLoss::None;
-  o.sim.wire.turnaround = std::chrono::duration_cast<Duration>(std::chrono::duration<double, std::micro>(raw.turnaround_us));
+  o.sim.wire.turnaround =
+      std::chrono::duration_cast<Duration>(std::chrono::duration<double, std::micro>(raw.turnaround_us));
 }
 
 }  // namespace
@@ -120,7 +170,8 @@ std::optional<int> parse_command_line(int argc, char** argv, Invocation& out) {
   add_options(app, out, raw);
   try {
     app.parse(argc, argv);
-    if (!out.pty && !out.print_map) throw CLI::ValidationError("nothing to do: give --pty to serve (or --print-map)");
+    if (!out.pty && !out.print_map)
+      throw CLI::ValidationError("nothing to do: give --pty to serve (or --print-map)");
     apply(out, raw);
     for (const auto& f : raw.faults) out.startup_control.push_back("fault " + f + " on");
   } catch (const CLI::ParseError& e) {

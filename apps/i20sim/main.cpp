@@ -45,7 +45,8 @@ int main(int argc, char** argv) {
     }
     sim::Virtual8i20 card(inv.sim.device, sim::Clock::now());
     for (const auto& line : inv.startup_control) sim::apply_control(card, line, sim::Clock::now());
-    if (inv.trace) card.set_trace([](const std::string& line) { std::cerr << "i20sim: " << line << std::endl; });
+    if (inv.trace)
+      card.set_trace([](const std::string& line) { std::cerr << "i20sim: " << line << std::endl; });
     return sim::app::serve(card, inv.sim.wire, inv.server);
   } catch (const Error& e) {
     std::cerr << "i20sim: " << e.what() << std::endl;

@@ -36,11 +36,12 @@ class SignalPipe {
  public:
   SignalPipe() {
     int fds[2];
-    if (::pipe2(fds, O_CLOEXEC | O_NONBLOCK) != 0) throw ConfigError("pipe2 failed: " + std::string(std::strerror(errno)));
+    if (::pipe2(fds, O_CLOEXEC | O_NONBLOCK) != 0)
+      throw ConfigError("pipe2 failed: " + std::string(std::strerror(errno)));
     read_.reset(fds[0]);
     write_.reset(fds[1]);
     g_signal_fd = write_.get();
-    struct sigaction sa{};
+    struct sigaction sa {};
     sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
     ::sigaction(SIGINT, &sa, nullptr);
@@ -65,9 +66,10 @@ class SignalPipe {
 class ControlFifo {
  public:
   explicit ControlFifo(const std::string& path) : path_(path) {
-    struct stat st{};
+    struct stat st {};
     if (::stat(path.c_str(), &st) == 0) {
-      if (!S_ISFIFO(st.st_mode)) throw ConfigError(path + " exists and is not a FIFO: choose another --control path");
+      if (!S_ISFIFO(st.st_mode))
+        throw ConfigError(path + " exists and is not a FIFO: choose another --control path");
     } else if (::mkfifo(path.c_str(), 0600) != 0) {
       throw ConfigError("cannot create FIFO " + path + ": " + std::strerror(errno));
     } else {
@@ -169,7 +171,8 @@ class Server {
     const auto now = Clock::now();
     model_.pump(now);
     std::array<lbp::Byte, 4096> buf;
-    for (std::size_t n; (n = model_.host_read(buf, now)) > 0;) to_client_.insert(to_client_.end(), buf.begin(), buf.begin() + n);
+    for (std::size_t n; (n = model_.host_read(buf, now)) > 0;)
+      to_client_.insert(to_client_.end(), buf.begin(), buf.begin() + n);
     if (to_client_.empty()) return;
     // The master is non-blocking: what the pty cannot take now waits for POLLOUT.
     const ssize_t n = ::write(pty_.master(), to_client_.data(), to_client_.size());

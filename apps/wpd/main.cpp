@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
     // The manual's "WPD FAULT 0 would clear the FAULT parameter": FAULT itself is not
     // writable, the card clears faults through CLEARFAULT.
     if (param.name == "FAULT" && raw == 0) return clear_faults(session, write);
-    session.amp().check_write(param, raw, write);
+    device::check_offline(param, raw, write);  // before the link is even opened
     const auto report = session.amp().write(param.name, raw, write);
     std::cout << param.name << " = " << raw;
     if (!param.unit.empty()) std::cout << " (" << params::format_engineering(param, raw) << ")";

@@ -130,7 +130,7 @@ std::vector<Value> Amp8i20::read(std::span<const Param* const> params) {
   return out;
 }
 
-void Amp8i20::check_write(const Param& p, std::int64_t raw, const WriteOptions& options) const {
+void check_offline(const Param& p, std::int64_t raw, const WriteOptions& options) {
   if (!p.writable()) {
     const std::string hint = p.name == "FAULT" ? ": faults clear through CLEARFAULT (i20 clear-faults)" : "";
     throw SafetyError(p.name + " is read-only" + hint);
@@ -141,6 +141,12 @@ void Amp8i20::check_write(const Param& p, std::int64_t raw, const WriteOptions& 
   } catch (const params::ValueError& e) {
     throw SafetyError(std::string(e.what()) + "; nothing was written");
   }
+  if (!p.guard.empty() && !options.force)
+    throw SafetyError("refusing to write " + p.name + " without --force: " + p.guard);
+}
+
+void Amp8i20::check_write(const Param& p, std::int64_t raw, const WriteOptions& options) const {
+  check_offline(p, raw, options);
   if (!options.allow_unverified && !db_.address_confirmed(p)) {
     const auto rev = db_.firmware();
     throw SafetyError(
@@ -148,8 +154,6 @@ void Amp8i20::check_write(const Param& p, std::int64_t raw, const WriteOptions& 
         (rev ? " (SWREVISION " + std::to_string(*rev) + ")" : std::string()) + " [" + p.provenance.source +
         "]; run `i20 discover` or pass --allow-unverified if you know better");
   }
-  if (!p.guard.empty() && !options.force)
-    throw SafetyError("refusing to write " + p.name + " without --force: " + p.guard);
 }
 
 WriteReport Amp8i20::write(std::string_view name, std::int64_t raw, const WriteOptions& options) {

@@ -68,6 +68,10 @@ struct ClearFaultsResult {
   std::chrono::milliseconds took{0};
 };
 
+// The rules that need no card: writable, address known, range, guard. Apps call it
+// before they even open the link, so a refused value sends nothing at all.
+void check_offline(const params::Param& param, std::int64_t raw, const WriteOptions& options);
+
 class Amp8i20 {
  public:
   // `cancel`, when given, is polled between exchanges (set it from a SIGINT handler).
@@ -81,7 +85,8 @@ class Amp8i20 {
   // Pipelined: RAM reads in one batch, NV reads in one batch inside NV access mode.
   std::vector<Value> read(std::span<const params::Param* const> params);
 
-  // Throws SafetyError if the rules refuse this write. Sends nothing.
+  // Throws SafetyError if the rules refuse this write (check_offline, then whether the
+  // address is confirmed for this card's firmware). Sends nothing.
   void check_write(const params::Param& param, std::int64_t raw, const WriteOptions& options) const;
   WriteReport write(std::string_view name, std::int64_t raw, const WriteOptions& options);
   // Checks every assignment before the first byte is sent, then writes in order.

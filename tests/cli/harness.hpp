@@ -1,0 +1,67 @@
+// Runs the toolkit's programs as processes, the way users do, against `i20sim --pty`.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace i20::test {
+
+struct Result {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+// build/bin (from the I20_BIN_DIR variable ctest sets) joined with the program name.
+std::filesystem::path program(const std::string& name);
+std::filesystem::path source_dir();
+
+// Runs a program to completion with a deadline (killed after `timeout_s`), with extra
+// environment variables (an empty value unsets the variable).
+Result run(const std::string& name, const std::vector<std::string>& args,
+           const std::map<std::string, std::string>& env = {}, int timeout_s = 60);
+
+// A temporary directory removed at the end of the test.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// `i20sim --pty --trace ARGS...`: the port path, control lines on its stdin, the trace
+// (every command the card received) collected from its stderr.
+class SimProcess {
+ public:
+  explicit SimProcess(const std::vector<std::string>& args = {});
+  ~SimProcess();
+  SimProcess(const SimProcess&) = delete;
+  SimProcess& operator=(const SimProcess&) = delete;
+
+  const std::string& port() const { return port_; }
+  // Sends a control line ("busv 24", "get FAULT") and returns its one-line answer.
+  std::string control(const std::string& line);
+  // Everything the simulator traced so far.
+  std::string trace() const;
+  // Number of commands the card has executed so far (from the trace).
+  std::size_t commands_seen() const;
+
+ private:
+  int pid_ = -1;
+  int stdin_fd_ = -1;
+  int stdout_fd_ = -1;
+  std::filesystem::path trace_file_;
+  std::string port_;
+  std::string pending_;
+  std::string read_line(int timeout_ms);
+};
+
+}  // namespace i20::test

@@ -1,0 +1,116 @@
+// i20 info/get/set/dump/reset/ports as processes against i20sim --pty.
+#include <gtest/gtest.h>
+
+#include "harness.hpp"
+
+using namespace i20::test;
+
+namespace {
+
+class I20Cli : public ::testing::Test {
+ protected:
+  Result i20(std::vector<std::string> args) {
+    args.insert(args.begin(), {"--port", sim.port(), "--no-user-params"});
+    return run("i20", args);
+  }
+  SimProcess sim;
+};
+
+}  // namespace
+
+TEST_F(I20Cli, InfoShowsIdentity) {
+  const auto r = i20({"info"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("8I20 on " + sim.port()), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("0xE120"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("unit number"), std::string::npos);
+  EXPECT_NE(r.out.find("CRC errors     0"), std::string::npos) << r.out;
+  const auto j = i20({"--json", "info"});
+  EXPECT_NE(j.out.find("\"card_name\": \"8I20\""), std::string::npos) << j.out;
+}
+
+TEST_F(I20Cli, GetPrintsEngineeringRawAndHex) {
+  auto r = i20({"get", "NVBRAKEONV", "BUSV"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "NVBRAKEONV = 360.00 V\nBUSV = 320.00 V\n");
+  EXPECT_EQ(i20({"get", "--raw", "NVBRAKEONV"}).out, "NVBRAKEONV = 36000\n");
+  EXPECT_EQ(i20({"get", "--hex", "NVBRAKEONV"}).out, "NVBRAKEONV = 0x8CA0\n");
+  r = i20({"--json", "get", "TEMPERATURE"});
+  EXPECT_NE(r.out.find("\"raw\": 3500"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"unit\": \"degC\""), std::string::npos) << r.out;
+}
+
+TEST_F(I20Cli, SetAcceptsUnitsAndRawAndSaysWhenAResetIsNeeded) {
+  const auto r = i20({"set", "NVBRAKEONV=320V", "NVMAXCURRENT=7.5A", "BRAKEOFFV=30000"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("NVBRAKEONV = 320.00 V (32000) written to EEPROM, verified"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("i20 reset"), std::string::npos);
+  EXPECT_EQ(sim.control("get BRAKEOFFV"), "30000");
+  EXPECT_EQ(i20({"get", "--raw", "NVMAXCURRENT"}).out, "NVMAXCURRENT = 750\n");
+}
+
+TEST_F(I20Cli, SetValidatesEveryValueBeforeTheFirstWrite) {
+  const auto before = sim.commands_seen();
+  const auto r = i20({"set", "NVBRAKEONV=320V", "NVMAXCURRENT=99A"});
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("NVMAXCURRENT"), std::string::npos) << r.err;
+  EXPECT_EQ(sim.commands_seen(), before) << "a refused set must send nothing";
+  EXPECT_EQ(i20({"get", "--raw", "NVBRAKEONV"}).out, "NVBRAKEONV = 36000\n");
+}
+
+TEST_F(I20Cli, SetRejectsBadSyntaxUnitsAndNames) {
+  const auto before = sim.commands_seen();
+  EXPECT_EQ(i20({"set", "NVBRAKEONV"}).exit_code, 2);
+  EXPECT_EQ(i20({"set", "NVBRAKEONV=320A"}).exit_code, 2);
+  EXPECT_EQ(i20({"set", "NVBRAKEONV=320.5"}).exit_code, 2);
+  const auto r = i20({"set", "NVBRAKONV=320V"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("did you mean NVBRAKEONV"), std::string::npos) << r.err;
+  EXPECT_EQ(sim.commands_seen(), before);
+}
+
+TEST_F(I20Cli, DumpListsEveryParameterInTableJsonAndYaml) {
+  auto r = i20({"dump"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* name :
+       {"NVMAXCURRENT", "NVKQI", "FAULT", "STATUS", "BUSV", "KQP", "SWREVISION", "UNITNUMBER"})
+    EXPECT_NE(r.out.find(name), std::string::npos) << name;
+  EXPECT_NE(r.out.find("NV TWIN"), std::string::npos);
+  r = i20({"dump", "--format", "json"});
+  EXPECT_EQ(r.out.front(), '[');
+  EXPECT_NE(r.out.find("\"name\": \"NVKQI\""), std::string::npos);
+  r = i20({"dump", "--format", "yaml"});
+  EXPECT_NE(r.out.find("- {name: NVKQP, raw: 50"), std::string::npos) << r.out;
+}
+
+TEST_F(I20Cli, ResetAsksAndSendsNothingWithoutConfirmation) {
+  const auto before = sim.commands_seen();
+  const auto r = i20({"reset"});  // stdin is not a terminal
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--yes"), std::string::npos) << r.err;
+  EXPECT_EQ(sim.commands_seen(), before);
+  EXPECT_EQ(i20({"reset", "--yes"}).exit_code, 0);
+  EXPECT_NE(sim.trace().find("fe 5a"), std::string::npos);
+}
+
+TEST_F(I20Cli, NoTargetIsAClearError) {
+  const auto r = run("i20", {"info"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--sim"), std::string::npos) << r.err;
+}
+
+TEST(I20CliSim, BuiltInSimulatorNeedsNoHardware) {
+  const auto r = run("i20", {"--sim", "get", "NVKQP"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "NVKQP = 50\n");
+}
+
+TEST(I20CliSim, SimEepromPersistsBetweenRuns) {
+  TempDir dir;
+  const auto image = (dir / "card.eeprom").string();
+  ASSERT_EQ(run("i20", {"--sim", "--sim-eeprom", image, "set", "NVBRAKEONV=190V"}).exit_code, 0);
+  EXPECT_EQ(run("i20", {"--sim", "--sim-eeprom", image, "get", "NVBRAKEONV", "BRAKEONV"}).out,
+            "NVBRAKEONV = 190.00 V\nBRAKEONV = 190.00 V\n")
+      << "power-up loads NV into the working set";
+}

@@ -1,0 +1,146 @@
+// wpd/rpd as drop-ins for Mesa's WPD/RPD (manual, "DRIVE PARAMETER SETUP"), run as
+// processes against i20sim --pty, including every refusal and proof that it sent nothing.
+#include <gtest/gtest.h>
+
+#include "harness.hpp"
+
+using namespace i20::test;
+
+namespace {
+
+class LegacyTools : public ::testing::Test {
+ protected:
+  std::map<std::string, std::string> env() const {
+    return {{"COMPORT", sim.port()},
+            {"BAUDRATE", "115200"},
+            {"PROTOCOL", "LBP"},
+            {"I20_PARAMS", ""},
+            {"XDG_CONFIG_HOME", "/nonexistent"}};
+  }
+  Result rpd(const std::vector<std::string>& args) { return run("rpd", args, env()); }
+  Result wpd(const std::vector<std::string>& args) { return run("wpd", args, env()); }
+  // Data writes (header 01 1x xxxx) the card received, from the simulator's trace.
+  std::size_t writes_seen() const {
+    std::size_t n = 0;
+    std::istringstream in(sim.trace());
+    for (std::string line; std::getline(in, line);) {
+      const auto pos = line.find(": ");
+      if (pos == std::string::npos || line.find(" -> ") == std::string::npos) continue;
+      const auto header = std::stoi(line.substr(pos + 2, 2), nullptr, 16);
+      if ((header & 0xE0) == 0x60) ++n;
+    }
+    return n;
+  }
+
+  SimProcess sim;
+};
+
+}  // namespace
+
+TEST_F(LegacyTools, RpdReadsBusVoltageIn10mVUnits) {
+  sim.control("busv 320");
+  const auto r = rpd({"BUSV"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "32000\n");  // manual: "a bus voltage of 320 would read as 32000"
+}
+
+TEST_F(LegacyTools, RpdHPrintsAHexadecimalWord) {
+  sim.control("enable off");  // NOENABLEFAULT, bit 1
+  const auto r = rpd({"FAULT", "H"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "0002\n");
+}
+
+TEST_F(LegacyTools, WpdNvWriteIsVerifiedAndOnlyLiveAfterReset) {
+  auto r = wpd({"NVMAXCURRENT", "2500"});  // manual: 25 A, "will not take effect until the 8I20 is reset"
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("25.00 A"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("after the 8I20 is reset"), std::string::npos) << r.out;
+  EXPECT_EQ(rpd({"NVMAXCURRENT"}).out, "2500\n");
+  EXPECT_EQ(rpd({"MAXCURRENT"}).out, "1000\n") << "an NV write must change nothing live";
+  EXPECT_EQ(sim.control("get MAXCURRENT"), "1000");
+  ASSERT_EQ(run("i20", {"--port", sim.port(), "reset", "--yes"}, env()).exit_code, 0);
+  EXPECT_EQ(rpd({"MAXCURRENT"}).out, "2500\n");
+}
+
+TEST_F(LegacyTools, WpdWorkingWriteIsLive) {
+  ASSERT_EQ(wpd({"BRAKEONV", "30000"}).exit_code, 0);  // manual: 300 V
+  EXPECT_EQ(sim.control("get BRAKEONV"), "30000");
+}
+
+TEST_F(LegacyTools, OutOfRangeIsRefusedAndNothingIsSent) {
+  const auto before = sim.commands_seen();
+  const auto r = wpd({"NVMAXCURRENT", "3001"});
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("outside its valid range"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
+  EXPECT_EQ(sim.commands_seen(), before) << sim.trace();
+}
+
+TEST_F(LegacyTools, ReadOnlyAndGuardedWritesAreRefusedAndNothingIsSent) {
+  const auto before = sim.commands_seen();
+  auto r = wpd({"BUSV", "100"});
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("read-only"), std::string::npos) << r.err;
+  r = wpd({"NVBAUDRATE", "4"});
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("--force"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("link speed"), std::string::npos) << r.err;
+  EXPECT_EQ(sim.commands_seen(), before);
+  r = wpd({"--force", "NVBAUDRATE", "4"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(rpd({"NVBAUDRATE"}).out, "4\n");
+}
+
+TEST_F(LegacyTools, BadValuesAndNamesAreOneLineErrors) {
+  auto r = wpd({"NVMAXCURRENT", "lots"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("not an integer"), std::string::npos) << r.err;
+  r = rpd({"NVBRAKEON"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("did you mean NVBRAKEONV"), std::string::npos) << r.err;
+  EXPECT_EQ(writes_seen(), 0u);
+}
+
+TEST_F(LegacyTools, EnvironmentIsCheckedLikeWpd) {
+  auto e = env();
+  e["PROTOCOL"] = "SSLBP";
+  auto r = run("rpd", {"BUSV"}, e);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("PROTOCOL=LBP"), std::string::npos) << r.err;
+  e = env();
+  e["COMPORT"] = "";
+  r = run("rpd", {"BUSV"}, e);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("COMPORT"), std::string::npos) << r.err;
+  // --port wins over COMPORT.
+  e = env();
+  e["COMPORT"] = "/dev/nonexistent-port";
+  r = run("rpd", {"--port", sim.port(), "BUSV"}, e);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  r = run("rpd", {"BUSV"}, e);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("/dev/nonexistent-port"), std::string::npos) << r.err;
+}
+
+TEST_F(LegacyTools, WpdFault0ClearsThroughClearfault) {
+  sim.control("enable off");
+  auto r = wpd({"FAULT", "0"});
+  EXPECT_EQ(r.exit_code, 5) << "the cause (no enable) is still present: " << r.out << r.err;
+  sim.control("enable on");
+  r = wpd({"FAULT", "0"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(rpd({"FAULT"}).out, "0\n");
+}
+
+TEST(LegacyToolsUnconfirmed, WorkingWritesOnAnUnknownFirmwareNeedAllowUnverified) {
+  SimProcess sim({"--random-map", "7"});  // another SWREVISION: the database map is a guess there
+  const std::map<std::string, std::string> env{{"COMPORT", sim.port()}, {"I20_PARAMS", ""}};
+  auto r = run("wpd", {"BRAKEONV", "30000"}, env);
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("not confirmed"), std::string::npos) << r.err;
+  EXPECT_EQ(sim.trace().find(": 6"), std::string::npos) << "no write may reach the card:\n" << sim.trace();
+  // NV addresses are public: they work on any firmware at once.
+  r = run("wpd", {"NVBRAKEONV", "32000"}, env);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
