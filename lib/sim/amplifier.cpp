@@ -69,7 +69,8 @@ void Amplifier::feed_watchdog(Clock::time_point now) {
 }
 
 std::optional<Clock::time_point> Amplifier::watchdog_due() const {
-  if (!settings_.operate_mode || !last_valid_command_ || (previous_causes_ & fault::kWatchdog)) return std::nullopt;
+  if (!settings_.operate_mode || !last_valid_command_ || (previous_causes_ & fault::kWatchdog))
+    return std::nullopt;
   return *last_valid_command_ + settings_.watchdog + Duration(1);
 }
 
@@ -156,7 +157,8 @@ std::uint64_t Amplifier::read_raw(const Register& r) const {
   std::uint64_t v = 0;
   for (unsigned i = r.bytes(); i-- > 0;) {
     const std::size_t a = r.address + i;
-    const lbp::Byte b = r.space == Space::Ram ? ram_[a & 0xFFFF] : (a < eeprom_.size() ? eeprom_.at(a) : 0xFF);
+    const lbp::Byte b =
+        r.space == Space::Ram ? ram_[a & 0xFFFF] : (a < eeprom_.size() ? eeprom_.at(a) : 0xFF);
     v = (v << 8) | b;
   }
   return v;

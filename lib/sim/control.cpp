@@ -16,10 +16,12 @@ struct NamedFault {
 };
 
 constexpr NamedFault kFaults[] = {
-    {"watchdog", fault::kWatchdog}, {"noenable", fault::kNoEnable}, {"overtemp", fault::kOverTemp},
-    {"overcurrent", fault::kOverCurrent}, {"uloop", fault::kULoop}, {"vloop", fault::kVLoop},
-    {"wloop", fault::kWLoop}, {"buslow", fault::kBusLow}, {"bushigh", fault::kBusHigh},
-    {"busmax", fault::kBusMax}, {"module", fault::kModule}, {"overrun", fault::kSerialOverrun},
+    {"watchdog", fault::kWatchdog},     {"noenable", fault::kNoEnable},
+    {"overtemp", fault::kOverTemp},     {"overcurrent", fault::kOverCurrent},
+    {"uloop", fault::kULoop},           {"vloop", fault::kVLoop},
+    {"wloop", fault::kWLoop},           {"buslow", fault::kBusLow},
+    {"bushigh", fault::kBusHigh},       {"busmax", fault::kBusMax},
+    {"module", fault::kModule},         {"overrun", fault::kSerialOverrun},
     {"framing", fault::kSerialFraming},
 };
 
@@ -258,8 +260,8 @@ std::string describe_state(Virtual8i20& card) {
                 "power=%s mode=%s baud=%u busv=%.2fV temp=%.2fC enable=%s fault=%s status=%s "
                 "lbp_status=0x%02X fault_output=%s brake=%s crc_errors=%u",
                 card.powered() ? "on" : "off", card.mode() == FramingMode::Setup ? "setup" : "operate",
-                card.baud(), s.bus_volts, s.temperature_c, s.enable ? "on" : "off", hex16(amp.fault()).c_str(),
-                hex16(amp.status()).c_str(), card.lbp_registers().status,
+                card.baud(), s.bus_volts, s.temperature_c, s.enable ? "on" : "off",
+                hex16(amp.fault()).c_str(), hex16(amp.status()).c_str(), card.lbp_registers().status,
                 amp.fault_output_active() ? "fault" : "ok", amp.brake_on() ? "on" : "off",
                 card.lbp_registers().crc_errors);
   return buf;

@@ -91,7 +91,8 @@ void Framer::expire(Clock::time_point t) {
 }
 
 std::optional<Framer::Clock::time_point> Framer::deadline() const {
-  const bool waiting = resyncing_ || (config_.mode == FramingMode::Setup ? splitter_.pending() > 0 : !packet_.empty());
+  const bool waiting =
+      resyncing_ || (config_.mode == FramingMode::Setup ? splitter_.pending() > 0 : !packet_.empty());
   if (!waiting || !last_byte_) return std::nullopt;
   return *last_byte_ + config_.timeout + Clock::duration(1);
 }

@@ -34,7 +34,8 @@ lbp::Bytes Virtual8i20::dispatch(const lbp::Bytes& command, Clock::time_point t,
     case lbp::CommandKind::Data: {
       const auto h = lbp::DataHeader::decode(header);
       std::optional<std::uint16_t> address;
-      if (h.has_address) address = static_cast<std::uint16_t>(lbp::read_le(lbp::ByteView(command).subspan(1, 2)));
+      if (h.has_address)
+        address = static_cast<std::uint16_t>(lbp::read_le(lbp::ByteView(command).subspan(1, 2)));
       return data_access(h, address, lbp::ByteView(command).subspan(1 + h.address_bytes()), t);
     }
     case lbp::CommandKind::Rpc: return run_rpc(lbp::rpc_number(header), lbp::ByteView(command).subspan(1), t);
@@ -87,12 +88,14 @@ bool Virtual8i20::local_write(lbp::Byte command, lbp::Byte data) {
       break;
     case lc::kWriteLeds: lbp_.leds = data; break;
     case lc::kSetLowAddress: lbp_.address = static_cast<std::uint16_t>((lbp_.address & 0xFF00) | data); break;
-    case lc::kSetHighAddress: lbp_.address = static_cast<std::uint16_t>((lbp_.address & 0x00FF) | (data << 8)); break;
+    case lc::kSetHighAddress:
+      lbp_.address = static_cast<std::uint16_t>((lbp_.address & 0x00FF) | (data << 8));
+      break;
     case lc::kAddToAddress: lbp_.address = static_cast<std::uint16_t>(lbp_.address + data); break;
     case lc::kSetUnitId: lbp_.unit_id = data; break;
     case lc::kResetProcessor: return data == lc::kResetKey;  // any other byte: no reset
-    case lc::kResetParser: break;  // the framer is at a command boundary already
-    default: break;                // reserved writes are accepted and ignored
+    case lc::kResetParser: break;                            // the framer is at a command boundary already
+    default: break;                                          // reserved writes are accepted and ignored
   }
   return false;
 }
@@ -161,7 +164,8 @@ bool Virtual8i20::write_bytes(std::uint16_t address, lbp::ByteView data, Clock::
   if (std::size_t{address} + data.size() > amplifier_.eeprom().size()) return false;
   ++stats_.eeprom_writes;
   if (injection_.eeprom_power_loss != EepromPowerLoss::None) {
-    if (injection_.eeprom_power_loss == EepromPowerLoss::Torn) amplifier_.eeprom().write(address, data.first(1));
+    if (injection_.eeprom_power_loss == EepromPowerLoss::Torn)
+      amplifier_.eeprom().write(address, data.first(1));
     injection_.eeprom_power_loss = EepromPowerLoss::None;
     trace("power lost during an EEPROM write (injected)");
     power_off();

@@ -20,9 +20,9 @@ Register ram(std::string name, std::uint16_t address, unsigned width, bool is_si
 }
 
 // Registers the device logic reads or writes itself; a map without them cannot run.
-constexpr std::string_view kRequired[] = {"FAULT",     "STATUS",      "CLEARFAULT", "FAULTMASK", "BUSV",
+constexpr std::string_view kRequired[] = {"FAULT",       "STATUS",    "CLEARFAULT", "FAULTMASK", "BUSV",
                                           "TEMPERATURE", "ANGLE",     "QSETPOINT",  "BUSUNDERV", "BUSOVERV",
-                                          "BRAKEONV",  "BRAKEOFFV",   "SWREVISION", "UNITNUMBER"};
+                                          "BRAKEONV",    "BRAKEOFFV", "SWREVISION", "UNITNUMBER"};
 
 // Registers that keep their public addresses when a map is shuffled (facts.md s2).
 bool is_fixed(const Register& r) {
@@ -120,7 +120,8 @@ RegisterMap RegisterMap::with_overrides_text(RegisterMap base, std::string_view 
     const std::string content = trim(line.substr(0, line.find('#')));
     if (content.empty()) continue;
     const auto eq = content.find('=');
-    if (eq == std::string::npos) throw ConfigError(where + ": expected NAME = ADDRESS, got '" + content + "'");
+    if (eq == std::string::npos)
+      throw ConfigError(where + ": expected NAME = ADDRESS, got '" + content + "'");
     std::string name = trim(content.substr(0, eq));
     std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::toupper(c); });
     const std::uint32_t value = parse_number(trim(content.substr(eq + 1)), where);
@@ -200,7 +201,8 @@ void RegisterMap::validate() const {
     if (a.width_bits != 8 && a.width_bits != 16 && a.width_bits != 32)
       throw ConfigError(a.name + " has width " + std::to_string(a.width_bits) + ": use 8, 16 or 32");
     if (std::uint32_t{a.address} + a.bytes() > 0x10000)
-      throw ConfigError(a.name + " at " + std::to_string(a.address) + " runs past the end of the address space");
+      throw ConfigError(a.name + " at " + std::to_string(a.address) +
+                        " runs past the end of the address space");
     for (std::size_t j = i + 1; j < registers_.size(); ++j) {
       const auto& b = registers_[j];
       if (a.space == b.space && a.overlaps(b.address, b.bytes()))

@@ -15,7 +15,8 @@ lbp::RpcStep step(const RegisterMap& map, const char* name, bool write) {
 
 void place(lbp::Bytes& table, unsigned rpc, const std::vector<lbp::RpcStep>& steps) {
   const lbp::Bytes list = lbp::encode_rpc_list(steps);
-  std::copy(list.begin(), list.end(), table.begin() + static_cast<std::ptrdiff_t>(rpc * lbp::local::kRpcPitch));
+  std::copy(list.begin(), list.end(),
+            table.begin() + static_cast<std::ptrdiff_t>(rpc * lbp::local::kRpcPitch));
 }
 
 }  // namespace

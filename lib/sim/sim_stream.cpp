@@ -69,7 +69,8 @@ std::unique_ptr<link::ByteStream> make_sim_stream(SimOptions options) {
   return std::make_unique<SimStream>(std::move(options));
 }
 
-std::unique_ptr<link::PipelinedLink> make_sim_link(SimOptions options, link::PipelinedLinkOptions link_options) {
+std::unique_ptr<link::PipelinedLink> make_sim_link(SimOptions options,
+                                                   link::PipelinedLinkOptions link_options) {
   return std::make_unique<link::PipelinedLink>(make_sim_stream(std::move(options)), link_options);
 }
 

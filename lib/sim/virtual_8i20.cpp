@@ -230,8 +230,9 @@ std::optional<Clock::time_point> Virtual8i20::next_event() const {
 void Virtual8i20::power_off() {
   powered_ = false;
   framer_.clear();
-  outbox_.erase(std::remove_if(outbox_.begin(), outbox_.end(), [&](const Outgoing& o) { return o.release > now_; }),
-                outbox_.end());
+  outbox_.erase(
+      std::remove_if(outbox_.begin(), outbox_.end(), [&](const Outgoing& o) { return o.release > now_; }),
+      outbox_.end());
   busy_until_.reset();
   eeprom_pending_.clear();
   deaf_until_.reset();

@@ -78,10 +78,10 @@ struct LbpRegisters {
 
 struct DeviceStats {
   std::uint64_t commands_executed = 0;
-  std::uint64_t bad_crc = 0;            // commands refused for their CRC
-  std::uint64_t replies_dropped = 0;    // by injection
-  std::uint64_t commands_ignored = 0;   // while muted (answer limit)
-  std::uint64_t bytes_ignored = 0;      // while rebooting or powered off
+  std::uint64_t bad_crc = 0;           // commands refused for their CRC
+  std::uint64_t replies_dropped = 0;   // by injection
+  std::uint64_t commands_ignored = 0;  // while muted (answer limit)
+  std::uint64_t bytes_ignored = 0;     // while rebooting or powered off
   std::uint64_t eeprom_writes = 0;
   std::uint64_t resets = 0;
 };

@@ -150,7 +150,8 @@ TEST_F(SimFault, StickyStatusBitsAndWhatClearsThem) {
   world().bus_volts = 370;
   status();
   world().bus_volts = 300;
-  EXPECT_EQ(status() & status::kSticky, status::kExternalReset | status::kSoftwareReset | status::kBrakeWasOn);
+  EXPECT_EQ(status() & status::kSticky,
+            status::kExternalReset | status::kSoftwareReset | status::kBrakeWasOn);
   clearfault();
   EXPECT_EQ(status() & status::kSticky, 0u) << "simulator's reading: CLEARFAULT clears the status register";
   b.card.power_cycle(b.t);

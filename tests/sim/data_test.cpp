@@ -80,7 +80,8 @@ TEST_P(SimReadOnly, WriteIsRefusedAnsweredAndFlagged) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Registers, SimReadOnly,
-                         ::testing::Values("FAULT", "STATUS", "BUSV", "TEMPERATURE", "SWREVISION", "UNITNUMBER"));
+                         ::testing::Values("FAULT", "STATUS", "BUSV", "TEMPERATURE", "SWREVISION",
+                                           "UNITNUMBER"));
 
 TEST(SimData, AWriteTouchingAReadOnlyByteIsRefusedWhole) {
   Bench b;

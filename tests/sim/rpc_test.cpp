@@ -1,7 +1,8 @@
 // Manual "RPC COMMANDS", "EXAMPLE RPC COMMAND LIST"; facts.md s3 (the preloaded RPCs
 // name the addresses of ANGLE, QSETPOINT, BUSV, TEMPERATURE, FAULT and STATUS).
-#include "bench.hpp"
 #include "lbp/rpc.hpp"
+
+#include "bench.hpp"
 #include "sim/rpc_table.hpp"
 
 namespace i20::sim::test {
@@ -36,8 +37,10 @@ TEST(SimRpc, PreloadedTableNamesTheMapsAddresses) {
   // RPC 0 written out by hand: 65 0C 08 65 0E 08 00 (write ANGLE, write QSETPOINT).
   EXPECT_EQ(lbp::Bytes(table.begin(), table.begin() + 7), lbp::from_hex("65 0C 08 65 0E 08 00"));
   const auto& m = b.card.amplifier().map();
-  EXPECT_EQ(addresses(table, 0), (std::vector<std::uint16_t>{m.at("ANGLE").address, m.at("QSETPOINT").address}));
-  EXPECT_EQ(addresses(table, 1), (std::vector<std::uint16_t>{m.at("BUSV").address, m.at("TEMPERATURE").address}));
+  EXPECT_EQ(addresses(table, 0),
+            (std::vector<std::uint16_t>{m.at("ANGLE").address, m.at("QSETPOINT").address}));
+  EXPECT_EQ(addresses(table, 1),
+            (std::vector<std::uint16_t>{m.at("BUSV").address, m.at("TEMPERATURE").address}));
   EXPECT_EQ(addresses(table, 2), (std::vector<std::uint16_t>{m.at("FAULT").address, m.at("STATUS").address}));
   const auto full = lbp::decode_rpc_list(table, 3);
   EXPECT_EQ(full.stream_bytes, 4u);
