@@ -1,0 +1,38 @@
+// Typed errors of the profile layer. Every message is one line naming what was wrong.
+#pragma once
+
+#include <string>
+
+#include "lbp/error.hpp"
+
+namespace i20::profile {
+
+// A profile that cannot be read or interpreted. what() is "where: key: reason [rule]",
+// where `where` is "file:line" when the profile came from a file.
+class ProfileError : public Error {
+ public:
+  ProfileError(std::string where, std::string key, std::string rule, const std::string& reason);
+
+  const std::string& where() const { return where_; }
+  const std::string& key() const { return key_; }
+  const std::string& rule() const { return rule_; }
+
+ private:
+  std::string where_;
+  std::string key_;
+  std::string rule_;
+};
+
+// The backup file could not be written or read back; nothing was written to the card.
+class BackupError : public Error {
+ public:
+  using Error::Error;
+};
+
+// A tuning request that makes no physical sense (zero inductance, no bus voltage, ...).
+class TuneError : public Error {
+ public:
+  using Error::Error;
+};
+
+}  // namespace i20::profile

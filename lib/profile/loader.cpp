@@ -1,0 +1,232 @@
+#include "profile/loader.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cctype>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "params/value.hpp"
+#include "profile/error.hpp"
+#include "profile/quantity.hpp"
+
+namespace i20::profile {
+namespace {
+
+const std::set<std::string> kTopKeys{"schema", "name",  "description", "motor",
+                                     "supply", "notes", "target",      "parameters"};
+const std::set<std::string> kMotorKeys{
+    "make", "model", "continuous_current", "peak_current", "phase_resistance", "phase_inductance"};
+const std::set<std::string> kSupplyKeys{"description", "bus_voltage"};
+const std::set<std::string> kEntryKeys{"value", "raw", "target"};
+
+std::string trim(std::string_view s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  return std::string(s);
+}
+
+bool iequals(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i])))
+      return false;
+  return true;
+}
+
+std::string list_of(const std::set<std::string>& keys) {
+  std::string out;
+  for (const auto& k : keys) out += (out.empty() ? "" : ", ") + k;
+  return out;
+}
+
+// Reads YAML nodes and turns every problem into a ProfileError at the node's line.
+class Reader {
+ public:
+  explicit Reader(std::string source) : source_(std::move(source)) {}
+
+  std::string where(const YAML::Node& at) const {
+    const auto mark = at.Mark();
+    return source_ + ":" + (mark.line >= 0 ? std::to_string(mark.line + 1) : std::string("?"));
+  }
+  int line(const YAML::Node& at) const { return at.Mark().line >= 0 ? at.Mark().line + 1 : 0; }
+
+  [[noreturn]] void fail(const YAML::Node& at, const std::string& key, const std::string& rule,
+                         const std::string& reason) const {
+    throw ProfileError(where(at), key, rule, reason);
+  }
+
+  std::string text(const YAML::Node& node, const std::string& key) const {
+    if (!node.IsScalar()) fail(node, key, "schema", "must be a single value, not a list or map");
+    return node.Scalar();
+  }
+
+  void only_keys(const YAML::Node& map, const std::set<std::string>& allowed, const std::string& what) const {
+    std::set<std::string> seen;
+    for (const auto& kv : map) {
+      const std::string key = kv.first.Scalar();
+      if (!allowed.contains(key))
+        fail(kv.first, key, "schema", "unknown key in " + what + " (allowed: " + list_of(allowed) + ")");
+      if (!seen.insert(key).second) fail(kv.first, key, "duplicate", "given twice in " + what);
+    }
+  }
+
+  double quantity(const YAML::Node& node, const std::string& key, Quantity kind) const {
+    std::string why;
+    const auto value = parse_quantity(kind, text(node, key), why);
+    if (!value) fail(node, key, "unit", why);
+    return *value;
+  }
+
+  const std::string& source() const { return source_; }
+
+ private:
+  std::string source_;
+};
+
+void read_motor(const Reader& r, const YAML::Node& node, MotorInfo& motor) {
+  if (!node.IsMap()) r.fail(node, "motor", "schema", "must be a map (" + list_of(kMotorKeys) + ")");
+  r.only_keys(node, kMotorKeys, "motor");
+  for (const auto& kv : node) {
+    const std::string key = kv.first.Scalar();
+    const YAML::Node& v = kv.second;
+    if (key == "make") motor.make = trim(r.text(v, key));
+    if (key == "model") motor.model = trim(r.text(v, key));
+    if (key == "continuous_current") motor.continuous_current_a = r.quantity(v, key, Quantity::Current);
+    if (key == "peak_current") motor.peak_current_a = r.quantity(v, key, Quantity::Current);
+    if (key == "phase_resistance") motor.phase_resistance_ohm = r.quantity(v, key, Quantity::Resistance);
+    if (key == "phase_inductance") motor.phase_inductance_h = r.quantity(v, key, Quantity::Inductance);
+  }
+  if (motor.continuous_current_a && motor.peak_current_a &&
+      *motor.peak_current_a < *motor.continuous_current_a)
+    r.fail(node["peak_current"], "peak_current", "motor", "is below continuous_current");
+}
+
+void read_supply(const Reader& r, const YAML::Node& node, SupplyInfo& supply) {
+  if (node.IsScalar()) {
+    supply.description = trim(node.Scalar());
+    return;
+  }
+  if (!node.IsMap())
+    r.fail(node, "supply", "schema", "must be a description or a map (description, bus_voltage)");
+  r.only_keys(node, kSupplyKeys, "supply");
+  if (node["description"]) supply.description = trim(r.text(node["description"], "description"));
+  if (node["bus_voltage"])
+    supply.bus_voltage_v = r.quantity(node["bus_voltage"], "bus_voltage", Quantity::Voltage);
+}
+
+Target read_target(const Reader& r, const YAML::Node& node, const std::string& key) {
+  const std::string text = r.text(node, key);
+  const auto target = parse_target(text);
+  if (!target) r.fail(node, key, "target", "target must be nv, working or both, not '" + text + "'");
+  return *target;
+}
+
+// A parameter with a unit must say it: "750" for NVMAXCURRENT could mean 750 counts (7.5 A)
+// or 750 A, and the difference is a burnt motor. Raw counts are still possible as {raw: N}.
+void require_unit(const Reader& r, const YAML::Node& node, const params::Param& p, const std::string& text) {
+  std::string_view t = text;
+  while (!t.empty() && std::isspace(static_cast<unsigned char>(t.back()))) t.remove_suffix(1);
+  std::size_t n = t.size();
+  while (n > 0 && std::isalpha(static_cast<unsigned char>(t[n - 1]))) --n;
+  const std::string suffix(t.substr(n));
+  if (!iequals(suffix, p.unit) && suffix != "m" + p.unit)
+    r.fail(node, p.name, "unit-required",
+           "'" + text + "' needs its unit (" + p.unit + "), e.g. " +
+               params::format_engineering(p, p.max / 4) + "; write {raw: N} for raw counts");
+}
+
+std::int64_t read_value(const Reader& r, const YAML::Node& node, const params::Param& p, bool raw) {
+  const std::string text = r.text(node, p.name);
+  try {
+    if (raw) return params::parse_raw(p, text);
+    if (!p.unit.empty()) require_unit(r, node, p, text);
+    return params::parse_value(p, text);
+  } catch (const params::ValueError& e) {
+    r.fail(node, p.name, "value", e.what());
+  }
+}
+
+Setting read_setting(const Reader& r, const YAML::Node& key_node, const YAML::Node& node,
+                     const params::ParamDb& db) {
+  const std::string key = key_node.Scalar();
+  const params::Param* p = db.find(key);
+  if (!p) {
+    const params::UnknownParameter unknown(key, db.suggestions(key));
+    r.fail(key_node, key, "unknown-parameter", unknown.what());
+  }
+  Setting s;
+  s.name = p->name;
+  s.line = r.line(key_node);
+  if (node.IsMap()) {
+    r.only_keys(node, kEntryKeys, "a parameter entry");
+    if (!!node["value"] == !!node["raw"])
+      r.fail(node, p->name, "schema", "give exactly one of value (engineering units) or raw (counts)");
+    s.raw = node["raw"] ? read_value(r, node["raw"], *p, true) : read_value(r, node["value"], *p, false);
+    if (node["target"]) s.target = read_target(r, node["target"], "target");
+  } else {
+    s.raw = read_value(r, node, *p, false);
+  }
+  return s;
+}
+
+void read_parameters(const Reader& r, const YAML::Node& node, const params::ParamDb& db, Profile& profile) {
+  if (!node.IsMap() || node.size() == 0)
+    r.fail(node, "parameters", "schema",
+           "must be a map of parameter names to values, with at least one entry");
+  std::set<std::string> names;
+  for (const auto& kv : node) {
+    Setting s = read_setting(r, kv.first, kv.second, db);
+    if (!names.insert(s.name).second) r.fail(kv.first, s.name, "duplicate", "given twice");
+    profile.settings.push_back(std::move(s));
+  }
+}
+
+YAML::Node parse_yaml(std::string_view yaml, const std::string& source) {
+  try {
+    return YAML::Load(std::string(yaml));
+  } catch (const YAML::Exception& e) {
+    throw ProfileError(source + ":" + std::to_string(e.mark.line + 1), "", "yaml",
+                       "not valid YAML: " + e.msg);
+  }
+}
+
+}  // namespace
+
+Profile load_profile_string(std::string_view yaml, const std::string& source, const params::ParamDb& db) {
+  const Reader r(source);
+  const YAML::Node root = parse_yaml(yaml, source);
+  if (!root.IsMap())
+    throw ProfileError(source + ":1", "", "schema", "a profile is a map with name and parameters");
+  r.only_keys(root, kTopKeys, "a profile");
+  if (root["schema"] && r.text(root["schema"], "schema") != "1")
+    r.fail(root["schema"], "schema", "schema", "unsupported profile schema (this toolkit reads schema 1)");
+  if (!root["name"]) r.fail(root, "name", "schema", "a profile needs a name");
+  if (!root["parameters"]) r.fail(root, "parameters", "schema", "a profile needs a parameters map");
+
+  Profile profile;
+  profile.source = source;
+  profile.name = trim(r.text(root["name"], "name"));
+  if (profile.name.empty()) r.fail(root["name"], "name", "schema", "must not be empty");
+  if (root["description"]) profile.description = trim(r.text(root["description"], "description"));
+  if (root["notes"]) profile.notes = trim(r.text(root["notes"], "notes"));
+  if (root["motor"]) read_motor(r, root["motor"], profile.motor);
+  if (root["supply"]) read_supply(r, root["supply"], profile.supply);
+  if (root["target"]) profile.target = read_target(r, root["target"], "target");
+  read_parameters(r, root["parameters"], db, profile);
+  (void)cell_writes(profile, db);  // targets resolvable, no cell written twice
+  return profile;
+}
+
+Profile load_profile_file(const std::filesystem::path& path, const params::ParamDb& db) {
+  std::ifstream in(path);
+  if (!in)
+    throw ProfileError(path.string(), "", "file",
+                       "cannot open the profile (does it exist and is it readable?)");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return load_profile_string(ss.str(), path.string(), db);
+}
+
+}  // namespace i20::profile

@@ -1,0 +1,23 @@
+// Physical quantities in profile metadata ("2.7 A", "6.2 mH", "1.9 ohm", "170 V").
+//
+// Parameter values go through params::parse_value (the database knows their scale); these
+// are the motor and supply facts that have no card parameter behind them.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace i20::profile {
+
+enum class Quantity { Current, Resistance, Inductance, Voltage };
+
+// The value in SI units (A, ohm, H, V), or nullopt with `why` set. The unit is required:
+// a bare "6.2" could be H or mH. Accepted: A, mA; ohm, mohm (also the Greek sign);
+// H, mH, uH; V, mV. The value must be positive and finite.
+std::optional<double> parse_quantity(Quantity kind, std::string_view text, std::string& why);
+
+// Formatting that parse_quantity reads back: "2.7 A", "6.2 mH", "1.9 ohm", "170 V".
+std::string format_quantity(Quantity kind, double si_value);
+
+}  // namespace i20::profile

@@ -1,0 +1,58 @@
+#include "profile/save.hpp"
+
+#include <set>
+
+#include "profile/error.hpp"
+#include "profile/timestamp.hpp"
+
+namespace i20::profile {
+namespace {
+
+// Database spelling, read-only names refused, duplicates dropped, order kept.
+std::vector<std::string> canonical(const std::vector<std::string>& names, const params::ParamDb& db) {
+  std::vector<std::string> out;
+  std::set<std::string> seen;
+  for (const auto& name : names) {
+    const params::Param& p = db.get(name);
+    if (!p.writable())
+      throw ProfileError("", p.name, "read-only",
+                         "is read-only; a profile holds settings that can be written back");
+    if (seen.insert(p.name).second) out.push_back(p.name);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::string> default_save_names(const params::ParamDb& db) {
+  std::vector<std::string> names;
+  for (const auto& p : db.all())
+    if (p.is_nv() && p.writable() && p.guard.empty() && p.provenance.confirmed_on_all && p.address)
+      names.push_back(p.name);
+  return names;
+}
+
+Profile profile_from_values(const RawValues& values, const std::vector<std::string>& names,
+                            const params::ParamDb& db, const std::string& card, const SaveOptions& options) {
+  Profile profile;
+  profile.source = "saved from " + card;
+  profile.name = options.name;
+  profile.notes = options.notes;
+  profile.comments = {"Read from " + card, "on " + iso8601_utc(options.when) + ".",
+                      "Values are in engineering units; applying this file writes them back."};
+  for (const auto& name : canonical(names, db)) {
+    const auto it = values.find(name);
+    if (it == values.end()) throw ProfileError("", name, "missing", "no value was read for it");
+    profile.settings.push_back({name, it->second, std::nullopt, 0});
+  }
+  return profile;
+}
+
+Profile save(CardAccess& card, const params::ParamDb& db, const std::vector<std::string>& names,
+             const SaveOptions& options) {
+  const auto wanted = canonical(names.empty() ? default_save_names(db) : names, db);
+  const RawValues values = card.read(wanted);
+  return profile_from_values(values, wanted, db, card.describe(), options);
+}
+
+}  // namespace i20::profile

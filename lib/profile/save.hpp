@@ -1,0 +1,36 @@
+// Reading a card into a profile: `save` for people, and the backup taken before an apply.
+#pragma once
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "params/param_db.hpp"
+#include "profile/card_access.hpp"
+#include "profile/profile.hpp"
+
+namespace i20::profile {
+
+struct SaveOptions {
+  std::string name = "saved";  // the profile's name
+  std::string notes;
+  std::chrono::system_clock::time_point when = std::chrono::system_clock::now();
+};
+
+// What `save` reads when no names are given: the writable EEPROM parameters whose
+// addresses are public for every firmware (facts.md s2) and that need no --force, i.e.
+// the power-up setup of the drive.
+std::vector<std::string> default_save_names(const params::ParamDb& db);
+
+// A profile holding `values` for `names` (each in its own space: NV names -> nv), with
+// provenance comments naming `card` and the time. Throws ProfileError for a read-only or
+// missing name, UnknownParameter for a name not in the database.
+Profile profile_from_values(const RawValues& values, const std::vector<std::string>& names,
+                            const params::ParamDb& db, const std::string& card, const SaveOptions& options);
+
+// Reads `names` (default_save_names() if empty) from the card into a profile. Card errors
+// propagate as thrown by CardAccess::read.
+Profile save(CardAccess& card, const params::ParamDb& db, const std::vector<std::string>& names,
+             const SaveOptions& options = {});
+
+}  // namespace i20::profile

@@ -1,0 +1,61 @@
+// A simulated current step of the 8I20's PI loop on the motor's R-L winding.
+//
+// Model (a locked rotor, so no back-EMF; one axis of the dq frame):
+//  - plant: L di/dt = v - R i, discretised exactly for a zero-order hold;
+//  - controller: discrete PI sampled at the PWM rate (default 12 kHz, the manual's
+//    default switching frequency), its output applied one period later (computation delay);
+//  - voltage limited to Vbus / sqrt(3), the largest phase voltage space-vector PWM makes
+//    from the bus; the integrator stops while the output is limited (anti-windup);
+//  - card gains are turned into volts per amp with the tuning model (tune.hpp), so this
+//    shows what given KQP/KQI would do on this motor relative to the reference.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "profile/tune.hpp"
+
+namespace i20::profile {
+
+struct StepRequest {
+  MotorModel motor;
+  double max_current_a = 0;
+  double bus_voltage_v = 0;
+  std::int64_t kp = 0;  // card gains (KQP/KDP, KQI/KDI)
+  std::int64_t ki = 0;
+  ReferenceTuning reference;
+  double step_a = 0;  // 0: half of MAXCURRENT
+  double sample_rate_hz = 12000;
+  double duration_s = 0;  // 0: long enough to settle (6 closed-loop time constants or more)
+};
+
+struct StepSample {
+  double t_s = 0;
+  double command_a = 0;
+  double current_a = 0;
+  double voltage_v = 0;  // applied during this sample period
+};
+
+struct StepMetrics {
+  std::optional<double> rise_start_s;     // when the response passes 10% of the step
+  std::optional<double> rise_time_s;      // from there to 90% of the step
+  double overshoot_pct = 0;               // peak above the step, in % of the step
+  std::optional<double> settling_time_s;  // last time outside +-2% of the step
+  double final_a = 0;
+  double final_error_pct = 0;  // (step - final) / step
+  bool saturated = false;      // the voltage limit was reached
+};
+
+struct StepResponse {
+  std::vector<StepSample> samples;
+  StepMetrics metrics;
+  double step_a = 0;
+  double voltage_limit_v = 0;
+  PhysicalGains gains;  // the volts-per-amp gains simulated
+};
+
+// Throws TuneError for non-physical inputs (as tune() does).
+StepResponse simulate_step(const StepRequest& request);
+
+}  // namespace i20::profile

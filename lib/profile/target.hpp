@@ -1,0 +1,22 @@
+// Which cells of the card a profile entry writes.
+//
+// The 8I20 keeps two copies of each setup parameter: the working (RAM) value the drive uses
+// now, and the NV (EEPROM) value loaded into it at reset (manual, DRIVE PARAMETER SETUP).
+#pragma once
+
+#include <optional>
+#include <string_view>
+
+namespace i20::profile {
+
+enum class Target {
+  Nv,       // the EEPROM parameter only: takes effect after the next reset
+  Working,  // the working parameter only: takes effect now, lost at power-down
+  Both,     // the EEPROM parameter and its working twin
+};
+
+const char* to_string(Target target);
+// "nv", "working" or "both"; nullopt for anything else.
+std::optional<Target> parse_target(std::string_view text);
+
+}  // namespace i20::profile

@@ -1,0 +1,240 @@
+#include "profile/validate.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <initializer_list>
+#include <optional>
+
+#include "params/value.hpp"
+#include "profile/effective.hpp"
+#include "profile/error.hpp"
+
+namespace i20::profile {
+namespace {
+
+using params::Space;
+
+// Limits the manual states (sections MOTOR POWER, MOTOR BRAKE, MAXCURRENT, SPECIFICATIONS).
+constexpr double kFixedBrakeOnV = 385.0;    // fixed brake-on that protects the module
+constexpr double kCardMaxCurrentA = 30.0;   // MAXCURRENT: 30 A RMS card rating
+constexpr double kCardMaxBusV = 400.0;      // motor supply 35..400 V; fixed 400 V fault
+constexpr double kBrakeHysteresisV = 20.0;  // "BRAKEOFFV be set 20V lower than BRAKEON"
+constexpr double kBrakeHysteresisToleranceV = 5.0;
+// Servo motors are commonly rated for about three times their continuous current as peak.
+constexpr double kTypicalPeakRatio = 3.0;
+
+std::string volts(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f V", v);
+  return buf;
+}
+
+std::string amps(double a) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f A", a);
+  return buf;
+}
+
+class Checker {
+ public:
+  Checker(const Profile& profile, const params::ParamDb& db, const ValidationContext& context,
+          std::vector<Finding>& out)
+      : profile_(profile), db_(db), context_(context), out_(out) {}
+
+  void run() {
+    std::optional<EffectiveValues> ev;
+    try {
+      ev.emplace(profile_, db_, context_.card);
+    } catch (const ProfileError& e) {
+      out_.push_back({Severity::Error, e.key(), e.rule(), e.what(), e.where()});
+      return;
+    } catch (const params::UnknownParameter& e) {  // a profile built in code, not loaded
+      out_.push_back({Severity::Error, "", "unknown-parameter", e.what(), profile_.source});
+      return;
+    }
+    ev_ = &*ev;
+    entry_rules();
+    supply_limit();
+    for (const Space space : {Space::Eeprom, Space::Ram})
+      if (ev_->touches(space)) space_rules(space);
+  }
+
+ private:
+  // --- per entry: what the database says about each cell written
+  void entry_rules() {
+    for (const auto& s : profile_.settings) {
+      for (const auto& cell : cells_of(profile_, s, db_)) {
+        const params::Param& p = db_.get(cell);
+        if (!p.writable()) {
+          add(Severity::Error, cell, "read-only",
+              cell + " is read-only on the 8I20; a profile holds settings", &s);
+          continue;
+        }
+        if (!p.guard.empty())
+          add(context_.force ? Severity::Warning : Severity::Error, cell, "guarded",
+              p.guard + (context_.force ? " (forced)" : " (apply with force to write it)"), &s);
+        try {
+          params::check_range(p, s.raw);
+        } catch (const params::ValueError& e) {
+          add(Severity::Error, cell, "range", e.what(), &s);
+        }
+      }
+    }
+  }
+
+  void supply_limit() {
+    const auto bus = profile_.supply.bus_voltage_v;
+    if (bus && *bus > kCardMaxBusV)
+      add(Severity::Error, "supply.bus_voltage", "bus-card-limit",
+          "a " + volts(*bus) + " bus is above the 8I20's 400 V motor supply rating", nullptr);
+  }
+
+  // --- cross-parameter rules, judged on what one space (EEPROM or working) will hold
+  void space_rules(Space space) {
+    space_ = space;
+    brake_rules();
+    voltage_rules();
+    current_rules();
+    gain_match("KQP", "KDP", "kp-match");
+    gain_match("KQI", "KDI", "ki-match");
+    supply_rules();
+  }
+
+  void brake_rules() {
+    const auto on = value("BRAKEONV");
+    const auto off = value("BRAKEOFFV");
+    if (on && touched({on}) && on->engineering() > kFixedBrakeOnV + 1e-9)
+      add(Severity::Error, *on, "brake-on-limit",
+          on->describe() + " is above the fixed 385 V brake-on that protects the 8I20 module");
+    if (!on || !off || !touched({on, off})) return;
+    if (off->raw >= on->raw) {
+      add(Severity::Error, pick({off, on}), "brake-order",
+          off->describe() + " must be below " + on->describe() +
+              ": the manual requires BrakeOn always higher than BrakeOff");
+      return;
+    }
+    const double gap = on->engineering() - off->engineering();
+    if (std::abs(gap - kBrakeHysteresisV) > kBrakeHysteresisToleranceV)
+      add(Severity::Warning, pick({off, on}), "brake-hysteresis",
+          off->describe() + " is " + volts(gap) + " below " + on->describe() +
+              "; the manual suggests about 20 V (less makes the brake chatter, more dumps more energy)");
+  }
+
+  void voltage_rules() {
+    const auto under = value("BUSUNDERV");
+    const auto over = value("BUSOVERV");
+    const auto on = value("BRAKEONV");
+    if (under && over && touched({under, over}) && under->raw >= over->raw)
+      add(Severity::Error, pick({under, over}), "undervoltage-below-overvoltage",
+          under->describe() + " must be below " + over->describe() + ": every bus voltage would be a fault");
+    if (on && over && touched({on, over}) && on->raw >= over->raw)
+      add(Severity::Warning, pick({on, over}), "brake-below-overvoltage",
+          on->describe() + " is not below " + over->describe() +
+              ": the over-voltage fault trips before the brake resistor takes the regenerated energy");
+  }
+
+  void current_rules() {
+    const auto max = value("MAXCURRENT");
+    if (!max) return;
+    if (touched({max}) && max->engineering() > kCardMaxCurrentA + 1e-9)
+      add(Severity::Error, *max, "maxcurrent-card", max->describe() + " is above the 8I20's 30 A RMS rating");
+    // The motor's ratings come from the profile, so they are judged whenever it touches this space.
+    const MotorInfo& m = profile_.motor;
+    const double amps_set = max->engineering();
+    if (m.peak_current_a) {
+      if (amps_set > *m.peak_current_a + 1e-9)
+        add(Severity::Error, *max, "maxcurrent-motor",
+            max->describe() + " is above the motor's peak rating of " + amps(*m.peak_current_a) +
+                ": full-scale commands could demagnetise or overheat it");
+    } else if (m.continuous_current_a) {
+      const double cont = *m.continuous_current_a;
+      if (amps_set > kTypicalPeakRatio * cont + 1e-9)
+        add(Severity::Error, *max, "maxcurrent-motor",
+            max->describe() + " is more than 3x the motor's continuous rating of " + amps(cont) +
+                "; give motor.peak_current if the motor really takes it");
+      else if (amps_set > cont + 1e-9)
+        add(Severity::Warning, *max, "maxcurrent-motor",
+            max->describe() + " is above the motor's continuous rating of " + amps(cont) +
+                " and no peak rating is given; the host must keep the RMS current within the rating");
+    }
+  }
+
+  void gain_match(const char* q, const char* d, const char* rule) {
+    const auto qv = value(q);
+    const auto dv = value(d);
+    if (qv && dv && touched({qv, dv}) && qv->raw != dv->raw)
+      add(Severity::Warning, pick({qv, dv}), rule,
+          qv->describe() + " differs from " + dv->describe() + ": the manual says they are normally equal");
+  }
+
+  // Rules about the supply the profile says it is for (metadata bus_voltage).
+  void supply_rules() {
+    if (!profile_.supply.bus_voltage_v) return;
+    const double bus = *profile_.supply.bus_voltage_v;
+    const std::string bus_text = "the " + volts(bus) + " supply bus";
+    if (const auto under = value("BUSUNDERV"); under && under->engineering() >= bus)
+      add(Severity::Error, *under, "bus-above-undervoltage",
+          under->describe() + " is not below " + bus_text + ": the drive would fault at its normal supply");
+    if (const auto over = value("BUSOVERV"); over && over->engineering() <= bus)
+      add(Severity::Error, *over, "bus-below-overvoltage",
+          over->describe() + " is not above " + bus_text + ": the drive would fault at its normal supply");
+    if (const auto on = value("BRAKEONV"); on && on->engineering() <= bus) {
+      add(Severity::Error, *on, "brake-above-bus",
+          on->describe() + " is not above " + bus_text +
+              ": the brake resistor would take the supply's power");
+    } else if (const auto off = value("BRAKEOFFV"); off && off->engineering() < bus) {
+      add(Severity::Warning, *off, "brake-off-above-bus",
+          off->describe() + " is below " + bus_text +
+              ": once on, the brake would not switch off until the supply sags");
+    }
+  }
+
+  // --- helpers
+  // The effective value of a working/NV pair in the space being checked, by working name.
+  std::optional<Effective> value(const char* working_name) const {
+    const params::Param* p = db_.find(working_name);
+    if (!p) return std::nullopt;
+    const std::string cell = space_ == Space::Ram ? p->name : p->twin;
+    if (cell.empty() || !db_.find(cell)) return std::nullopt;
+    return ev_->get(cell);
+  }
+
+  static bool touched(std::initializer_list<std::optional<Effective>> values) {
+    for (const auto& v : values)
+      if (v && v->origin == Origin::Profile) return true;
+    return false;
+  }
+
+  // The value a finding is about: the first one the profile sets.
+  static Effective pick(std::initializer_list<std::optional<Effective>> values) {
+    for (const auto& v : values)
+      if (v && v->origin == Origin::Profile) return *v;
+    return **values.begin();
+  }
+
+  void add(Severity severity, const Effective& about, const char* rule, const std::string& message) {
+    add(severity, about.param->name, rule, message, about.setting);
+  }
+  void add(Severity severity, const std::string& key, const char* rule, const std::string& message,
+           const Setting* setting) {
+    out_.push_back({severity, key, rule, message, setting ? profile_.where(*setting) : profile_.source});
+  }
+
+  const Profile& profile_;
+  const params::ParamDb& db_;
+  const ValidationContext& context_;
+  std::vector<Finding>& out_;
+  const EffectiveValues* ev_ = nullptr;
+  Space space_ = Space::Eeprom;
+};
+
+}  // namespace
+
+std::vector<Finding> validate(const Profile& profile, const params::ParamDb& db,
+                              const ValidationContext& context) {
+  std::vector<Finding> findings;
+  Checker(profile, db, context, findings).run();
+  return findings;
+}
+
+}  // namespace i20::profile
