@@ -102,6 +102,11 @@ device::Amp8i20& Session::amp() {
   return *amp_;
 }
 
+void Session::reconnect() {
+  amp_.reset();
+  link_.reset();
+}
+
 std::vector<std::string> Session::notes() const {
   return link_ ? link_->notes() : std::vector<std::string>{};
 }

@@ -51,6 +51,9 @@ class Session {
   link::Link& link();
   // The card client; identifies the card (SWREVISION selects the database map) first.
   device::Amp8i20& amp();
+  // Drops the link and the card client so the next use opens them again (after an
+  // adapter was unplugged and replugged, or the card reset).
+  void reconnect();
   // Link and adapter notes (e.g. low-latency mode not available), for --verbose.
   std::vector<std::string> notes() const;
 

@@ -36,5 +36,8 @@ struct Context {
 // Each registers its subcommands on the umbrella app.
 void register_param_commands(CLI::App& app, Context& ctx);
 void register_discover_command(CLI::App& app, Context& ctx);
+void register_fault_commands(CLI::App& app, Context& ctx);    // faults, clear-faults, watch
+void register_profile_commands(CLI::App& app, Context& ctx);  // profile, tune
+void register_scan_command(CLI::App& app, Context& ctx);      // scan (Ethernet)
 
 }  // namespace i20::cli

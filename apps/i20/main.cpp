@@ -22,6 +22,9 @@ int main(int argc, char** argv) {
   app.add_flag("--json", ctx.options.json, "Machine-readable JSON output");
   cli::register_param_commands(app, ctx);
   cli::register_discover_command(app, ctx);
+  cli::register_fault_commands(app, ctx);
+  cli::register_profile_commands(app, ctx);
+  cli::register_scan_command(app, ctx);
 
   app::install_interrupt_handler();
   try {

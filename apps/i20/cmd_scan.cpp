@@ -1,0 +1,10 @@
+// Registration point; the subcommands land with their issue.
+#include <CLI/CLI.hpp>
+
+#include "context.hpp"
+
+namespace i20::cli {
+
+void register_scan_command(CLI::App&, Context&) {}
+
+}  // namespace i20::cli
