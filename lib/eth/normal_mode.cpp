@@ -234,6 +234,7 @@ void NormalModeSession::stop() {
     stopped_ = true;
   }
   changed_.notify_all();
+  port_->wait_idle();  // the last DOIT may still be running; a stop written now would be ignored
   port_->stop_all();
 }
 

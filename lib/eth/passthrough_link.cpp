@@ -89,7 +89,8 @@ void SslbpPassthroughLink::resync() {
 
 std::chrono::microseconds SslbpPassthroughLink::settle_for(const PassthroughStep& step) const {
   const std::uint64_t baud = baud_ ? baud_ : kFallbackBaud;
-  auto us = std::chrono::microseconds(step.wire_bytes * 10 * 1'000'000 / baud) + options_.overhead;
+  const std::uint64_t characters = step.wire_bytes + options_.turnaround_characters;
+  auto us = std::chrono::microseconds(characters * 10 * 1'000'000 / baud) + options_.overhead;
   if (step.data_write && nv_mode_ != 0) us += options_.nv_write_time;
   return us;
 }

@@ -38,7 +38,11 @@ struct PassthroughOptions {
   // Refuse a channel whose remote is not an 8I20 (INTERFACE1 after setup start).
   bool require_8i20 = true;
   // Added to the serial time estimate of every command: SSLBP's own processing.
-  std::chrono::microseconds overhead{40};
+  std::chrono::microseconds overhead{60};
+  // Character times the remote needs to see a command as complete: an 8I20 in operate
+  // mode ends a packet only after a quiet line of its command timeout (25.5 character
+  // times as SSLBP sets it; manual, "FRAMING").
+  unsigned turnaround_characters = 26;
   // Extra wait for a data write while NV access is EEPROM or flash: a cell write takes
   // milliseconds (facts.md section 7). Underestimating only costs a poll.
   std::chrono::microseconds nv_write_time{5000};

@@ -64,6 +64,7 @@ Completion SslbpPort::run(std::span<const lbp16::Command> before, std::uint32_t 
   packet.insert(packet.end(), reads.begin(), reads.end());
 
   unsigned round_trips = 0;
+  unsigned displaced = 0;
   for (unsigned attempt = 0;; ++attempt) {
     try {
       ++round_trips;
@@ -72,6 +73,12 @@ Completion SslbpPort::run(std::span<const lbp16::Command> before, std::uint32_t 
         Completion c = r.completion;
         c.round_trips = round_trips;
         return c;
+      }
+      if (r.command != (command & 0xFFFF) && displaced++ < options_.lost_reply_retries) {
+        // COMMAND still held another operation (an unfinished DOIT, another host's
+        // command), so SSLBP ignored ours: wait for it to finish and issue ours again.
+        round_trips = poll({}, r.command, round_trips).round_trips;
+        continue;
       }
       return poll(results, command, round_trips);
     } catch (const link::TimeoutError&) {
@@ -111,7 +118,13 @@ Completion SslbpPort::poll(std::span<const std::uint16_t> results, std::uint32_t
 }
 
 std::uint8_t SslbpPort::run(std::uint32_t command) {
-  return run({}, command, {}, /*repeatable=*/true).data;
+  // Local requests and stops are the processor's own business: microseconds. Starts talk
+  // to every remote and take milliseconds: those are polled.
+  const bool quick =
+      (command & sslbp::kRequest) || (command & (sslbp::kStart | sslbp::kTypeMask)) == sslbp::kStop;
+  return run({}, command, {}, /*repeatable=*/true,
+             quick ? options_.local_settle : std::chrono::microseconds{0})
+      .data;
 }
 
 bool SslbpPort::wait_idle() {

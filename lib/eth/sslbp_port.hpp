@@ -27,6 +27,9 @@ struct SslbpOptions {
   // Pause between read-back polls after the first repeat, so a slow start is not
   // answered by a flood of packets.
   std::chrono::microseconds poll_pause{250};
+  // WaituS after a local parameter request or a stop: SSLBP's processor answers those
+  // in microseconds, so the read-back in the same packet normally finds them done.
+  std::chrono::microseconds local_settle{50};
   // How often a packet with writes is resent when its reply is lost and the operation
   // is repeatable (only after a read-only probe found COMMAND idle).
   unsigned lost_reply_retries = 2;

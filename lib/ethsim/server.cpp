@@ -60,7 +60,7 @@ eth::HostPort parse_listen_address(std::string_view text) {
 CardServer::CardServer(ServerOptions options)
     : options_(std::move(options)), socket_(std::make_unique<Socket>()) {
   VirtualCardOptions card;
-  card.config = CardConfig::preset(options_.card);
+  card.config = options_.config ? *options_.config : CardConfig::preset(options_.card);
   card.sslbp = options_.sslbp;
   card.remotes = options_.remotes ? options_.remotes : amplifier_factory(options_);
   for (const auto& a : options_.amplifiers)
@@ -92,8 +92,7 @@ eth::HostPort CardServer::address() const {
 
 std::string CardServer::describe() const {
   const auto a = address();
-  return "virtual " + std::string(card_kind_name(options_.card)) + " at " + a.ip + ":" +
-         std::to_string(a.port);
+  return "virtual " + card_->config().card_name + " at " + a.ip + ":" + std::to_string(a.port);
 }
 
 void CardServer::start() {

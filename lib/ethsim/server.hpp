@@ -19,6 +19,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <utility>
@@ -41,6 +42,8 @@ struct ServerOptions {
   // Where to listen. Port 0 picks a free one (tests); the cards use 27181.
   eth::HostPort listen{.ip = "127.0.0.1", .port = lbp::lbp16::kUdpPort};
   CardKind card = CardKind::I7i96s;
+  // Replaces the preset of `card` when set (tests: other versions, no timer space, ...).
+  std::optional<CardConfig> config{};
   // Channels with a virtual 8I20 (port = SSERIAL instance). Unit numbers count up from
   // amplifier.amplifier.unit_number in this order; an EEPROM file gets a "-pPcC" suffix
   // when there is more than one amplifier.

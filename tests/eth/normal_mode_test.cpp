@@ -1,0 +1,137 @@
+// NormalModeSession: live BUSV/TEMPERATURE/FAULT/STATUS over SSLBP normal mode.
+#include "eth/normal_mode.hpp"
+
+#include <gtest/gtest.h>
+
+#include "eth/errors.hpp"
+#include "fixtures.hpp"
+
+using namespace i20;
+using namespace i20::eth;
+using namespace std::chrono_literals;
+
+TEST(EthNormalMode, StartsReadsUnitNumberAndStreamsTheAmplifiersValues) {
+  test::RunningCard card;
+  card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) {
+    amp.world().settings().bus_volts = 320.0;
+    amp.world().settings().temperature_c = 35.0;
+  });
+  const auto session = NormalModeSession::open(card.target(0));
+  EXPECT_EQ(session->unit_number(0), 0x00012345u);
+  EXPECT_THROW(session->unit_number(1), UsageError);
+
+  const LiveStatus s = session->wait_for_sample(500ms);
+  const ChannelSample* ch = s.channel(0);
+  ASSERT_NE(ch, nullptr);
+  EXPECT_EQ(ch->bus_voltage, 32000);  // 10 mV units: the manual's RPD example value
+  EXPECT_DOUBLE_EQ(ch->bus_volts(), 320.0);
+  EXPECT_EQ(ch->temperature, 3500);
+  EXPECT_DOUBLE_EQ(ch->temperature_celsius(), 35.0);
+  EXPECT_FALSE(ch->transfer_failed);
+  EXPECT_EQ(ch->fault, 0);
+
+  // The world changes, the next samples follow.
+  card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) { amp.world().settings().bus_volts = 300.0; });
+  std::uint16_t seen = 0;
+  for (int i = 0; i < 20 && seen != 30000; ++i)
+    seen = session->wait_for_sample(500ms).channel(0)->bus_voltage;
+  EXPECT_EQ(seen, 30000);
+}
+
+TEST(EthNormalMode, KeepsTheWatchdogFedAndNeverCommandsCurrent) {
+  test::RunningCard card;
+  const auto session = NormalModeSession::open(card.target(0));
+  std::this_thread::sleep_for(300ms);  // the caller dawdles; the worker keeps cadence
+  const LiveStatus s = session->wait_for_sample(500ms);
+  EXPECT_GE(s.doits, 15u);
+  EXPECT_EQ(s.missed_cycles, 0u);
+  EXPECT_EQ(s.channel(0)->fault & 0x0001, 0) << "watchdog fault";
+  card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) {
+    EXPECT_EQ(amp.amplifier().watchdog_bites(), 0u);
+    EXPECT_EQ(amp.amplifier().value("QSETPOINT"), 0u);
+    EXPECT_EQ(amp.amplifier().value("ANGLE"), 0u);
+  });
+  card.server().with_card([](ethsim::VirtualCard& c) {
+    EXPECT_EQ(c.sslbp(0).mode(0), ethsim::ChannelMode::Normal);
+    EXPECT_EQ(c.sslbp(0).stats().ignored_while_busy, 0u);
+  });
+}
+
+TEST(EthNormalMode, FaultsShowUpInInterface1) {
+  test::RunningCard card;
+  const auto session = NormalModeSession::open(card.target(0));
+  card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) { amp.world().settings().enable = false; });
+  std::uint16_t fault = 0;
+  for (int i = 0; i < 30 && fault == 0; ++i) fault = session->wait_for_sample(500ms).channel(0)->fault;
+  EXPECT_TRUE(fault & 0x0002) << "no-enable fault, got " << fault;
+}
+
+TEST(EthNormalMode, StopSendsTheStopCommand) {
+  test::RunningCard card;
+  auto session = NormalModeSession::open(card.target(0));
+  session->wait_for_sample(500ms);
+  session->stop();
+  EXPECT_FALSE(session->running());
+  card.server().with_card(
+      [](ethsim::VirtualCard& c) { EXPECT_EQ(c.sslbp(0).mode(0), ethsim::ChannelMode::Stopped); });
+  session->stop();  // idempotent
+  EXPECT_THROW(session->wait_for_sample(50ms), link::TimeoutError);
+}
+
+TEST(EthNormalMode, DestructionStopsToo) {
+  test::RunningCard card;
+  {
+    const auto session = NormalModeSession::open(card.target(0));
+    session->wait_for_sample(500ms);
+  }
+  card.server().with_card(
+      [](ethsim::VirtualCard& c) { EXPECT_EQ(c.sslbp(0).mode(0), ethsim::ChannelMode::Stopped); });
+}
+
+TEST(EthNormalMode, SeveralChannelsOfA7i92tPort) {
+  ethsim::ServerOptions options;
+  options.card = ethsim::CardKind::I7i92t;
+  options.amplifiers = {{1, 2}, {1, 5}};
+  test::RunningCard card(options);
+  const auto session = NormalModeSession::open(card.address(), 1, 0x24);
+  EXPECT_EQ(session->unit_number(2), 0x00012345u);
+  EXPECT_EQ(session->unit_number(5), 0x00012346u);
+  const LiveStatus s = session->wait_for_sample(500ms);
+  ASSERT_EQ(s.channels.size(), 2u);
+  EXPECT_EQ(s.channel(5)->bus_voltage, 32000);
+}
+
+TEST(EthNormalMode, ChannelThatDoesNotStartIsReported) {
+  ethsim::ServerOptions options;
+  options.card = ethsim::CardKind::I7i92t;
+  options.amplifiers = {{0, 0}};
+  test::RunningCard card(options);
+  try {
+    NormalModeSession::open(card.address(), 0, 0x03);
+    FAIL();
+  } catch (const DiscoveryError& e) {
+    EXPECT_NE(std::string(e.what()).find("ch 1"), std::string::npos) << e.what();
+  }
+}
+
+TEST(EthNormalMode, CardThatGoesAwayFailsTheSession) {
+  auto card = std::make_unique<test::RunningCard>();
+  NormalModeOptions options;
+  options.udp.timeout = 10ms;
+  const auto session = NormalModeSession::open(card->target(0), options);
+  session->wait_for_sample(500ms);
+  card.reset();  // the card vanishes
+  EXPECT_THROW(
+      {
+        for (int i = 0; i < 50; ++i) session->wait_for_sample(200ms);
+      },
+      link::TimeoutError);
+  EXPECT_FALSE(session->running());
+}
+
+TEST(EthNormalMode, RefusesPeriodsThatLetTheWatchdogBite) {
+  test::RunningCard card;
+  NormalModeOptions options;
+  options.period = 30ms;
+  EXPECT_THROW(NormalModeSession::open(card.target(0), options), UsageError);
+}

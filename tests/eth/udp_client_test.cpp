@@ -1,0 +1,158 @@
+// UdpClient against scripted cards and the virtual card on loopback: replies only from
+// the card's own address, never of the wrong size, resends only what may be resent.
+#include "eth/udp_client.hpp"
+
+#include <gtest/gtest.h>
+
+#include "eth/errors.hpp"
+#include "fixtures.hpp"
+#include "lbp/error.hpp"
+
+using namespace i20;
+using namespace i20::eth;
+using namespace std::chrono_literals;
+namespace lbp16 = i20::lbp::lbp16;
+using test::ScriptedCard;
+
+namespace {
+
+UdpOptions quick(unsigned retries = 2) {
+  return UdpOptions{.timeout = 30ms, .retries = retries};
+}
+
+const lbp16::Command kCookie = lbp16::read_hm2(0x0100);
+
+}  // namespace
+
+TEST(EthUdpClient, ReadsTheCookieFromTheVirtualCard) {
+  test::RunningCard card;
+  UdpClient client(card.address().ip, card.address().port);
+  const auto reply = client.transact(std::span(&kCookie, 1));
+  ASSERT_EQ(reply.size(), 1u);
+  EXPECT_EQ(reply[0], lbp::from_hex("fecaaa55"));  // the manual's ELBPCOM sample
+  EXPECT_EQ(client.stats().packets_sent, 1u);
+  EXPECT_EQ(client.stats().replies, 1u);
+}
+
+TEST(EthUdpClient, RepliesFromAnotherSenderAreIgnored) {
+  ScriptedCard card([](const lbp::Bytes& request, const auto& client, ScriptedCard::Sockets s) {
+    const lbp::Bytes good = test::zero_card_reply(request);
+    lbp::Bytes forged = good;
+    forged.back() = 0xEE;
+    s.impostor.send_to(boost::asio::buffer(forged), client);  // same size, wrong address:port
+    std::this_thread::sleep_for(2ms);
+    s.card.send_to(boost::asio::buffer(good), client);
+  });
+  UdpClient client("127.0.0.1", card.port(), quick());
+  const auto reply = client.transact(std::span(&kCookie, 1));
+  EXPECT_EQ(reply[0], lbp::Bytes(4, 0));  // the card's zeros, not the impostor's 0xEE
+  EXPECT_EQ(client.stats().foreign_ignored, 1u);
+  EXPECT_EQ(client.stats().packets_sent, 1u);
+}
+
+TEST(EthUdpClient, OnlyForeignRepliesMeanTimeout) {
+  ScriptedCard card([](const lbp::Bytes& request, const auto& client, ScriptedCard::Sockets s) {
+    s.impostor.send_to(boost::asio::buffer(test::zero_card_reply(request)), client);
+  });
+  UdpClient client("127.0.0.1", card.port(), quick(0));
+  EXPECT_THROW(client.transact(std::span(&kCookie, 1)), link::TimeoutError);
+  EXPECT_EQ(client.stats().foreign_ignored, 1u);
+}
+
+TEST(EthUdpClient, ReplyOfTheWrongSizeIsAnError) {
+  for (int delta : {-1, +2}) {
+    ScriptedCard card([delta](const lbp::Bytes& request, const auto& client, ScriptedCard::Sockets s) {
+      lbp::Bytes reply = test::zero_card_reply(request);
+      reply.resize(static_cast<std::size_t>(static_cast<int>(reply.size()) + delta));
+      s.card.send_to(boost::asio::buffer(reply), client);
+    });
+    UdpClient client("127.0.0.1", card.port(), quick());
+    try {
+      client.transact(std::span(&kCookie, 1));
+      FAIL() << "accepted a reply " << delta << " bytes off";
+    } catch (const BadReplyError& e) {
+      EXPECT_NE(std::string(e.what()).find("were expected"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(card.requests(), 1u) << "a bad reply is reported, not retried";
+  }
+}
+
+TEST(EthUdpClient, StaleRepliesAreDroppedBySequenceNumber) {
+  // The card answers every request twice: once with a stale tag (as a late reply to an
+  // earlier packet would), then properly.
+  ScriptedCard card([](const lbp::Bytes& request, const auto& client, ScriptedCard::Sockets s) {
+    lbp::Bytes stale = test::zero_card_reply(request);
+    stale[0] ^= 0x55;
+    stale.resize(stale.size() + 4);  // a different size too: still not an error, it is not ours
+    s.card.send_to(boost::asio::buffer(stale), client);
+    s.card.send_to(boost::asio::buffer(test::zero_card_reply(request)), client);
+  });
+  UdpClient client("127.0.0.1", card.port(), quick());
+  EXPECT_NO_THROW(client.transact(std::span(&kCookie, 1)));
+  EXPECT_EQ(client.stats().stale_ignored, 1u);
+}
+
+TEST(EthUdpClient, SilentCardTimesOutAfterBoundedResendsOfReads) {
+  ScriptedCard card([](const lbp::Bytes&, const auto&, ScriptedCard::Sockets) {});
+  UdpClient client("127.0.0.1", card.port(), quick(2));
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    client.transact(std::span(&kCookie, 1));
+    FAIL();
+  } catch (const link::TimeoutError& e) {
+    EXPECT_NE(std::string(e.what()).find("3 attempts"), std::string::npos) << e.what();
+  }
+  EXPECT_GE(std::chrono::steady_clock::now() - t0, 90ms);
+  std::this_thread::sleep_for(5ms);
+  EXPECT_EQ(card.requests(), 3u);
+  EXPECT_EQ(client.stats().resends, 2u);
+  EXPECT_EQ(client.stats().timeouts, 3u);
+}
+
+TEST(EthUdpClient, PacketsWithWritesAreNotResentUnlessIdempotent) {
+  ScriptedCard card([](const lbp::Bytes&, const auto&, ScriptedCard::Sockets) {});
+  UdpClient client("127.0.0.1", card.port(), quick(2));
+  const lbp16::Command write = lbp16::write_hm2(0x1000, 0x1234u);
+  try {
+    client.transact(std::span(&write, 1));
+    FAIL();
+  } catch (const link::TimeoutError& e) {
+    EXPECT_NE(std::string(e.what()).find("may or may not have taken effect"), std::string::npos) << e.what();
+  }
+  std::this_thread::sleep_for(5ms);
+  EXPECT_EQ(card.requests(), 1u);
+  EXPECT_THROW(client.transact(std::span(&write, 1), Resend::Idempotent), link::TimeoutError);
+  std::this_thread::sleep_for(5ms);
+  EXPECT_EQ(card.requests(), 4u);
+  EXPECT_THROW(client.transact(std::span(&kCookie, 1), Resend::Never), link::TimeoutError);
+  std::this_thread::sleep_for(5ms);
+  EXPECT_EQ(card.requests(), 5u);
+}
+
+TEST(EthUdpClient, LostReplyIsRecoveredByResendingAReadOnlyPacket) {
+  std::atomic<int> seen{0};
+  ScriptedCard card([&](const lbp::Bytes& request, const auto& client, ScriptedCard::Sockets s) {
+    if (seen++ == 0) return;  // the first reply is lost
+    s.card.send_to(boost::asio::buffer(test::zero_card_reply(request)), client);
+  });
+  UdpClient client("127.0.0.1", card.port(), quick(2));
+  EXPECT_NO_THROW(client.transact(std::span(&kCookie, 1)));
+  EXPECT_EQ(client.stats().resends, 1u);
+}
+
+TEST(EthUdpClient, WriteOnlyPacketStillGetsAReplyThroughTheSequenceTag) {
+  test::RunningCard card;
+  UdpClient client(card.address().ip, card.address().port, quick());
+  const lbp16::Command write = lbp16::write_hm2(0x7000, 0xCAFEF00Du);
+  const auto reply = client.transact(std::span(&write, 1));
+  ASSERT_EQ(reply.size(), 1u);
+  EXPECT_TRUE(reply[0].empty());
+  EXPECT_EQ(client.stats().replies, 1u);
+  const lbp16::Command read = lbp16::read_hm2(0x7000);
+  EXPECT_EQ(lbp::read_le(client.transact(std::span(&read, 1))[0]), 0xCAFEF00Du);
+}
+
+TEST(EthUdpClient, RejectsBadAddresses) {
+  EXPECT_THROW(UdpClient("card.local"), UsageError);
+  EXPECT_THROW(UdpClient("192.168.1"), UsageError);
+}
