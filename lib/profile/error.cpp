@@ -19,6 +19,7 @@ ProfileError::ProfileError(std::string where, std::string key, std::string rule,
     : Error(compose(where, key, rule, reason)),
       where_(std::move(where)),
       key_(std::move(key)),
-      rule_(std::move(rule)) {}
+      rule_(std::move(rule)),
+      reason_(reason) {}
 
 }  // namespace i20::profile

@@ -16,11 +16,13 @@ class ProfileError : public Error {
   const std::string& where() const { return where_; }
   const std::string& key() const { return key_; }
   const std::string& rule() const { return rule_; }
+  const std::string& reason() const { return reason_; }  // without where, key and rule
 
  private:
   std::string where_;
   std::string key_;
   std::string rule_;
+  std::string reason_;
 };
 
 // The backup file could not be written or read back; nothing was written to the card.

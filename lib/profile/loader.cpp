@@ -58,6 +58,7 @@ class Reader {
   }
 
   std::string text(const YAML::Node& node, const std::string& key) const {
+    if (node.IsNull()) fail(node, key, "schema", "has no value");
     if (!node.IsScalar()) fail(node, key, "schema", "must be a single value, not a list or map");
     return node.Scalar();
   }
@@ -78,8 +79,6 @@ class Reader {
     if (!value) fail(node, key, "unit", why);
     return *value;
   }
-
-  const std::string& source() const { return source_; }
 
  private:
   std::string source_;

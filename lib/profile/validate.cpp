@@ -46,7 +46,7 @@ class Checker {
     try {
       ev.emplace(profile_, db_, context_.card);
     } catch (const ProfileError& e) {
-      out_.push_back({Severity::Error, e.key(), e.rule(), e.what(), e.where()});
+      out_.push_back({Severity::Error, e.key(), e.rule(), e.reason(), e.where()});
       return;
     } catch (const params::UnknownParameter& e) {  // a profile built in code, not loaded
       out_.push_back({Severity::Error, "", "unknown-parameter", e.what(), profile_.source});

@@ -133,6 +133,8 @@ TEST(ProfileLoader, RejectsBadValues) {
   EXPECT_EQ(load_error(with_params("  NVKQP: 1.5\n")).rule(), "value");
   EXPECT_EQ(load_error(with_params("  NVKQP: lots\n")).rule(), "value");
   EXPECT_EQ(load_error(with_params("  NVKQP: [1, 2]\n")).rule(), "schema");
+  EXPECT_NE(std::string(load_error(with_params("  NVKQP:\n")).what()).find("has no value"),
+            std::string::npos);
   EXPECT_EQ(load_error(with_params("  NVKQP: {value: 50, raw: 50}\n")).rule(), "schema");
   EXPECT_EQ(load_error(with_params("  NVKQP: {value: 50, when: now}\n")).rule(), "schema");
 }
