@@ -156,6 +156,10 @@ void NormalModeSession::run_cycle(const Cycle& cycle, std::uint64_t& consecutive
     ++late_;  // the previous DOIT had not finished: our DOIT write was not taken, data are in flux
     return;
   }
+  const auto now = Clock::now();
+  if (last_doit_)
+    max_doit_gap_ = std::max(max_doit_gap_, std::chrono::duration_cast<std::chrono::microseconds>(now - *last_doit_));
+  last_doit_ = now;
   const std::uint64_t previous_doits = doits_++;
   if (previous_doits == 0) return;  // before the first DOIT INTERFACE0 holds the unit number
 
@@ -177,6 +181,7 @@ void NormalModeSession::run_cycle(const Cycle& cycle, std::uint64_t& consecutive
   status.doits = doits_;
   status.late_cycles = late_;
   status.missed_cycles = missed_;
+  status.max_doit_gap = max_doit_gap_;
   publish(std::move(status));
 }
 

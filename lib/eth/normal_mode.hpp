@@ -66,6 +66,9 @@ struct LiveStatus {
   std::uint64_t doits = 0;          // DOIT commands issued so far
   std::uint64_t late_cycles = 0;    // cycles that found the previous DOIT unfinished
   std::uint64_t missed_cycles = 0;  // cycles whose reply was lost
+  // Longest time between two DOITs so far. Above 40 ms the 8I20's watchdog bites: the
+  // host was starved (a loaded machine), not the protocol.
+  std::chrono::microseconds max_doit_gap{0};
 
   const ChannelSample* channel(unsigned ch) const;
 };
@@ -122,6 +125,8 @@ class NormalModeSession {
   bool stopped_ = false;
   std::uint64_t returned_sequence_ = 0;
   std::uint64_t doits_ = 0, late_ = 0, missed_ = 0;  // worker-only
+  std::chrono::microseconds max_doit_gap_{0};
+  std::optional<std::chrono::steady_clock::time_point> last_doit_{};
   std::thread thread_;
 };
 
