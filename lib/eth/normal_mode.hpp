@@ -14,6 +14,10 @@
 //
 // The caller polls latest() or blocks in wait_for_sample(). stop() (and the destructor)
 // ends the thread and sends the SSLBP stop command.
+//
+// A session owns its SSERIAL port: the start stops whatever ran there (a passthrough
+// link on the same port included), and the stop is a stop-all. LinuxCNC must not be
+// running against the card at the same time.
 #pragma once
 
 #include <chrono>

@@ -23,6 +23,8 @@
 // - A packet that ends inside a command or holds a count of 0 sets LBPParseError; the
 //   commands before it are executed and their data returned.
 // - A packet without read data gets no reply at all.
+// - LBPReset, FPGAICAP, LEDMode and the WaitForHM2 timers are plain registers: the
+//   simulated card neither reboots nor waits for HostMot2 timers.
 #pragma once
 
 #include <functional>
