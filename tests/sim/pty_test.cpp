@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "bench.hpp"
+#include "lbp/command.hpp"
+#include "link/serial_link.hpp"
 
 namespace i20::sim::test {
 namespace {
@@ -103,8 +105,10 @@ class Child {
 // The client side of the pty, set up the way a serial tool would (raw 115200 8N1).
 class Port {
  public:
-  explicit Port(const std::string& path) : fd_(::open(path.c_str(), O_RDWR | O_NOCTTY)) {
-    if (fd_ < 0) return;
+  // `configure`: set raw 115200 8N1 as a serial tool would; without it the pty's own
+  // settings (raw, set by i20sim) must already pass every byte untouched.
+  explicit Port(const std::string& path, bool configure = true) : fd_(::open(path.c_str(), O_RDWR | O_NOCTTY)) {
+    if (fd_ < 0 || !configure) return;
     termios tio{};
     ::tcgetattr(fd_, &tio);
     ::cfmakeraw(&tio);
@@ -155,6 +159,28 @@ TEST(SimPty, ServesRawLbpAndStopsCleanly) {
     ASSERT_TRUE(again.ok());
     EXPECT_EQ(again.exchange(framed("DF"), 2), reply("5A"));
   }
+  EXPECT_EQ(sim.terminate(), 0);
+}
+
+TEST(SimPty, EveryByteValuePassesUntouched) {
+  Child sim({"--pty"});
+  Port port(sim.line(), /*configure=*/false);
+  ASSERT_TRUE(port.ok());
+  // CR, LF, XON, XOFF, ^C, ^D, 0xFF: what a cooked terminal would translate or swallow.
+  EXPECT_EQ(port.exchange(framed("6F 00 30 0D 0A 11 13 03 04 7F FF"), 1), lbp::Bytes{0x00});
+  EXPECT_EQ(port.exchange(framed("47 00 30"), 9), reply("0D 0A 11 13 03 04 7F FF"));
+  EXPECT_EQ(sim.terminate(), 0);
+}
+
+TEST(SimPty, TheProjectsSerialLinkTalksToIt) {
+  Child sim({"--pty"});
+  const std::string path = sim.line();
+  auto link = link::open_serial_link(path);
+  const std::vector<lbp::Command> batch{lbp::local_read(lbp::local::kGetCookie), lbp::read(2164, lbp::DataSize::Two)};
+  const auto replies = link->execute(batch);
+  ASSERT_EQ(replies.size(), 2u);
+  EXPECT_EQ(replies[0], lbp::Bytes{0x5A});
+  EXPECT_EQ(replies[1], lbp::from_hex("20 E1"));
   EXPECT_EQ(sim.terminate(), 0);
 }
 
