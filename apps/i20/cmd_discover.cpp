@@ -1,10 +1,132 @@
-// i20 discover: placeholder registration until the discovery module lands.
+// i20 discover: find the working (RAM) addresses of the connected card, read-only.
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
 
 #include "context.hpp"
+#include "device/discover.hpp"
 
 namespace i20::cli {
+namespace {
 
-void register_discover_command(CLI::App&, Context&) {}
+struct DiscoverOptions {
+  std::string out;
+  std::string range = "0x0800-0x27FF";
+  bool no_reset = false;
+  bool yes = false;
+};
+
+std::pair<std::uint16_t, std::uint32_t> parse_range(const std::string& text) {
+  const auto dash = text.find('-');
+  try {
+    if (dash == std::string::npos) throw std::invalid_argument(text);
+    const auto begin = std::stoul(text.substr(0, dash), nullptr, 0);
+    const auto last = std::stoul(text.substr(dash + 1), nullptr, 0);
+    if (begin > last || last > 0xFFFF) throw std::out_of_range(text);
+    return {static_cast<std::uint16_t>(begin), static_cast<std::uint32_t>(last + 1)};
+  } catch (const std::exception&) {
+    throw UsageError("--range '" + text + "' must be FIRST-LAST within 0x0000-0xFFFF, e.g. 0x0800-0x27FF");
+  }
+}
+
+std::string now_text() {
+  const auto t = std::time(nullptr);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M", std::localtime(&t));
+  return buf;
+}
+
+std::string hex16(std::uint32_t v) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "0x%04X", v);
+  return buf;
+}
+
+void print_report(const device::DiscoveryReport& r) {
+  std::cout << std::left << std::setw(14) << "PARAMETER" << std::setw(16) << "RESULT" << std::setw(9)
+            << "ADDRESS" << std::setw(10) << "DATABASE"
+            << "HOW\n";
+  for (const auto& f : r.findings) {
+    std::cout << std::left << std::setw(14) << f.name << std::setw(16) << device::to_string(f.outcome)
+              << std::setw(9) << (f.address ? hex16(*f.address) : "-") << std::setw(10)
+              << (f.database_address ? hex16(*f.database_address) : "-") << f.detail << "\n";
+  }
+  std::cout << r.count(device::Outcome::Found) << " found, " << r.count(device::Outcome::Ambiguous)
+            << " ambiguous, " << r.count(device::Outcome::NotFound) << " not found, "
+            << r.count(device::Outcome::NotSearchable) << " not searchable read-only\n";
+}
+
+app::Json report_json(const device::DiscoveryReport& r, const std::string& file) {
+  auto j = app::Json::object();
+  j.set("swrevision", r.swrevision).set("unit_number", r.unit_number).set("was_reset", r.was_reset);
+  j.set("overlay_file", file);
+  auto arr = app::Json::array();
+  for (const auto& f : r.findings) {
+    auto e = app::Json::object();
+    e.set("name", f.name).set("outcome", device::to_string(f.outcome));
+    e.set("address", f.address ? app::Json(*f.address) : app::Json());
+    auto c = app::Json::array();
+    for (auto a : f.candidates) c.push(a);
+    e.set("candidates", std::move(c)).set("detail", f.detail);
+    arr.push(std::move(e));
+  }
+  j.set("findings", std::move(arr));
+  return j;
+}
+
+void run_discover(Context& ctx, const DiscoverOptions& o) {
+  device::DiscoveryOptions options;
+  std::tie(options.scan_begin, options.scan_end) = parse_range(o.range);
+  options.reset_first = !o.no_reset;
+  auto& session = ctx.session();
+  if (options.reset_first && !o.yes &&
+      !ctx.confirm("Discovery resets the 8I20 on " + session.link().describe() +
+                   " (so working values equal NV values), then only reads. Go on?")) {
+    std::cerr << "i20: discover not confirmed; nothing was sent (pass --yes, or --no-reset right after a "
+                 "power-up)\n";
+    ctx.exit_code = app::kBadInput;
+    return;
+  }
+  if (isatty(STDERR_FILENO))
+    options.progress = [](std::size_t done, std::size_t total) {
+      std::cerr << "\rscanning RAM: " << (100 * done / total) << "%" << (done == total ? "\n" : "")
+                << std::flush;
+    };
+  const auto report = device::discover(session.amp(), options);
+  const std::string file = o.out.empty() ? "i20-map-" + hex16(report.swrevision) + ".yaml" : o.out;
+  std::ofstream(file) << report.overlay_yaml(now_text());
+  if (ctx.options.json) {
+    ctx.print_json(report_json(report, file));
+    return;
+  }
+  print_report(report);
+  std::cout << "overlay written to " << file << ": use it with `i20 --params " << file
+            << " ...` or copy it to ~/.config/i20/params.yaml\n";
+}
+
+}  // namespace
+
+void register_discover_command(CLI::App& app, Context& ctx) {
+  auto o = std::make_shared<DiscoverOptions>();
+  auto* cmd = app.add_subcommand("discover",
+                                 "Find the working-parameter (RAM) addresses of this card without writing "
+                                 "parameters: decode the pre-loaded "
+                                 "RPC table, reset, scan RAM read-only for each NV value. Writes an overlay "
+                                 "file saying what was found and how");
+  cmd->add_option("--out,-o", o->out, "Overlay file to write (default: i20-map-SWREVISION.yaml)");
+  cmd->add_option("--range", o->range,
+                  "RAM range to scan, FIRST-LAST (default 0x0800-0x27FF, above a DSP's special-function "
+                  "registers whose reads may have side effects)");
+  cmd->add_flag("--no-reset", o->no_reset,
+                "Do not reset first (only right after a power-up with no changes)");
+  cmd->add_flag("--yes,-y", o->yes, "Do not ask before the reset");
+  cmd->callback([&ctx, o] { run_discover(ctx, *o); });
+}
 
 }  // namespace i20::cli

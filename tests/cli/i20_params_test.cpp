@@ -114,3 +114,25 @@ TEST(I20CliSim, SimEepromPersistsBetweenRuns) {
             "NVBRAKEONV = 190.00 V\nBRAKEONV = 190.00 V\n")
       << "power-up loads NV into the working set";
 }
+
+TEST(I20CliDiscover, DiscoveredOverlayUnlocksWorkingWritesOnAnUnknownFirmware) {
+  SimProcess sim({"--random-map", "9"});
+  TempDir dir;
+  const auto overlay = (dir / "map.yaml").string();
+  const std::vector<std::string> target{"--port", sim.port(), "--no-user-params"};
+  auto with = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), target.begin(), target.end());
+    return args;
+  };
+  auto r = run("i20", with({"set", "BRAKEONV=300V"}));
+  ASSERT_EQ(r.exit_code, 3) << "unknown firmware: refused until discovered: " << r.err;
+  r = run("i20", with({"discover", "--yes", "--range", "0x0000-0x0FFF", "--out", overlay}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("BRAKEONV"), std::string::npos);
+  EXPECT_NE(r.out.find("ambiguous"), std::string::npos) << "KQP = KDP = 50 cannot be told apart read-only";
+  r = run("i20", with({"--params", overlay, "set", "BRAKEONV=300V"}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(sim.control("get BRAKEONV"), "30000") << "the write must land at the card's own address";
+  r = run("i20", with({"--params", overlay, "set", "KQP=60"}));
+  EXPECT_EQ(r.exit_code, 3) << "KQP stays unknown on this firmware";
+}
