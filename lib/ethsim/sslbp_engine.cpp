@@ -114,8 +114,7 @@ void SslbpEngine::chatter(Channel& ch, Clock::time_point now) {
     Clock::time_point t = ch.last_traffic + config_.chatter_period;
     if (step >= kMaxChatterSteps) t = now;
     ++stats_.chatter;
-    transfer(ch, lbp::Bytes{lbp::local::kGetCookie}, 1, t);
-    ch.last_traffic = std::max(t, ch.last_traffic + config_.chatter_period);
+    transfer(ch, lbp::Bytes{lbp::local::kGetCookie}, 1, t);  // moves last_traffic past t
   }
 }
 
