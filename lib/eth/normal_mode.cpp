@@ -158,7 +158,8 @@ void NormalModeSession::run_cycle(const Cycle& cycle, std::uint64_t& consecutive
   }
   const auto now = Clock::now();
   if (last_doit_)
-    max_doit_gap_ = std::max(max_doit_gap_, std::chrono::duration_cast<std::chrono::microseconds>(now - *last_doit_));
+    max_doit_gap_ =
+        std::max(max_doit_gap_, std::chrono::duration_cast<std::chrono::microseconds>(now - *last_doit_));
   last_doit_ = now;
   const std::uint64_t previous_doits = doits_++;
   if (previous_doits == 0) return;  // before the first DOIT INTERFACE0 holds the unit number
