@@ -96,8 +96,9 @@ link::Link& Session::link() {
 
 device::Amp8i20& Session::amp() {
   if (!amp_) {
+    // No separate identify(): the first read or checked write identifies the card
+    // within its own exchange.
     amp_ = std::make_unique<device::Amp8i20>(link(), db(), &install_interrupt_handler());
-    amp_->identify();
   }
   return *amp_;
 }

@@ -49,8 +49,11 @@ class Session {
   const GlobalOptions& options() const { return options_; }
   params::ParamDb& db();
   link::Link& link();
-  // The card client; identifies the card (SWREVISION selects the database map) first.
+  // The card client (it identifies the card, SWREVISION selecting the database map, on
+  // its first read or checked write).
   device::Amp8i20& amp();
+  // The link if it has been opened, else nullptr (for statistics).
+  const link::Link* link_if_open() const { return link_.get(); }
   // Drops the link and the card client so the next use opens them again (after an
   // adapter was unplugged and replugged, or the card reset).
   void reconnect();

@@ -5,6 +5,8 @@
 #include <iostream>
 #include <string>
 
+#include "link/pipelined_link.hpp"
+
 namespace i20::cli {
 
 void Context::print_json(const app::Json& json) const {
@@ -22,6 +24,12 @@ bool Context::confirm(const std::string& question) const {
 void Context::print_notes() {
   if (!options.verbose || !session_) return;
   for (const auto& note : session_->notes()) std::cerr << "note: " << note << "\n";
+  if (const auto* pipelined = dynamic_cast<const link::PipelinedLink*>(session_->link_if_open())) {
+    const auto& s = pipelined->statistics();
+    std::cerr << "link: " << s.exchanges << " exchanges, " << s.commands << " commands, " << s.bursts
+              << " bursts, " << s.bytes_sent << " bytes sent, " << s.bytes_received << " received, "
+              << s.timeouts << " timeouts, " << s.crc_errors << " CRC errors, " << s.resyncs << " resyncs\n";
+  }
 }
 
 }  // namespace i20::cli

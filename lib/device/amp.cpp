@@ -1,5 +1,6 @@
 #include "device/amp.hpp"
 
+#include <algorithm>
 #include <thread>
 
 #include "device/errors.hpp"
@@ -66,7 +67,9 @@ void Amp8i20::throw_if_cancelled() const {
 }
 
 std::uint16_t Amp8i20::identify() {
-  const auto rev = static_cast<std::uint16_t>(read("SWREVISION").raw);
+  const auto& revision = db_.get("SWREVISION");
+  const auto rev =
+      static_cast<std::uint16_t>(params::raw_from_bytes(revision, link_.execute_one(read_command(revision))));
   db_.select_firmware(rev);
   return rev;
 }
@@ -106,27 +109,42 @@ Value Amp8i20::read(std::string_view name) {
 
 std::vector<Value> Amp8i20::read(std::span<const Param* const> params) {
   throw_if_cancelled();
-  std::vector<lbp::Command> ram, nv;
-  for (const Param* p : params) (p->is_nv() ? nv : ram).push_back(read_command(*p));
-
-  std::vector<lbp::Bytes> ram_replies, nv_replies;
-  if (!ram.empty()) ram_replies = link_.execute(ram);
-  if (!nv.empty()) {
-    throw_if_cancelled();
-    nv.insert(nv.begin(), lbp::set_nv_access(lbp::local::NvAccess::Eeprom));
-    nv.push_back(lbp::set_nv_access(lbp::local::NvAccess::Ram));
-    ModeGuard guard(link_, nv.back(), "NV (EEPROM) access mode");
-    nv_replies = link_.execute(nv);
-    guard.disarm();
-    nv_replies.erase(nv_replies.begin());
+  // One exchange for everything: every exchange costs a reply turnaround, which on a USB
+  // adapter is a latency-timer tick. Order: SWREVISION (when the card is not identified
+  // yet), the RAM reads, then the NV reads between entering and leaving NV mode.
+  const Param& revision = db_.get("SWREVISION");
+  const bool identify_too = !db_.firmware();
+  std::vector<lbp::Command> commands;
+  if (identify_too) commands.push_back(read_command(revision));
+  std::vector<std::size_t> reply_of(params.size());
+  for (std::size_t i = 0; i < params.size(); ++i)
+    if (!params[i]->is_nv()) {
+      reply_of[i] = commands.size();
+      commands.push_back(read_command(*params[i]));
+    }
+  const auto leave = lbp::set_nv_access(lbp::local::NvAccess::Ram);
+  const bool any_nv = std::ranges::any_of(params, &Param::is_nv);
+  if (any_nv) {
+    commands.push_back(lbp::set_nv_access(lbp::local::NvAccess::Eeprom));
+    for (std::size_t i = 0; i < params.size(); ++i)
+      if (params[i]->is_nv()) {
+        reply_of[i] = commands.size();
+        commands.push_back(read_command(*params[i]));
+      }
+    commands.push_back(leave);
   }
+
+  std::optional<ModeGuard> guard;
+  if (any_nv) guard.emplace(link_, leave, "NV (EEPROM) access mode");
+  const auto replies = link_.execute(commands);
+  if (guard) guard->disarm();
+  if (identify_too)
+    db_.select_firmware(static_cast<std::uint16_t>(params::raw_from_bytes(revision, replies[0])));
 
   std::vector<Value> out;
-  std::size_t next_ram = 0, next_nv = 0;
-  for (const Param* p : params) {
-    const auto& bytes = p->is_nv() ? nv_replies[next_nv++] : ram_replies[next_ram++];
-    out.push_back({p, params::raw_from_bytes(*p, bytes), db_.address_confirmed(*p)});
-  }
+  for (std::size_t i = 0; i < params.size(); ++i)
+    out.push_back({params[i], params::raw_from_bytes(*params[i], replies[reply_of[i]]),
+                   db_.address_confirmed(*params[i])});
   return out;
 }
 
@@ -145,8 +163,9 @@ void check_offline(const Param& p, std::int64_t raw, const WriteOptions& options
     throw SafetyError("refusing to write " + p.name + " without --force: " + p.guard);
 }
 
-void Amp8i20::check_write(const Param& p, std::int64_t raw, const WriteOptions& options) const {
+void Amp8i20::check_write(const Param& p, std::int64_t raw, const WriteOptions& options) {
   check_offline(p, raw, options);
+  if (!db_.firmware()) identify();  // confirmation depends on the card's revision
   if (!options.allow_unverified && !db_.address_confirmed(p)) {
     const auto rev = db_.firmware();
     throw SafetyError(
@@ -163,6 +182,7 @@ WriteReport Amp8i20::write(std::string_view name, std::int64_t raw, const WriteO
 
 std::vector<WriteReport> Amp8i20::write(std::span<const Assignment> assignments,
                                         const WriteOptions& options) {
+  throw_if_cancelled();
   for (const auto& a : assignments) check_write(*a.param, a.raw, options);
   std::vector<Assignment> ram, nv;
   for (const auto& a : assignments) (a.param->is_nv() ? nv : ram).push_back(a);

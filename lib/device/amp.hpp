@@ -77,17 +77,18 @@ class Amp8i20 {
   // `cancel`, when given, is polled between exchanges (set it from a SIGINT handler).
   Amp8i20(link::Link& link, params::ParamDb& db, const std::atomic<bool>* cancel = nullptr);
 
-  // Reads SWREVISION and selects the database's map for it. Returns the revision.
+  // Reads SWREVISION and selects the database's map for it. Returns the revision. Reads
+  // and checked writes identify the card by themselves when this was not called.
   std::uint16_t identify();
   CardInfo info();
 
   Value read(std::string_view name);
-  // Pipelined: RAM reads in one batch, NV reads in one batch inside NV access mode.
+  // One pipelined exchange: RAM reads, then NV reads inside NV access mode.
   std::vector<Value> read(std::span<const params::Param* const> params);
 
   // Throws SafetyError if the rules refuse this write (check_offline, then whether the
   // address is confirmed for this card's firmware). Sends nothing.
-  void check_write(const params::Param& param, std::int64_t raw, const WriteOptions& options) const;
+  void check_write(const params::Param& param, std::int64_t raw, const WriteOptions& options);
   WriteReport write(std::string_view name, std::int64_t raw, const WriteOptions& options);
   // Checks every assignment before the first byte is sent, then writes in order.
   std::vector<WriteReport> write(std::span<const Assignment> assignments, const WriteOptions& options);

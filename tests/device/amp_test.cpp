@@ -40,8 +40,10 @@ TEST_F(AmpTest, ReadsWorkingParametersByName) {
 TEST_F(AmpTest, NvReadsHappenInsideNvModeAndLeaveIt) {
   card.put(40, 19000, 2, /*nv=*/true);
   EXPECT_EQ(amp.read("NVBRAKEONV").raw, 19000);
-  ASSERT_EQ(card.sent.size(), 3u);
-  EXPECT_EQ(card.sent.front().bytes, (lbp::Bytes{0xEC, 0x01}));
+  // One exchange: SWREVISION (the card is not identified yet), then the NV read in NV mode.
+  ASSERT_EQ(card.sent.size(), 4u);
+  EXPECT_EQ(card.sent[0].bytes, (lbp::Bytes{0x45, 0x74, 0x08}));  // SWREVISION at 2164
+  EXPECT_EQ(card.sent[1].bytes, (lbp::Bytes{0xEC, 0x01}));
   EXPECT_EQ(card.sent.back().bytes, (lbp::Bytes{0xEC, 0x00}));
   EXPECT_EQ(card.nv_mode, 0);
 }
