@@ -1,6 +1,7 @@
 #include "cli.hpp"
 
 #include <CLI/CLI.hpp>
+#include <iostream>
 
 #include "params/param_db.hpp"
 #include "sim/control.hpp"
@@ -41,8 +42,10 @@ struct Raw {
 };
 
 RegisterMap build_map(const Raw& raw) {
-  RegisterMap map =
-      raw.params.empty() ? RegisterMap::builtin() : register_map_from(params::ParamDb::load_file(raw.params));
+  // The YAML is the single source of addresses; user overlays ($I20_PARAMS) do not apply
+  // to the simulator, which stands for the card itself.
+  RegisterMap map = register_map_from(raw.params.empty() ? params::ParamDb::builtin()
+                                                         : params::ParamDb::load_file(raw.params));
   if (!raw.address_map.empty()) map = RegisterMap::with_overrides(std::move(map), raw.address_map);
   if (raw.random_map) map = map.shuffled(*raw.random_map);
   return map;
@@ -176,6 +179,9 @@ std::optional<int> parse_command_line(int argc, char** argv, Invocation& out) {
     for (const auto& f : raw.faults) out.startup_control.push_back("fault " + f + " on");
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const Error& e) {  // unreadable --params / --address-map, bad map
+    std::cerr << "i20sim: " << e.what() << std::endl;
+    return 2;
   }
   return std::nullopt;
 }

@@ -8,6 +8,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -107,7 +108,8 @@ class Port {
  public:
   // `configure`: set raw 115200 8N1 as a serial tool would; without it the pty's own
   // settings (raw, set by i20sim) must already pass every byte untouched.
-  explicit Port(const std::string& path, bool configure = true) : fd_(::open(path.c_str(), O_RDWR | O_NOCTTY)) {
+  explicit Port(const std::string& path, bool configure = true)
+      : fd_(::open(path.c_str(), O_RDWR | O_NOCTTY)) {
     if (fd_ < 0 || !configure) return;
     termios tio{};
     ::tcgetattr(fd_, &tio);
@@ -176,7 +178,8 @@ TEST(SimPty, TheProjectsSerialLinkTalksToIt) {
   Child sim({"--pty"});
   const std::string path = sim.line();
   auto link = link::open_serial_link(path);
-  const std::vector<lbp::Command> batch{lbp::local_read(lbp::local::kGetCookie), lbp::read(2164, lbp::DataSize::Two)};
+  const std::vector<lbp::Command> batch{lbp::local_read(lbp::local::kGetCookie),
+                                        lbp::read(2164, lbp::DataSize::Two)};
   const auto replies = link->execute(batch);
   ASSERT_EQ(replies.size(), 2u);
   EXPECT_EQ(replies[0], lbp::Bytes{0x5A});
@@ -241,6 +244,33 @@ TEST(SimPty, PrintMapAndHelp) {
     Child sim({});
     EXPECT_NE(sim.wait_exit(), 0) << "nothing to do is an error";
   }
+}
+
+TEST(SimPty, AddressMapFile) {
+  const std::string good = "/tmp/i20sim-map-" + std::to_string(::getpid()) + ".map";
+  const std::string bad = good + ".bad";
+  {
+    std::FILE* f = std::fopen(good.c_str(), "w");
+    std::fputs("FAULT = 0x0900\nrevision = 0xE121\n", f);
+    std::fclose(f);
+    f = std::fopen(bad.c_str(), "w");
+    std::fputs("FAULT = 0x0802\n", f);  // on top of STATUS
+    std::fclose(f);
+  }
+  {
+    Child sim({"--print-map", "--address-map", good});
+    const std::string all = sim.rest();
+    EXPECT_EQ(all.rfind("SWREVISION 0xE121\n", 0), 0u) << all;
+    EXPECT_NE(all.find("0x0900 FAULT"), std::string::npos) << all;
+    EXPECT_EQ(sim.wait_exit(), 0);
+  }
+  {
+    Child sim({"--pty", "--address-map", bad});
+    EXPECT_EQ(sim.line(), "") << "no pty path when the map is unusable";
+    EXPECT_NE(sim.wait_exit(), 0);
+  }
+  ::unlink(good.c_str());
+  ::unlink(bad.c_str());
 }
 
 TEST(SimPty, ControlFifo) {
