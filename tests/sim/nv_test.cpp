@@ -12,9 +12,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path temp_file(const std::string& name) {
-  const auto dir = fs::temp_directory_path() / ("i20sim-test-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const auto path = dir / name;
+  const auto path = fs::temp_directory_path() / ("i20sim-test-" + std::to_string(::getpid()) + "-" + name);
   fs::remove(path);
   return path;
 }
