@@ -1,10 +1,353 @@
-// Registration point; the subcommands land with their issue.
+// i20 faults | faults decode | faults mask | clear-faults (watch: cmd_watch.cpp)
+//
+// The field question is "why did the axis drop out, and what do I check?": every command
+// here names each set bit, says what it means, what usually causes it and what to check,
+// and, with a card attached, whether the cause is still there right now.
 #include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <optional>
+#include <string>
 
 #include "context.hpp"
+#include "device/errors.hpp"
+#include "faults/fault_mask.hpp"
+#include "faults/register_value.hpp"
+#include "faults_render.hpp"
 
 namespace i20::cli {
+namespace {
 
-void register_fault_commands(CLI::App&, Context&) {}
+namespace F = i20::faults;
+
+// lib/faults raises its own error types; the apps' exit codes are about what happened to
+// the card, so map them: a bad value or name is bad input (2), an unmaskable bit is a
+// refusal (3). Both are raised before anything is sent.
+template <class Fn>
+void with_fault_errors_mapped(Fn&& fn) {
+  try {
+    fn();
+  } catch (const F::BadRegisterValue& e) {
+    throw UsageError(e.what());
+  } catch (const F::UnknownBit& e) {
+    throw UsageError(e.what());
+  } catch (const F::NotMaskable& e) {
+    throw device::SafetyError(std::string(e.what()) + "; nothing was written");
+  }
+}
+
+std::string readings_line(const Readings& r) {
+  std::string line = "FAULT " + hex16(r.fault) + ", STATUS " + hex16(r.status);
+  if (r.faultmask) line += ", FAULTMASK " + hex16(*r.faultmask);
+  char buf[96];
+  if (r.busv_v) {
+    std::snprintf(buf, sizeof buf, "; bus %.2f V", *r.busv_v);
+    line += buf;
+  }
+  if (r.temperature_c) {
+    std::snprintf(buf, sizeof buf, ", card %.2f C", *r.temperature_c);
+    line += buf;
+  }
+  return line + ", brake " + (brake_on(r) ? "on" : "off");
+}
+
+// ------------------------------------------------------------------ faults (live)
+void print_next_step(const F::Report& fault) {
+  if (fault.value == 0) {
+    std::cout << "\nNo faults latched.\n";
+    return;
+  }
+  std::cout << "\nNext: fix the causes above, then run `i20 clear-faults` (it reports anything that "
+               "cannot clear yet).\n";
+}
+
+void run_faults(Context& ctx) {
+  auto& session = ctx.session();
+  const Readings r = read_readings(session.amp());
+  const auto fault = F::fault_report(r.fault, r.faultmask);
+  const auto status = F::status_report(r.status);
+  warn_if_unconfirmed(r);
+  if (ctx.options.json) {
+    auto j = app::Json::object();
+    j.set("source", "card").set("target", session.link().describe());
+    j.set("fault", report_json(fault, &r)).set("status", report_json(status));
+    j.set("readings", readings_json(r));
+    ctx.print_json(j);
+    return;
+  }
+  std::cout << "8I20 on " << session.link().describe() << ": " << readings_line(r) << "\n\n";
+  RenderOptions options;
+  options.live = &r;
+  print_fault_report(std::cout, fault, options);
+  std::cout << "\n";
+  print_status_report(std::cout, status);
+  print_next_step(fault);
+}
+
+// ------------------------------------------------------------------ faults decode
+struct DecodeOptions {
+  std::string fault;
+  std::string status;
+  std::string mask;
+};
+
+void run_decode(Context& ctx, const DecodeOptions& o) {
+  if (o.fault.empty() && o.status.empty())
+    throw UsageError("give a FAULT value (e.g. `i20 faults decode 0x0102`) and/or --status VALUE");
+  std::optional<F::Report> fault, status;
+  with_fault_errors_mapped([&] {
+    std::optional<std::uint16_t> mask;
+    if (!o.mask.empty()) mask = F::parse_register_value(o.mask, "FAULTMASK");
+    if (!o.fault.empty()) fault = F::fault_report(F::parse_register_value(o.fault, "FAULT"), mask);
+    if (!o.status.empty()) status = F::status_report(F::parse_register_value(o.status, "STATUS"));
+  });
+  if (ctx.options.json) {
+    auto j = app::Json::object();
+    j.set("source", "offline");
+    j.set("fault", fault ? report_json(*fault) : app::Json());
+    j.set("status", status ? report_json(*status) : app::Json());
+    ctx.print_json(j);
+    return;
+  }
+  if (fault) print_fault_report(std::cout, *fault);
+  if (fault && status) std::cout << "\n";
+  if (status) print_status_report(std::cout, *status);
+}
+
+// ------------------------------------------------------------------ faults mask
+struct MaskOptions {
+  std::string key;
+  std::string state;
+  device::WriteOptions write;
+};
+
+void print_mask_state(std::uint16_t faultmask, std::uint16_t fault) {
+  const auto& table = F::FaultTable::builtin();
+  std::cout << "FAULTMASK " << hex16(faultmask) << ": ";
+  const auto masked_bits = static_cast<std::uint16_t>(~faultmask & table.maskable_bits());
+  if (masked_bits == 0) std::cout << "nothing masked";
+  for (const auto& b : table.bits(F::Register::Fault))
+    if (masked_bits & b.mask()) std::cout << b.name << " (bit " << b.bit << ", " << b.slug << ") masked";
+  std::cout << "\n";
+  for (const auto& b : table.bits(F::Register::Fault))
+    if (b.maskable)
+      std::cout << "  maskable: " << b.slug << " (" << b.name << ", bit " << b.bit << "): `i20 faults mask "
+                << b.slug << " on|off`\n";
+  std::cout << fault_output_text(F::fault_report(fault, faultmask)) << "\n";
+}
+
+void run_mask_show(Context& ctx) {
+  const Readings r = read_readings(ctx.session().amp());
+  if (!r.faultmask) throw UsageError("the parameter database has no address for FAULTMASK");
+  if (ctx.options.json) {
+    auto j = app::Json::object();
+    j.set("faultmask", *r.faultmask).set("hex", hex16(*r.faultmask));
+    j.set("maskable_bits", hex16(F::FaultTable::builtin().maskable_bits()));
+    j.set("fault", report_json(F::fault_report(r.fault, r.faultmask)));
+    ctx.print_json(j);
+    return;
+  }
+  print_mask_state(*r.faultmask, r.fault);
+}
+
+void print_mask_result(const F::BitInfo& bit, bool masked, std::uint16_t before, const Readings& after,
+                       bool written) {
+  if (!written)
+    std::cout << bit.name << " (bit " << bit.bit << ") is already " << (masked ? "masked" : "unmasked")
+              << "; nothing written\n";
+  else
+    std::cout << "FAULTMASK " << hex16(before) << " -> " << hex16(*after.faultmask) << ": " << bit.name
+              << " (bit " << bit.bit << ") " << (masked ? "masked" : "unmasked") << "\n";
+  std::cout << fault_output_text(F::fault_report(after.fault, after.faultmask)) << "\n";
+  if (masked)
+    std::cout << "A " << bit.slug
+              << " fault no longer switches the fault output off. Unmask it before running "
+              << "the machine: `i20 faults mask " << bit.slug << " off`\n";
+  if (masked)
+    std::cout << "FAULTMASK is a working (RAM) register with no NV twin: set it again after a reset or power "
+                 "cycle\n";
+}
+
+void run_mask_set(Context& ctx, const MaskOptions& o) {
+  const F::BitInfo* bit = nullptr;
+  with_fault_errors_mapped([&] { bit = &F::maskable_fault(o.key); });
+  const bool masked = o.state == "on";
+  auto& db = ctx.session().db();
+  const auto& param = db.get("FAULTMASK");
+  // Refuse before the link opens whatever the rules already know (address, range).
+  device::check_offline(param, F::set_fault_masked(F::kNothingMasked, bit->slug, masked), o.write);
+  auto& amp = ctx.session().amp();
+  const auto before = static_cast<std::uint16_t>(amp.read("FAULTMASK").raw);
+  const auto wanted = F::set_fault_masked(before, bit->slug, masked);
+  const bool write = wanted != before;
+  if (write) {
+    amp.check_write(param, wanted, o.write);
+    amp.write("FAULTMASK", wanted, o.write);
+  }
+  const Readings after = read_readings(amp);
+  if (ctx.options.json) {
+    auto j = app::Json::object();
+    j.set("bit", bit->bit).set("name", bit->name).set("slug", bit->slug).set("masked", masked);
+    j.set("faultmask_before", before)
+        .set("faultmask_after", after.faultmask ? app::Json(*after.faultmask) : app::Json());
+    j.set("written", write);
+    j.set("fault", report_json(F::fault_report(after.fault, after.faultmask)));
+    ctx.print_json(j);
+    return;
+  }
+  print_mask_result(*bit, masked, before, after, write);
+}
+
+void run_mask(Context& ctx, const MaskOptions& o) {
+  if (o.key.empty() && o.state.empty()) return run_mask_show(ctx);
+  if (o.state.empty())
+    throw UsageError("say on or off: `i20 faults mask " + o.key + " on` masks it, `... off` unmasks it");
+  run_mask_set(ctx, o);
+}
+
+// ------------------------------------------------------------------ clear-faults
+struct ClearOptions {
+  device::WriteOptions write;
+  unsigned wait_ms = 1000;
+};
+
+std::string why_remaining(const F::ReportLine& line, const Readings& r) {
+  const CauseNow c = cause_now(line.bit, r);
+  if (c.state == CauseNow::Present) return "the cause is still present: " + c.evidence;
+  if (c.state == CauseNow::Gone)
+    return "set again at once although " + c.evidence +
+           ": the condition is marginal or intermittent; watch it with `i20 watch`";
+  if (line.reserved) return "a bit the manual does not define came back: note the value and ask Mesa";
+  return "set again at once: the card still detects it, so its cause is present now";
+}
+
+void print_remaining(const F::Report& remaining, const Readings& r) {
+  for (const auto& line : remaining.lines) {
+    std::cout << "\nRemains: " << bit_label(line) << (line.masked ? " [masked]" : "") << ": " << line.meaning
+              << "\n  why:   " << why_remaining(line, r) << "\n";
+    for (std::size_t i = 0; i < line.checks.size(); ++i)
+      std::cout << (i ? "         " : "  check: ") << i + 1 << ". " << line.checks[i] << "\n";
+  }
+  std::cout << "\nFix the causes, then run `i20 clear-faults` again.\n";
+}
+
+std::string names_of(const F::Report& report) {
+  std::string out;
+  for (const auto& line : report.lines) out += (out.empty() ? "" : ", ") + bit_label(line);
+  return out.empty() ? "none" : out;
+}
+
+app::Json clear_json(const device::ClearFaultsResult& res, const F::Report& cleared,
+                     const F::Report& remaining, const Readings& r) {
+  auto j = app::Json::object();
+  j.set("cleared", r.fault == 0)
+      .set("fault_before", res.fault_before)
+      .set("fault_before_hex", hex16(res.fault_before));
+  j.set("fault_after", r.fault).set("fault_after_hex", hex16(r.fault)).set("status_after", r.status);
+  j.set("took_ms", static_cast<long long>(res.took.count()));
+  auto gone = app::Json::array();
+  for (const auto& line : cleared.lines) gone.push(line_json(line, cleared));
+  j.set("cleared_bits", std::move(gone));
+  auto rem = app::Json::array();
+  for (const auto& line : remaining.lines) {
+    auto bit = line_json(line, remaining, &r);
+    bit.set("why", why_remaining(line, r));
+    rem.push(std::move(bit));
+  }
+  j.set("remaining", std::move(rem)).set("readings", readings_json(r));
+  return j;
+}
+
+void run_clear(Context& ctx, const ClearOptions& o) {
+  auto& db = ctx.session().db();
+  device::check_offline(db.get("CLEARFAULT"), 1, o.write);  // refuse before the link opens
+  auto& amp = ctx.session().amp();
+  const auto res = amp.clear_faults(o.write, std::chrono::milliseconds(o.wait_ms));
+  // Re-read with the measurements so every remaining bit can say why it is still there.
+  const Readings r = read_readings(amp);
+  const auto cleared = F::fault_report(static_cast<std::uint16_t>(res.fault_before & ~r.fault));
+  const auto remaining = F::fault_report(r.fault, r.faultmask);
+  if (r.fault != 0) ctx.exit_code = app::kFaultsRemain;
+  if (ctx.options.json) return ctx.print_json(clear_json(res, cleared, remaining, r));
+  const std::string took = "CLEARFAULT acknowledged in " + std::to_string(res.took.count()) + " ms";
+  if (res.fault_before == 0 && r.fault == 0) {
+    std::cout << "No faults to clear: FAULT 0x0000 (" << took << ")\n"
+              << fault_output_text(remaining) << "\n";
+    return;
+  }
+  std::cout << took << ": FAULT " << hex16(res.fault_before) << " -> " << hex16(r.fault) << ", "
+            << cleared.lines.size() << " cleared, " << remaining.lines.size() << " remaining\n";
+  if (!cleared.lines.empty()) std::cout << "Cleared: " << names_of(cleared) << "\n";
+  std::cout << fault_output_text(remaining) << "\n";
+  if (r.fault == 0) return;
+  print_remaining(remaining, r);
+  std::cerr << "i20: " << remaining.lines.size()
+            << (remaining.lines.size() == 1 ? " fault remains" : " faults remain")
+            << " after CLEARFAULT: " << names_of(remaining) << "\n";
+}
+
+// ------------------------------------------------------------------ registration
+void add_allow_unverified(CLI::App* cmd, device::WriteOptions& write) {
+  cmd->add_flag("--allow-unverified", write.allow_unverified,
+                "Write working (RAM) addresses the database does not confirm for this firmware");
+}
+
+void register_faults(CLI::App& app, Context& ctx) {
+  auto* faults = app.add_subcommand(
+      "faults",
+      "Read FAULT, STATUS and FAULTMASK and explain every set bit: meaning, likely causes, what to check, "
+      "and whether the cause is still there");
+  faults->require_subcommand(0, 1);
+  faults->footer(
+      "Exit 0 whenever the registers were read, faults or not; scripts read --json. Examples:\n"
+      "  i20 --port /dev/ttyUSB0 faults        i20 faults decode 0x0102 --status 0x0148\n"
+      "  i20 --port /dev/ttyUSB0 faults mask bus-under-voltage on");
+
+  auto decode_options = std::make_shared<DecodeOptions>();
+  auto* decode = faults->add_subcommand(
+      "decode", "Explain a FAULT value read elsewhere (HAL pin, log line, RPD FAULT H); needs no card");
+  decode->add_option("VALUE", decode_options->fault, "FAULT value: 0x0102, 0102h, 0b100000010 or 258")
+      ->type_name("VALUE");
+  decode->add_option("--status", decode_options->status, "Also explain a STATUS value")->type_name("VALUE");
+  decode->add_option("--mask", decode_options->mask, "FAULTMASK value, to say which faults are masked")
+      ->type_name("VALUE");
+  decode->callback([&ctx, decode_options] { run_decode(ctx, *decode_options); });
+
+  auto mask_options = std::make_shared<MaskOptions>();
+  auto* mask = faults->add_subcommand(
+      "mask",
+      "Show FAULTMASK, or mask/unmask a maskable fault (only bus-under-voltage) from the fault output");
+  mask->add_option("BIT", mask_options->key, "Fault to (un)mask: bus-under-voltage, BUSLOVFAULT or 8");
+  mask->add_option("STATE", mask_options->state, "on = mask it, off = unmask it")
+      ->check(CLI::IsMember({"on", "off"}));
+  add_allow_unverified(mask, mask_options->write);
+  mask->callback([&ctx, mask_options] { run_mask(ctx, *mask_options); });
+
+  faults->callback([&ctx, faults] {
+    if (faults->get_subcommands().empty()) run_faults(ctx);
+  });
+}
+
+void register_clear(CLI::App& app, Context& ctx) {
+  auto options = std::make_shared<ClearOptions>();
+  auto* clear = app.add_subcommand(
+      "clear-faults",
+      "Set CLEARFAULT, wait until the card acts on it, and report which faults remain and why (exit 5 when "
+      "any remain). In setup mode (W6 down) the 8I20 drives no motor");
+  add_allow_unverified(clear, options->write);
+  clear->add_option("--wait", options->wait_ms, "How long CLEARFAULT may stay set, ms")
+      ->check(CLI::Range(10, 60000))
+      ->capture_default_str();
+  clear->callback([&ctx, options] { run_clear(ctx, *options); });
+}
+
+}  // namespace
+
+void register_fault_commands(CLI::App& app, Context& ctx) {
+  register_faults(app, ctx);
+  register_clear(app, ctx);
+  register_watch_command(app, ctx);
+}
 
 }  // namespace i20::cli

@@ -1,0 +1,292 @@
+#include "faults_render.hpp"
+
+#include <cstdio>
+#include <iostream>
+#include <vector>
+
+#include "device/amp.hpp"
+#include "faults/fault_table.hpp"
+
+namespace i20::cli {
+namespace {
+
+namespace F = i20::faults;
+
+// FAULT bits whose cause the live readings can confirm (manual, FAULT CONDITIONS).
+constexpr unsigned kNoEnableBit = 1;
+constexpr unsigned kOverTempBit = 2;
+constexpr unsigned kBusLowBit = 8;
+constexpr unsigned kBusHighBit = 9;
+constexpr unsigned kBusMaxBit = 10;
+// STATUS bits LinuxCNC names (facts.md s4) that report a level condition live.
+constexpr std::uint16_t kStatusBusUnderV = 1u << 3;
+constexpr std::uint16_t kStatusNoEnable = 1u << 8;
+constexpr std::uint16_t kStatusBrakeOn = 1u << 1;  // manual: BRAKESTATUS
+constexpr double kOverTempLimitC = 85.0;           // manual: PCB temperature > 85C
+constexpr double kFixedMaxBusV = 400.0;            // manual: fixed at 400V
+
+std::string volts(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f V", v);
+  return buf;
+}
+
+std::string celsius(double c) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f C", c);
+  return buf;
+}
+
+CauseNow present(std::string evidence) {
+  return {CauseNow::Present, std::move(evidence)};
+}
+
+CauseNow gone(std::string evidence) {
+  return {CauseNow::Gone, std::move(evidence)};
+}
+
+CauseNow enable_cause(const Readings& r) {
+  if (r.status & kStatusNoEnable)
+    return present("the enable input (TB1 pins 3-4) is not driven now (STATUS bit 8)");
+  return gone("the enable input is driven now (STATUS bit 8 clear)");
+}
+
+CauseNow temperature_cause(const Readings& r) {
+  if (!r.temperature_c) return {};
+  if (*r.temperature_c > kOverTempLimitC)
+    return present("TEMPERATURE is " + celsius(*r.temperature_c) +
+                   ", above the 85 C limit: let the card cool");
+  return gone("TEMPERATURE is " + celsius(*r.temperature_c) + ", below the 85 C limit");
+}
+
+CauseNow bus_low_cause(const Readings& r) {
+  if (r.busv_v && r.busunderv_v) {
+    if (*r.busv_v < *r.busunderv_v)
+      return present("BUSV is " + volts(*r.busv_v) + ", below BUSUNDERV " + volts(*r.busunderv_v) +
+                     ": motor supply off or low");
+    return gone("BUSV is " + volts(*r.busv_v) + ", above BUSUNDERV " + volts(*r.busunderv_v));
+  }
+  if (r.status & kStatusBusUnderV) return present("the motor supply is under-voltage now (STATUS bit 3)");
+  return {};
+}
+
+CauseNow bus_high_cause(const Readings& r) {
+  if (!r.busv_v || !r.busoverv_v) return {};
+  if (*r.busv_v > *r.busoverv_v)
+    return present("BUSV is " + volts(*r.busv_v) + ", above BUSOVERV " + volts(*r.busoverv_v));
+  return gone("BUSV is " + volts(*r.busv_v) + ", below BUSOVERV " + volts(*r.busoverv_v));
+}
+
+CauseNow bus_max_cause(const Readings& r) {
+  if (!r.busv_v) return {};
+  if (*r.busv_v > kFixedMaxBusV)
+    return present("BUSV is " + volts(*r.busv_v) + ", above the fixed 400 V limit");
+  return gone("BUSV is " + volts(*r.busv_v) + ", below the fixed 400 V limit");
+}
+
+std::optional<double> scaled(const device::Value& v) {
+  return static_cast<double>(v.raw) * v.param->scale;
+}
+
+void store(Readings& r, const device::Value& v) {
+  const std::string& n = v.param->name;
+  const auto raw16 = static_cast<std::uint16_t>(v.raw);
+  if (n == "FAULT") {
+    r.fault = raw16;
+    r.confirmed = r.confirmed && v.address_confirmed;
+  } else if (n == "STATUS") {
+    r.status = raw16;
+    r.confirmed = r.confirmed && v.address_confirmed;
+  } else if (n == "FAULTMASK") {
+    r.faultmask = raw16;
+  } else if (n == "BUSV") {
+    r.busv_v = scaled(v);
+  } else if (n == "TEMPERATURE") {
+    r.temperature_c = scaled(v);
+  } else if (n == "BUSUNDERV") {
+    r.busunderv_v = scaled(v);
+  } else if (n == "BUSOVERV") {
+    r.busoverv_v = scaled(v);
+  }
+}
+
+void print_list(std::ostream& out, const char* heading, const std::vector<std::string>& items,
+                bool numbered) {
+  if (items.empty()) return;
+  out << "  " << heading << "\n";
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    out << "    ";
+    if (numbered)
+      out << i + 1 << ". ";
+    else
+      out << "- ";
+    out << items[i] << "\n";
+  }
+}
+
+std::string now_text(const F::ReportLine& line, const Readings& live) {
+  const CauseNow c = cause_now(line.bit, live);
+  if (c.state == CauseNow::Present)
+    return "cause still present: " + c.evidence + "; it cannot be cleared until that is fixed";
+  if (c.state == CauseNow::Gone) return "cause gone (" + c.evidence + "): `i20 clear-faults` should clear it";
+  if (line.clears_while_cause_persists)
+    return "latched event: `i20 clear-faults` clears it unless it happens again at once";
+  return "`i20 clear-faults` clears it once the cause is gone";
+}
+
+// "(bit 8, bus-under-voltage, maskable, masked)".
+std::string bit_tags(const F::ReportLine& line) {
+  std::string tags = "bit " + std::to_string(line.bit);
+  if (!line.slug.empty()) tags += ", " + line.slug;
+  if (line.maskable) tags += ", maskable";
+  if (line.masked) tags += ", MASKED: kept off the fault output";
+  return "(" + tags + ")";
+}
+
+void print_fault_line(std::ostream& out, const F::ReportLine& line, const RenderOptions& o) {
+  out << "\n"
+      << (line.reserved ? "reserved bit " + std::to_string(line.bit) : line.name) << " " << bit_tags(line)
+      << "\n";
+  out << "  " << line.meaning << "\n";
+  if (o.live && !line.reserved) out << "  now: " << now_text(line, *o.live) << "\n";
+  print_list(out, "likely causes:", line.causes, false);
+  print_list(out, "check:", line.checks, true);
+}
+
+app::Json strings(const std::vector<std::string>& items) {
+  auto arr = app::Json::array();
+  for (const auto& s : items) arr.push(s);
+  return arr;
+}
+
+app::Json optional_number(const std::optional<double>& v) {
+  return v ? app::Json(*v) : app::Json();
+}
+
+app::Json cause_json(const CauseNow& c) {
+  static constexpr const char* kStates[] = {"present", "gone", "unknown"};
+  auto j = app::Json::object();
+  j.set("state", kStates[c.state]);
+  j.set("evidence", c.evidence.empty() ? app::Json() : app::Json(c.evidence));
+  return j;
+}
+
+}  // namespace
+
+Readings read_readings(device::Amp8i20& amp) {
+  auto& db = amp.db();
+  std::vector<const params::Param*> list{&db.get("FAULT"), &db.get("STATUS")};
+  for (const char* name : {"FAULTMASK", "BUSV", "TEMPERATURE", "BUSUNDERV", "BUSOVERV"})
+    if (const auto* p = db.find(name); p && p->address) list.push_back(p);
+  Readings r;
+  for (const auto& v : amp.read(list)) store(r, v);
+  return r;
+}
+
+void warn_if_unconfirmed(const Readings& r) {
+  if (r.confirmed) return;
+  std::cerr
+      << "i20: warning: the FAULT/STATUS addresses are not confirmed for this card's firmware, so these "
+         "values may not be FAULT and STATUS at all; run `i20 discover` to confirm them\n";
+}
+
+CauseNow cause_now(unsigned fault_bit, const Readings& r) {
+  switch (fault_bit) {
+    case kNoEnableBit: return enable_cause(r);
+    case kOverTempBit: return temperature_cause(r);
+    case kBusLowBit: return bus_low_cause(r);
+    case kBusHighBit: return bus_high_cause(r);
+    case kBusMaxBit: return bus_max_cause(r);
+    default: return {};  // hardware events: only the card itself can tell
+  }
+}
+
+std::string hex16(std::uint16_t value) {
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "0x%04X", static_cast<unsigned>(value));
+  return buf;
+}
+
+std::string bit_label(const F::ReportLine& line) {
+  if (line.reserved) return "reserved bit " + std::to_string(line.bit);
+  return line.name + " (bit " + std::to_string(line.bit) + ")";
+}
+
+std::string fault_output_text(const F::Report& report) {
+  const std::string head = "Fault output (TB1 pins 5-6): ";
+  if (!report.fault_output_on)
+    return head +
+           "depends on FAULTMASK: only maskable faults are set (give --mask VALUE, or read the card with "
+           "`i20 faults`)";
+  if (*report.fault_output_on) {
+    if (report.value == 0) return head + "ON: no faults, the drive may run";
+    return head + "ON: every set fault is masked, the fault output does not signal it";
+  }
+  return head + "OFF: a non-masked fault turned motor drive and the current loop off";
+}
+
+void print_fault_report(std::ostream& out, const F::Report& report, const RenderOptions& options) {
+  out << report.title << "\n" << fault_output_text(report) << "\n";
+  for (const auto& line : report.lines) print_fault_line(out, line, options);
+  if (report.notes.empty()) return;
+  out << "\nAbout FAULT:\n";
+  for (const auto& n : report.notes) out << "  - " << n << "\n";
+}
+
+void print_status_report(std::ostream& out, const F::Report& report) {
+  out << report.title << "\n";
+  for (const auto& line : report.lines) {
+    out << "  " << bit_label(line) << ", " << F::to_string(line.severity) << (line.sticky ? ", sticky" : "")
+        << ": " << line.meaning << "\n";
+    // Informational bits explain themselves; warnings need something to act on.
+    if (line.severity != F::Severity::Info)
+      for (const auto& check : line.checks) out << "      check: " << check << "\n";
+  }
+}
+
+bool brake_on(const Readings& r) {
+  return (r.status & kStatusBrakeOn) != 0;
+}
+
+app::Json line_json(const F::ReportLine& line, const F::Report& report, const Readings* live) {
+  auto j = app::Json::object();
+  j.set("bit", line.bit).set("mask", hex16(static_cast<std::uint16_t>(1u << line.bit)));
+  j.set("reserved", line.reserved);
+  j.set("name", line.reserved ? app::Json() : app::Json(line.name));
+  j.set("slug", line.reserved ? app::Json() : app::Json(line.slug));
+  j.set("linuxcnc_pin", line.linuxcnc_pin.empty() ? app::Json() : app::Json(line.linuxcnc_pin));
+  j.set("severity", std::string(F::to_string(line.severity))).set("meaning", line.meaning);
+  j.set("causes", strings(line.causes)).set("checks", strings(line.checks));
+  j.set("sticky", line.sticky).set("maskable", line.maskable);
+  // For FAULT bits "masked" is unknown (null) unless FAULTMASK was given or read.
+  const bool known = report.reg == F::Register::Status || report.faultmask.has_value();
+  j.set("masked", known ? app::Json(line.masked) : app::Json());
+  j.set("clears_while_cause_persists", line.clears_while_cause_persists).set("source", line.source);
+  if (live && report.reg == F::Register::Fault) j.set("cause_now", cause_json(cause_now(line.bit, *live)));
+  return j;
+}
+
+app::Json report_json(const F::Report& report, const Readings* live) {
+  auto j = app::Json::object();
+  j.set("register", std::string(F::to_string(report.reg))).set("value", report.value);
+  j.set("hex", hex16(report.value)).set("title", report.title);
+  if (report.reg == F::Register::Fault) {
+    j.set("faultmask", report.faultmask ? app::Json(*report.faultmask) : app::Json());
+    j.set("fault_output_on", report.fault_output_on ? app::Json(*report.fault_output_on) : app::Json());
+  }
+  auto bits = app::Json::array();
+  for (const auto& line : report.lines) bits.push(line_json(line, report, live));
+  j.set("bits", std::move(bits)).set("notes", strings(report.notes));
+  return j;
+}
+
+app::Json readings_json(const Readings& r) {
+  auto j = app::Json::object();
+  j.set("busv_v", optional_number(r.busv_v)).set("temperature_c", optional_number(r.temperature_c));
+  j.set("busunderv_v", optional_number(r.busunderv_v)).set("busoverv_v", optional_number(r.busoverv_v));
+  j.set("brake_on", brake_on(r));
+  j.set("addresses_confirmed", r.confirmed);
+  return j;
+}
+
+}  // namespace i20::cli

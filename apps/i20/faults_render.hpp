@@ -1,0 +1,85 @@
+// Shared by `i20 faults`, `i20 clear-faults` and `i20 watch`: reading the fault-related
+// registers in one pipelined pass, telling from live readings whether a fault's cause is
+// still there, and rendering lib/faults reports as text a person can act on or as JSON.
+#pragma once
+
+#include <cstdint>
+#include <iosfwd>
+#include <optional>
+#include <string>
+
+#include "faults/report.hpp"
+#include "json.hpp"
+
+namespace CLI {
+class App;
+}
+
+namespace i20::device {
+class Amp8i20;
+}
+
+namespace i20::cli {
+
+struct Context;
+
+// `i20 watch` lives in cmd_watch.cpp; register_fault_commands() registers it.
+void register_watch_command(CLI::App& app, Context& ctx);
+
+// One pass over the registers that explain a fault. Optional members are empty when the
+// parameter database has no address for them (an overlay may remove one).
+struct Readings {
+  std::uint16_t fault = 0;
+  std::uint16_t status = 0;
+  std::optional<std::uint16_t> faultmask;
+  std::optional<double> busv_v;
+  std::optional<double> temperature_c;
+  std::optional<double> busunderv_v;
+  std::optional<double> busoverv_v;
+  // FAULT and STATUS come from addresses confirmed for this card's firmware. When false
+  // the values may not be FAULT/STATUS at all, and the user must be told.
+  bool confirmed = true;
+};
+
+// FAULT and STATUS are required; the rest are read when the database places them.
+Readings read_readings(device::Amp8i20& amp);
+
+// One line on stderr when FAULT/STATUS come from unconfirmed addresses (they may be
+// some other register on this firmware, and a person must not act on them blindly).
+void warn_if_unconfirmed(const Readings& r);
+
+// What the live readings say about a FAULT bit's cause right now.
+struct CauseNow {
+  enum State { Present, Gone, Unknown };
+  State state = Unknown;
+  std::string evidence;  // "BUSV is 24.00 V, below BUSUNDERV 35.00 V"; empty when Unknown
+};
+CauseNow cause_now(unsigned fault_bit, const Readings& r);
+
+// "0x0102".
+std::string hex16(std::uint16_t value);
+// "NOENABLEFAULT (bit 1)" or "reserved bit 3".
+std::string bit_label(const faults::ReportLine& line);
+
+struct RenderOptions {
+  const Readings* live = nullptr;  // adds a "now:" line per fault (cause present or gone)
+};
+
+// The full answer for a FAULT report: title, fault output, each bit with meaning, causes
+// and checks, then the register notes.
+void print_fault_report(std::ostream& out, const faults::Report& report, const RenderOptions& options = {});
+// STATUS bits: one line each; warnings also get their checks.
+void print_status_report(std::ostream& out, const faults::Report& report);
+// "Fault output (TB1 pins 5-6): OFF: ..." for a FAULT report.
+std::string fault_output_text(const faults::Report& report);
+
+bool brake_on(const Readings& r);
+
+// JSON of a report: raw value, hex, title, and every set bit with all its advice; with
+// live readings each FAULT bit also says whether its cause is present now.
+app::Json report_json(const faults::Report& report, const Readings* live = nullptr);
+app::Json line_json(const faults::ReportLine& line, const faults::Report& report,
+                    const Readings* live = nullptr);
+app::Json readings_json(const Readings& r);
+
+}  // namespace i20::cli
