@@ -63,7 +63,7 @@ CauseNow bus_low_cause(const Readings& r) {
   if (r.busv_v && r.busunderv_v) {
     if (*r.busv_v < *r.busunderv_v)
       return present("BUSV is " + volts(*r.busv_v) + ", below BUSUNDERV " + volts(*r.busunderv_v) +
-                     ": motor supply off or low");
+                     ": motor supply off or low, or BUSUNDERV set too high");
     return gone("BUSV is " + volts(*r.busv_v) + ", above BUSUNDERV " + volts(*r.busunderv_v));
   }
   if (r.status & kStatusBusUnderV) return present("the motor supply is under-voltage now (STATUS bit 3)");
