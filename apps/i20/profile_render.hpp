@@ -1,0 +1,62 @@
+// Text and JSON for the profile commands: findings, diff and plan tables, the apply
+// report with its one-line final state, and the fleet's result table. Text shows
+// engineering units; JSON carries raw counts as well, for scripts.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "apply_run.hpp"
+#include "json.hpp"
+#include "params/param_db.hpp"
+#include "profile/diff.hpp"
+#include "profile/error.hpp"
+#include "profile/finding.hpp"
+#include "profile/plan.hpp"
+
+namespace i20::cli::render {
+
+// Columns padded to their widest cell, two spaces apart, no trailing blanks.
+class Table {
+ public:
+  explicit Table(std::vector<std::string> headers) : rows_{std::move(headers)} {}
+  void add(std::vector<std::string> row) { rows_.push_back(std::move(row)); }
+  bool empty() const { return rows_.size() == 1; }
+  void print(std::ostream& out, const std::string& indent = "  ") const;
+
+ private:
+  std::vector<std::vector<std::string>> rows_;
+};
+
+// "profiles/x.yaml:12: error: NVBRAKEOFFV: must be below BRAKEONV ... [brake-order]";
+// findings without a line name `file`.
+void print_findings(std::ostream& out, const std::vector<profile::Finding>& findings,
+                    const std::string& file);
+void print_load_error(std::ostream& out, const profile::ProfileError& error, const std::string& file);
+// "1 error, 2 warnings" / "no findings".
+std::string findings_summary(const std::vector<profile::Finding>& findings);
+app::Json findings_json(const std::vector<profile::Finding>& findings);
+app::Json load_error_json(const profile::ProfileError& error);
+
+void print_diff(std::ostream& out, const std::vector<profile::DiffRow>& rows);
+app::Json diff_json(const std::vector<profile::DiffRow>& rows);
+
+void print_plan(std::ostream& out, const profile::Plan& plan);
+app::Json plan_json(const profile::Plan& plan);
+
+// The whole report of one apply: plan, writes, the final state in one line, the card
+// state table when a rollback happened, the backup and the reset advice. `source` names
+// the profile file in findings that are not about one entry.
+void print_run(std::ostream& out, const TargetRun& run, const params::ParamDb& db, const std::string& source);
+// "APPLIED AND VERIFIED: 5 values written, reset needed", "ROLLBACK FAILED: card state below", ...
+std::string outcome_line(const TargetRun& run);
+// "applied-and-verified", ..., or "not-reached".
+std::string outcome_name(const TargetRun& run);
+app::Json run_json(const TargetRun& run);
+
+// One row per target, then the details of every target that did not end well.
+void print_fleet(std::ostream& out, const std::vector<TargetRun>& runs, const params::ParamDb& db,
+                 const std::string& source);
+
+}  // namespace i20::cli::render
