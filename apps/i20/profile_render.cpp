@@ -105,7 +105,9 @@ void print_reset_advice(std::ostream& out, const TargetRun& run) {
   if (applied && !r.reset_done && (r.reset_needed || !run.not_live.empty())) {
     out << "Reset needed: the EEPROM values take effect at the next reset of the 8I20";
     if (!run.not_live.empty()) out << " (not live yet: " << run.not_live.size() << " of them)";
-    out << ": run `i20 " << run.target_flags << " reset`, or apply with --reset.\n";
+    // apply --reset resets only after it wrote something: with nothing to do, only `reset` helps.
+    out << ": run `i20 " << run.target_flags << " reset`"
+        << (r.outcome == Outcome::Applied ? " (or apply with --reset next time)" : "") << ".\n";
   }
   if (!run.card_reset.empty())
     out << "WARNING: " << run.card_reset << "; "

@@ -1,10 +1,16 @@
 #include "cli_profile_util.hpp"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <thread>
 
 namespace i20::test {
 
@@ -27,6 +33,53 @@ std::string slurp_file(const std::filesystem::path& path) {
 Result i20_on(const std::string& port, std::vector<std::string> args, int timeout_s) {
   args.insert(args.begin(), {"--port", port, "--no-user-params"});
   return run("i20", args, {}, timeout_s);
+}
+
+Background::Background(const std::vector<std::string>& args) {
+  const auto exe = program("i20").string();
+  std::vector<std::string> keep{exe};
+  keep.insert(keep.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : keep) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const auto out = (dir_ / "out").string(), err = (dir_ / "err").string();
+  pid_ = fork();
+  if (pid_ == 0) {
+    dup2(open("/dev/null", O_RDONLY), STDIN_FILENO);
+    dup2(open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644), STDOUT_FILENO);
+    dup2(open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644), STDERR_FILENO);
+    execv(exe.c_str(), argv.data());
+    _exit(127);
+  }
+}
+
+Background::~Background() {
+  if (pid_ <= 0) return;
+  kill(pid_, SIGKILL);
+  waitpid(pid_, nullptr, 0);
+}
+
+void Background::interrupt() {
+  kill(pid_, SIGINT);
+}
+
+Result Background::wait(int timeout_s) {
+  Result r;
+  int status = 0;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_s);
+  while (waitpid(pid_, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, &status, 0);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  pid_ = -1;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = slurp_file(dir_ / "out");
+  r.err = slurp_file(dir_ / "err");
+  return r;
 }
 
 namespace {

@@ -26,6 +26,22 @@ std::string slurp_file(const std::filesystem::path& path);
 // `i20 --port PORT --no-user-params ARGS...`.
 Result i20_on(const std::string& port, std::vector<std::string> args, int timeout_s = 120);
 
+// `i20 ARGS...` started in the background with stdout and stderr going to files, so a test
+// can signal it mid-run (Ctrl-C) and collect what it printed.
+class Background {
+ public:
+  explicit Background(const std::vector<std::string>& args);
+  ~Background();
+  Background(const Background&) = delete;
+  Background& operator=(const Background&) = delete;
+  void interrupt();                 // SIGINT, as Ctrl-C sends it
+  Result wait(int timeout_s = 60);  // exit code and output; killed after the timeout
+
+ private:
+  int pid_ = -1;
+  TempDir dir_;
+};
+
 // Data writes the simulator executed while NV access mode was on (0xEC 0x01 ... 0xEC 0x00;
 // a reset or power-up leaves NV mode), i.e. EEPROM cell writes, from an i20sim trace.
 std::size_t eeprom_writes(const std::string& trace);

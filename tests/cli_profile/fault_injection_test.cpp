@@ -4,7 +4,10 @@
 // command reports must be what the card holds when read back independently afterwards.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <set>
+#include <sstream>
+#include <thread>
 
 #include "cli_profile_util.hpp"
 
@@ -222,4 +225,31 @@ TEST_F(ProfileCliFaults, ACellThatDoesNotTakeItsValueRollsBackTheOthers) {
   // What this tool calls KQP is the simulator's BUSV register.
   expect_report_matches_card(
       j, [&](const std::string& c) { return sim_value(sim, c == "KQP" ? "BUSV" : c); }, "bad cell");
+}
+
+// Ctrl-C in the middle of the writes stops the apply, and what was written is restored
+// before the program ends (a second Ctrl-C would end it at once, by design).
+TEST_F(ProfileCliFaults, CtrlCMidApplyRestoresWhatWasWritten) {
+  SimProcess sim;
+  const auto before = snapshot(sim);
+  ASSERT_EQ(sim.control("delay 100"), "ok");  // slow replies: a wide window between the writes
+  Background apply({"--port", sim.port(), "--no-user-params", "--timeout", "2000", "profile", "apply",
+                    shipped("line-120v.yaml"), "--backup-dir", dir.path().string()});
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (eeprom_writes(sim.trace()) < 1 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_GE(eeprom_writes(sim.trace()), 1u) << "the apply never started writing";
+  apply.interrupt();
+  const auto r = apply.wait();
+  ASSERT_EQ(sim.control("delay 0"), "ok");
+  EXPECT_EQ(r.exit_code, 4) << r.out << r.err;
+  EXPECT_NE(r.out.find("ROLLED BACK AND VERIFIED after Ctrl-C: the card holds its previous values"),
+            std::string::npos)
+      << r.out << r.err;
+  for (const auto& [cell, value] : before) EXPECT_EQ(sim_value(sim, cell), value) << cell;
+  std::istringstream trace(sim.trace());
+  std::string last_mode;
+  for (std::string line; std::getline(trace, line);)
+    if (line.rfind("i20sim: ec ", 0) == 0) last_mode = line.substr(8, 5);
+  EXPECT_EQ(last_mode, "ec 00") << "NV access mode is left at the end";
 }
