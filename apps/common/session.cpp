@@ -2,9 +2,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include "eth/target.hpp"
 #include "interrupt.hpp"
 #include "link/serial_link.hpp"
-#include "sim_target.hpp"
+#include "targets.hpp"
 
 namespace i20::app {
 namespace {
@@ -38,6 +39,10 @@ void add_target_options(CLI::App& app, GlobalOptions& o) {
   app.add_option("--channel", o.channel, "SSERIAL channel of the 8I20 on the Ethernet card (0-7)")
       ->needs(eth)
       ->check(CLI::Range(0, 7));
+  app.add_option("--sserial-port", o.sserial_port,
+                 "SSERIAL port (instance) on the Ethernet card, e.g. 1 on a 7I92T")
+      ->needs(eth)
+      ->check(CLI::Range(0, 3));
   app.add_option("--sim-eeprom", o.sim_eeprom,
                  "EEPROM image file for --sim, so NV values persist between runs")
       ->needs(sim);
@@ -69,7 +74,9 @@ std::unique_ptr<link::Link> open_link(const GlobalOptions& o, const params::Para
   link::PipelinedLinkOptions link_options;
   link_options.base_timeout = std::chrono::milliseconds(o.timeout_ms);
   if (o.sim) return open_sim_link(db, o.sim_eeprom, link_options);
-  if (!o.eth.empty()) return open_eth_link(o.eth, o.channel, o.timeout_ms);
+  if (!o.eth.empty()) return open_eth_link(o.eth, o.sserial_port, o.channel, o.timeout_ms);
+  // eth:// URLs work wherever a port is accepted (fleet targets, COMPORT).
+  if (eth::is_eth_url(o.port)) return open_eth_link(o.port, 0, 0, o.timeout_ms);
   if (!o.port.empty()) {
     link::SerialOptions serial;
     serial.baud = o.baud;

@@ -17,11 +17,12 @@ class App;
 namespace i20::app {
 
 struct GlobalOptions {
-  std::string port;        // serial device (or COMn)
-  bool sim = false;        // the built-in simulator, in-process
-  std::string sim_eeprom;  // EEPROM image file for --sim (persists NV values)
-  std::string eth;         // Ethernet card address (7I96S / 7I92T)
-  unsigned channel = 0;    // SSERIAL channel on the Ethernet card
+  std::string port;           // serial device (or COMn)
+  bool sim = false;           // the built-in simulator, in-process
+  std::string sim_eeprom;     // EEPROM image file for --sim (persists NV values)
+  std::string eth;            // Ethernet card address (7I96S / 7I92T)
+  unsigned channel = 0;       // SSERIAL channel on the Ethernet card
+  unsigned sserial_port = 0;  // SSERIAL instance on the Ethernet card (7I92T: 0 or 1)
   unsigned baud = 115200;
   unsigned timeout_ms = 50;
   std::vector<std::string> params_files;

@@ -1,10 +1,95 @@
-// Registration point; the subcommands land with their issue.
+// i20 scan --eth IP: the card, its SSERIAL ports and channels, and which 8I20s answer.
 #include <CLI/CLI.hpp>
+#include <cstdio>
+#include <iostream>
 
 #include "context.hpp"
+#include "eth/scan.hpp"
+#include "eth/target.hpp"
 
 namespace i20::cli {
+namespace {
 
-void register_scan_command(CLI::App&, Context&) {}
+std::string hex32(std::uint32_t v) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "0x%08X", v);
+  return buf;
+}
+
+app::Json scan_json(const eth::ScanResult& r) {
+  auto j = app::Json::object();
+  j.set("address", r.card_address.describe()).set("card", r.card.card_name);
+  j.set("lbp16_version", r.card.lbp16_version).set("firmware_version", r.card.firmware_version);
+  j.set("config", r.config_name).set("board", r.board_name);
+  auto ports = app::Json::array();
+  for (const auto& p : r.ports) {
+    auto pj = app::Json::object();
+    pj.set("port", p.index)
+        .set("sslbp_version", p.parameters.version())
+        .set("channels", p.parameters.channels);
+    auto chans = app::Json::array();
+    for (const auto& c : p.channels) {
+      auto cj = app::Json::object();
+      cj.set("channel", c.channel).set("answered", c.answered).set("device", c.device_name);
+      cj.set("unit_number", c.unit_number).set("status", c.status).set("is_8i20", c.is_8i20());
+      if (c.is_8i20()) cj.set("target", eth::EthTarget{r.card_address, p.index, c.channel}.url());
+      chans.push(std::move(cj));
+    }
+    pj.set("channel_reports", std::move(chans));
+    ports.push(std::move(pj));
+  }
+  j.set("ports", std::move(ports));
+  return j;
+}
+
+void print_scan(const eth::ScanResult& r) {
+  std::cout << r.card.card_name << " at " << r.card_address.describe() << ": LBP16 version "
+            << r.card.lbp16_version << ", firmware " << r.card.firmware_version << ", " << r.config_name
+            << " board " << r.board_name << "\n";
+  if (r.ports.empty())
+    std::cout << "  no SSERIAL port in this configuration (load a bitfile with SSERIAL/SSLBP)\n";
+  for (const auto& p : r.ports) {
+    std::cout << "  SSERIAL port " << p.index << ": SSLBP " << p.parameters.version() << ", "
+              << int(p.parameters.channels) << " channel(s)\n";
+    for (const auto& c : p.channels) {
+      std::cout << "    ch " << c.channel << ": ";
+      if (c.is_8i20())
+        std::cout << "8I20 unit " << c.unit_number << " (" << hex32(c.unit_number) << ")  -> "
+                  << eth::EthTarget{r.card_address, p.index, c.channel}.url() << "\n";
+      else if (c.answered)
+        std::cout << c.device_name << " (not an 8I20), unit " << c.unit_number << "\n";
+      else
+        std::cout << "nothing answers (" << c.status << ")\n";
+    }
+  }
+  const auto targets = r.targets();
+  std::cout << targets.size() << " 8I20(s) found; use a target above with --port, e.g. i20 --port "
+            << (targets.empty() ? "eth://IP/ch0" : targets.front().url()) << " info\n";
+}
+
+void run_scan(Context& ctx) {
+  if (ctx.options.eth.empty())
+    throw UsageError("scan needs the Ethernet card's address: i20 scan --eth 192.168.1.121");
+  const auto address = eth::is_eth_url(ctx.options.eth) ? eth::parse_target(ctx.options.eth).card
+                                                        : eth::parse_host_port(ctx.options.eth);
+  eth::ScanOptions options;
+  options.udp.timeout = std::chrono::milliseconds(ctx.options.timeout_ms);
+  const auto result = eth::scan(address, options);
+  if (ctx.options.json)
+    ctx.print_json(scan_json(result));
+  else
+    print_scan(result);
+}
+
+}  // namespace
+
+void register_scan_command(CLI::App& app, Context& ctx) {
+  auto* scan = app.add_subcommand(
+      "scan",
+      "Scan a 7I96S/7I92T over Ethernet (--eth IP): the card, its SSERIAL ports and channels, and which "
+      "8I20s "
+      "answer (name, unit number). Stops and restarts the smart-serial ports: LinuxCNC must not be running");
+  scan->callback([&ctx] { run_scan(ctx); });
+}
 
 }  // namespace i20::cli

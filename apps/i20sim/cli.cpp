@@ -57,6 +57,18 @@ void add_options(CLI::App& app, Invocation& o, Raw& raw) {
   auto& inj = d.injection;
   app.add_flag("--pty", o.pty,
                "Serve on a new pseudo-terminal; its path is printed alone on stdout's first line");
+  auto* eth =
+      app.add_option("--eth", o.eth_options.listen,
+                     "Serve a virtual 7I96S on UDP at ADDR[:PORT] (default port 27181) with the 8I20 on "
+                     "SSERIAL channel 0; prints ADDR:PORT on the first line. Instead of --pty")
+          ->excludes("--pty");
+  app.add_option("--card", o.eth_options.card, "Virtual Ethernet card for --eth: 7i96s or 7i92t")
+      ->needs(eth)
+      ->check(CLI::IsMember({"7i96s", "7I96S", "7i92t", "7I92T"}));
+  app.add_option("--channels", o.eth_options.channels,
+                 "8I20s on the card's port 0 (channels 0..N-1), for --eth")
+      ->needs(eth)
+      ->check(CLI::Range(1, 8));
   app.add_flag("--print-map", o.print_map, "Print the register map and the preloaded RPC table, then exit");
   app.add_flag("--trace", o.trace, "Log every command, reply and framing event to stderr");
   app.add_option("--control", o.server.control_fifo,
@@ -173,8 +185,9 @@ std::optional<int> parse_command_line(int argc, char** argv, Invocation& out) {
   add_options(app, out, raw);
   try {
     app.parse(argc, argv);
-    if (!out.pty && !out.print_map)
-      throw CLI::ValidationError("nothing to do: give --pty to serve (or --print-map)");
+    out.eth = app.count("--eth") > 0;
+    if (!out.pty && !out.eth && !out.print_map)
+      throw CLI::ValidationError("nothing to do: give --pty or --eth ADDR to serve (or --print-map)");
     apply(out, raw);
     for (const auto& f : raw.faults) out.startup_control.push_back("fault " + f + " on");
   } catch (const CLI::ParseError& e) {

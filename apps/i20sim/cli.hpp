@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "eth_server.hpp"
 #include "server.hpp"
 #include "sim/sim_stream.hpp"
 
@@ -14,6 +15,8 @@ struct Invocation {
   SimOptions sim;
   ServerOptions server;
   bool pty = false;
+  bool eth = false;  // serve a virtual Ethernet card instead of a pty
+  EthServeOptions eth_options;
   bool print_map = false;
   bool trace = false;
   std::vector<std::string> startup_control;  // control lines applied before serving

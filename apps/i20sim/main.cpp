@@ -43,6 +43,10 @@ int main(int argc, char** argv) {
       print_map(inv.sim.device.map);
       return 0;
     }
+    if (inv.eth) {
+      inv.eth_options.read_stdin = inv.server.read_stdin;
+      return sim::app::serve_eth(inv.sim, inv.eth_options);
+    }
     sim::Virtual8i20 card(inv.sim.device, sim::Clock::now());
     for (const auto& line : inv.startup_control) sim::apply_control(card, line, sim::Clock::now());
     if (inv.trace)

@@ -37,11 +37,12 @@ lbp::Command write_command(const Param& p, std::int64_t raw) {
   return c;
 }
 
-// Reads of `count` bytes from `address` in as few commands as the header allows (8 bytes max).
-std::vector<lbp::Command> chunked_reads(std::uint16_t address, std::size_t count) {
+// Reads of `count` bytes from `address` in as few commands as the header and the
+// transport allow (`largest` = 8 on a serial line, 4 through SSLBP).
+std::vector<lbp::Command> chunked_reads(std::uint16_t address, std::size_t count, std::size_t largest) {
   std::vector<lbp::Command> commands;
   for (std::size_t done = 0; done < count;) {
-    const std::size_t left = count - done;
+    const std::size_t left = std::min(count - done, largest);
     const std::size_t chunk = left >= 8 ? 8 : left >= 4 ? 4 : left >= 2 ? 2 : 1;
     commands.push_back(lbp::read(static_cast<std::uint16_t>(address + done), *lbp::data_size_for(chunk)));
     done += chunk;
@@ -274,7 +275,7 @@ ClearFaultsResult Amp8i20::clear_faults(const WriteOptions& options, std::chrono
 }
 
 lbp::Bytes Amp8i20::read_memory(Space space, std::uint16_t address, std::size_t count) {
-  auto commands = chunked_reads(address, count);
+  auto commands = chunked_reads(address, count, link_.max_data_bytes());
   std::optional<ModeGuard> guard;
   if (space == Space::Eeprom) {
     commands.insert(commands.begin(), lbp::set_nv_access(lbp::local::NvAccess::Eeprom));
@@ -302,7 +303,7 @@ lbp::Bytes Amp8i20::read_rpc_table() {
   ModeGuard guard(link_, leave, "RPC memory access mode");
   link_.execute_one(lbp::local_write(L::kSetRpcMemAccess, 1));
   lbp::Bytes table;
-  for (const auto& part : link_.execute(chunked_reads(0, size)))
+  for (const auto& part : link_.execute(chunked_reads(0, size, link_.max_data_bytes())))
     table.insert(table.end(), part.begin(), part.end());
   guard.leave();
   return table;

@@ -75,6 +75,8 @@ class SslbpPassthroughLink final : public link::Link {
 
   std::vector<lbp::Bytes> execute(std::span<const lbp::Command> batch) override;
   std::string describe() const override { return target_.describe(); }
+  // INTERFACE0 is 32 bits wide: no 8-byte accesses through the passthrough.
+  std::size_t max_data_bytes() const override { return 4; }
   std::vector<std::string> notes() const override { return notes_; }
 
   const RemoteInfo& remote() const { return remote_; }

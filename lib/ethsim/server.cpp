@@ -54,6 +54,13 @@ RemoteFactory amplifier_factory(const ServerOptions& options) {
 }  // namespace
 
 eth::HostPort parse_listen_address(std::string_view text) {
+  // ":0" asks the OS for a free port (tests, several simulators side by side); clients
+  // can never address port 0, so parse_host_port rightly refuses it.
+  if (text.size() > 2 && text.substr(text.size() - 2) == ":0") {
+    auto address = eth::parse_host_port(text.substr(0, text.size() - 2));
+    address.port = 0;
+    return address;
+  }
   return eth::parse_host_port(text);
 }
 

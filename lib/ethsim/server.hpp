@@ -57,7 +57,7 @@ struct ServerOptions {
   std::chrono::milliseconds tick{2};
 };
 
-// "ADDR[:PORT]" (default port 27181). Throws UsageError.
+// "ADDR[:PORT]" (default port 27181; port 0 picks a free one). Throws UsageError.
 eth::HostPort parse_listen_address(std::string_view text);
 
 class CardServer {

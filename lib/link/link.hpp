@@ -70,6 +70,10 @@ class Link {
   // not writable: ..."), for verbose output. The library never prints.
   virtual std::vector<std::string> notes() const { return {}; }
 
+  // The largest data size (bytes) one command may carry on this transport: 8 on a
+  // serial line, 4 through SSLBP's 32-bit INTERFACE0 register.
+  virtual std::size_t max_data_bytes() const { return 8; }
+
   // Convenience for a batch of one.
   lbp::Bytes execute_one(const lbp::Command& command) {
     return execute(std::span<const lbp::Command>(&command, 1)).front();

@@ -1,6 +1,7 @@
-#include "sim_target.hpp"
+#include "targets.hpp"
 
-#include "lbp/error.hpp"
+#include "eth/passthrough_link.hpp"
+#include "eth/target.hpp"
 #include "sim/param_map.hpp"
 #include "sim/sim_stream.hpp"
 
@@ -17,8 +18,13 @@ std::unique_ptr<link::Link> open_sim_link(const params::ParamDb& db, const std::
   return sim::make_sim_link(std::move(sim), options);
 }
 
-std::unique_ptr<link::Link> open_eth_link(const std::string&, unsigned, unsigned) {
-  throw Error("Ethernet targets are not wired in yet");
+std::unique_ptr<link::Link> open_eth_link(const std::string& address, unsigned sserial_port, unsigned channel,
+                                          unsigned timeout_ms) {
+  const auto target = eth::is_eth_url(address) ? eth::parse_target(address)
+                                               : eth::make_target(address, channel, sserial_port);
+  eth::PassthroughOptions options;
+  options.udp.timeout = std::chrono::milliseconds(timeout_ms);
+  return eth::SslbpPassthroughLink::open(target, options);
 }
 
 }  // namespace i20::app

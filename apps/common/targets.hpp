@@ -15,7 +15,9 @@ namespace i20::app {
 std::unique_ptr<link::Link> open_sim_link(const params::ParamDb& db, const std::string& eeprom_file,
                                           const link::PipelinedLinkOptions& options);
 
-// An 8I20 on SSERIAL channel `channel` of a 7I96S/7I92T at `address` (IP[:PORT]).
-std::unique_ptr<link::Link> open_eth_link(const std::string& address, unsigned channel, unsigned timeout_ms);
+// An 8I20 behind a 7I96S/7I92T: `address` is "IP[:UDPPORT]" (with `sserial_port` and
+// `channel`) or a full "eth://IP[:UDPPORT][/portP][/chN]" URL.
+std::unique_ptr<link::Link> open_eth_link(const std::string& address, unsigned sserial_port, unsigned channel,
+                                          unsigned timeout_ms);
 
 }  // namespace i20::app
