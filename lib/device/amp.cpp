@@ -50,6 +50,14 @@ std::vector<lbp::Command> chunked_reads(std::uint16_t address, std::size_t count
   return commands;
 }
 
+// The card's answer to 0xCC must still be EEPROM access, or it reset under us.
+void require_nv_mode(const lbp::Bytes& reply, const std::string& what) {
+  if (reply.at(0) != static_cast<lbp::Byte>(lbp::local::NvAccess::Eeprom))
+    throw VerifyError(
+        "the 8I20 left NV access mode during " + what +
+        " (it reset?): the EEPROM cell is unverified; check its logic power and run the command again");
+}
+
 void verify(const Param& p, std::int64_t wanted, lbp::ByteView readback) {
   const auto got = params::raw_from_bytes(p, readback);
   if (got != wanted)
@@ -132,13 +140,21 @@ std::vector<Value> Amp8i20::read(std::span<const Param* const> params) {
         reply_of[i] = commands.size();
         commands.push_back(read_command(*params[i]));
       }
+    // As for writes: if the card reset inside the batch, the NV reads came from RAM.
+    commands.push_back(lbp::local_read(lbp::local::kGetNvAccess));
     commands.push_back(leave);
   }
 
   std::optional<ModeGuard> guard;
   if (any_nv) guard.emplace(link_, leave, "NV (EEPROM) access mode");
   const auto replies = link_.execute(commands);
-  if (guard) guard->disarm();
+  if (guard) {
+    guard->disarm();
+    if (replies[replies.size() - 2].at(0) != static_cast<lbp::Byte>(lbp::local::NvAccess::Eeprom))
+      throw CardStateError(
+          "the 8I20 on " + link_.describe() +
+          " left NV access mode during the read (it reset?): NV values not shown; read again");
+  }
   if (identify_too)
     db_.select_firmware(static_cast<std::uint16_t>(params::raw_from_bytes(revision, replies[0])));
 
@@ -222,9 +238,16 @@ std::vector<WriteReport> Amp8i20::write_nv(std::span<const Assignment> batch) {
     // One cell at a time: a barrier write, then its read-back, then the next. A
     // cancellation between cells leaves the earlier cells written and verified.
     throw_if_cancelled();
-    const std::vector<lbp::Command> commands{write_command(*a.param, a.raw), read_command(*a.param)};
+    // A reset (power glitch, watchdog) drops NV access mode: a write after it lands in
+    // RAM and a read-back from RAM would "verify" it. So the mode is read before the
+    // write and after the read-back; both must still say EEPROM.
+    const auto mode = lbp::local_read(lbp::local::kGetNvAccess);
+    const std::vector<lbp::Command> commands{mode, write_command(*a.param, a.raw), read_command(*a.param),
+                                             mode};
     const auto replies = link_.execute(commands);
-    verify(*a.param, a.raw, replies[1]);
+    require_nv_mode(replies[0], a.param->name);
+    require_nv_mode(replies[3], a.param->name);
+    verify(*a.param, a.raw, replies[2]);
     reports.push_back({a.param, a.raw, true, true});
   }
   guard.leave();

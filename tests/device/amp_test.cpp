@@ -40,8 +40,10 @@ TEST_F(AmpTest, ReadsWorkingParametersByName) {
 TEST_F(AmpTest, NvReadsHappenInsideNvModeAndLeaveIt) {
   card.put(40, 19000, 2, /*nv=*/true);
   EXPECT_EQ(amp.read("NVBRAKEONV").raw, 19000);
-  // One exchange: SWREVISION (the card is not identified yet), then the NV read in NV mode.
-  ASSERT_EQ(card.sent.size(), 4u);
+  // One exchange: SWREVISION (the card is not identified yet), then the NV read in NV
+  // mode, then a check that the card is still in NV mode (it did not reset meanwhile).
+  ASSERT_EQ(card.sent.size(), 5u);
+  EXPECT_EQ(card.sent[3].bytes, (lbp::Bytes{0xCC}));
   EXPECT_EQ(card.sent[0].bytes, (lbp::Bytes{0x45, 0x74, 0x08}));  // SWREVISION at 2164
   EXPECT_EQ(card.sent[1].bytes, (lbp::Bytes{0xEC, 0x01}));
   EXPECT_EQ(card.sent.back().bytes, (lbp::Bytes{0xEC, 0x00}));
@@ -56,17 +58,19 @@ TEST_F(AmpTest, NvWriteEntersWritesReadsBackAndLeaves) {
   EXPECT_TRUE(report.needs_reset);
   EXPECT_EQ(card.get(2, 2, true), 2500u);
   EXPECT_EQ(card.get(0x0812, 2), 0u) << "an NV write changes nothing live";
-  ASSERT_EQ(card.sent.size(), 4u);
+  ASSERT_EQ(card.sent.size(), 6u);
   EXPECT_EQ(card.sent[0].bytes, (lbp::Bytes{0xEC, 0x01}));
-  EXPECT_EQ(card.sent[1].bytes, (lbp::Bytes{0x65, 0x02, 0x00, 0xC4, 0x09}));  // 2-byte write at 2
-  EXPECT_TRUE(card.sent[1].barrier);
-  EXPECT_EQ(card.sent[2].bytes, (lbp::Bytes{0x45, 0x02, 0x00}));  // read back
-  EXPECT_EQ(card.sent[3].bytes, (lbp::Bytes{0xEC, 0x00}));
+  EXPECT_EQ(card.sent[1].bytes, (lbp::Bytes{0xCC}));                          // still in NV mode?
+  EXPECT_EQ(card.sent[2].bytes, (lbp::Bytes{0x65, 0x02, 0x00, 0xC4, 0x09}));  // 2-byte write at 2
+  EXPECT_TRUE(card.sent[2].barrier);
+  EXPECT_EQ(card.sent[3].bytes, (lbp::Bytes{0x45, 0x02, 0x00}));  // read back
+  EXPECT_EQ(card.sent[4].bytes, (lbp::Bytes{0xCC}));
+  EXPECT_EQ(card.sent[5].bytes, (lbp::Bytes{0xEC, 0x00}));
 }
 
 TEST_F(AmpTest, NvModeIsLeftEvenWhenTheWriteFails) {
   identify_as_simulator();
-  card.fail_at = 1;  // enter NV succeeds, the write times out
+  card.fail_at = 2;  // enter NV and the mode check succeed, the write times out
   EXPECT_THROW(amp.write("NVBRAKEONV", 32000, {}), link::TimeoutError);
   EXPECT_EQ(card.nv_mode, 0) << "the guard must take the card out of NV mode";
   EXPECT_EQ(card.sent.back().bytes, (lbp::Bytes{0xEC, 0x00}));
@@ -77,6 +81,22 @@ TEST_F(AmpTest, NvModeIsLeftWhenReadBackDisagrees) {
   card.eeprom_stuck = true;
   EXPECT_THROW(amp.write("NVBRAKEONV", 32000, {}), VerifyError);
   EXPECT_EQ(card.nv_mode, 0);
+}
+
+TEST_F(AmpTest, AResetInsideAnNvWriteIsNotMistakenForSuccess) {
+  identify_as_simulator();
+  card.reset_at = 2;  // after entering NV mode and the first mode check, before the write
+  // The write then lands in RAM at address 40 and reads back from RAM: equal, but wrong.
+  EXPECT_THROW(amp.write("NVBRAKEONV", 32000, {}), VerifyError);
+  EXPECT_EQ(card.get(40, 2, /*nv=*/true), 0u) << "the EEPROM never got the value";
+  EXPECT_EQ(card.get(40, 2), 32000u) << "it went to RAM, which a plain read-back would have 'verified'";
+}
+
+TEST_F(AmpTest, AResetInsideAnNvReadIsReportedNotShown) {
+  identify_as_simulator();
+  card.put(40, 19000, 2, /*nv=*/true);
+  card.reset_at = 1;  // right after entering NV mode
+  EXPECT_THROW(amp.read("NVBRAKEONV"), CardStateError);
 }
 
 TEST_F(AmpTest, CancelledBeforeAnythingIsSent) {

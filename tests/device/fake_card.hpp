@@ -23,6 +23,9 @@ class FakeCard : public link::Link {
   int fail_at = -1;
   // Corrupt what EEPROM writes store (simulates a failing cell).
   bool eeprom_stuck = false;
+  // The card resets just before the n-th command from now (counting from 0; -1 never):
+  // NV access mode drops back to RAM, as a real reset does.
+  int reset_at = -1;
 
   std::vector<lbp::Bytes> execute(std::span<const lbp::Command> batch) override {
     std::vector<lbp::Bytes> replies;
@@ -32,6 +35,8 @@ class FakeCard : public link::Link {
         throw link::TimeoutError("fake timeout", replies.size());
       }
       if (fail_at > 0) --fail_at;
+      if (reset_at == 0) nv_mode = 0;
+      if (reset_at >= 0) --reset_at;
       sent.push_back(c);
       replies.push_back(run(c));
     }
