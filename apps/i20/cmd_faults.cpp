@@ -15,6 +15,7 @@
 #include "faults/fault_mask.hpp"
 #include "faults/register_value.hpp"
 #include "faults_render.hpp"
+#include "live_source.hpp"
 
 namespace i20::cli {
 namespace {
@@ -63,20 +64,21 @@ void print_next_step(const F::Report& fault) {
 }
 
 void run_faults(Context& ctx) {
-  auto& session = ctx.session();
-  const Readings r = read_readings(session.amp());
+  // Ethernet targets: SSLBP normal mode, which needs no RAM address.
+  const auto source = make_live_source(ctx);
+  const Readings r = source->read();
   const auto fault = F::fault_report(r.fault, r.faultmask);
   const auto status = F::status_report(r.status);
   warn_if_unconfirmed(r);
   if (ctx.options.json) {
     auto j = app::Json::object();
-    j.set("source", "card").set("target", session.link().describe());
+    j.set("source", "card").set("target", source->describe()).set("method", source->method());
     j.set("fault", report_json(fault, &r)).set("status", report_json(status));
     j.set("readings", readings_json(r));
     ctx.print_json(j);
     return;
   }
-  std::cout << "8I20 on " << session.link().describe() << ": " << readings_line(r) << "\n\n";
+  std::cout << "8I20 on " << source->describe() << ": " << readings_line(r) << "\n\n";
   RenderOptions options;
   options.live = &r;
   print_fault_report(std::cout, fault, options);

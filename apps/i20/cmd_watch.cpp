@@ -25,6 +25,7 @@
 #include "faults/fault_mask.hpp"
 #include "faults_render.hpp"
 #include "interrupt.hpp"
+#include "live_source.hpp"
 
 namespace i20::cli {
 namespace {
@@ -47,6 +48,7 @@ struct WatchOptions {
   std::uint64_t count = 0;  // 0: no limit
   double duration_s = 0;    // 0: no limit
   bool plain = false;
+  bool registers = false;  // Ethernet: passthrough register reads instead of normal mode
   std::string log;
 };
 
@@ -477,22 +479,25 @@ void AnsiView::draw() const {
 class Watcher {
  public:
   Watcher(Context& ctx, const WatchOptions& o, View& view, CsvLog* log)
-      : ctx_(ctx), o_(o), view_(view), log_(log), interval_(o.interval_ms) {}
+      : o_(o),
+        view_(view),
+        log_(log),
+        interval_(o.interval_ms),
+        source_(make_live_source(ctx, o.registers)) {}
 
   void run();
 
  private:
   bool done() const;
   bool sleep_until(Clock::time_point t) const;
-  Readings read() { return read_readings(ctx_.session().amp()); }
+  Readings read() { return source_->read(); }
   void record(const Readings& r, std::vector<Event> events);
   void sample_once();
   void lose(const std::string& why);
   std::vector<Event> restart_events(const Readings& r);
   double elapsed() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
-  std::string target() { return ctx_.session().link().describe(); }
+  std::string target() { return source_->describe(); }
 
-  Context& ctx_;
   const WatchOptions& o_;
   View& view_;
   CsvLog* log_;
@@ -502,6 +507,7 @@ class Watcher {
   std::optional<Clock::time_point> lost_at_;  // set while the card cannot be read
   std::string where_;
   Summary summary_;
+  std::unique_ptr<LiveSource> source_;
 };
 
 bool Watcher::done() const {
@@ -530,7 +536,7 @@ std::vector<Event> Watcher::restart_events(const Readings& r) {
                      " rose): working values are back to their NV values; reconnecting to re-identify it",
                  {},
                  {}});
-  ctx_.session().reconnect();  // the next read opens the link again and re-reads SWREVISION
+  source_->reconnect();  // the next read opens the link again and re-reads SWREVISION
   return out;
 }
 
@@ -562,7 +568,7 @@ void Watcher::lose(const std::string& why) {
                 {}};
   view_.event(e);
   if (log_) log_->gap(e, elapsed());
-  ctx_.session().reconnect();  // drop the link: the port may have gone away with the adapter
+  source_->reconnect();  // drop the link: the port may have gone away with the adapter
 }
 
 void Watcher::sample_once() {
@@ -587,7 +593,7 @@ void Watcher::sample_once() {
     throw;
   } catch (const Error& e) {
     if (lost_at_) {
-      ctx_.session().reconnect();  // still away: try a fresh open next time
+      source_->reconnect();  // still away: try a fresh open next time
       return;
     }
     lose(e.what());
@@ -651,6 +657,10 @@ void register_watch_command(CLI::App& app, Context& ctx) {
       ->check(CLI::PositiveNumber);
   watch->add_flag("--plain", o->plain,
                   "One line per sample, no screen redraw (automatic when stdout is no terminal)");
+  watch->add_flag(
+      "--registers", o->registers,
+      "Ethernet targets: read registers through the setup-mode passthrough instead of SSLBP normal "
+      "mode (normal mode is the default there: it needs no RAM address and feeds the watchdog)");
   watch->add_option("--log", o->log, "Also write a CSV time series (one row per sample, gaps marked)")
       ->type_name("FILE.csv");
   watch->callback([&ctx, o] { run_watch(ctx, *o); });

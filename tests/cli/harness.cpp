@@ -121,12 +121,14 @@ TempDir::~TempDir() {
   std::filesystem::remove_all(path_, ec);
 }
 
-SimProcess::SimProcess(const std::vector<std::string>& args) {
+SimProcess::SimProcess(const std::vector<std::string>& args, Transport transport) {
   std::random_device rd;
   trace_file_ = std::filesystem::temp_directory_path() / ("i20sim-trace-" + std::to_string(rd()) + ".log");
   int in_pipe[2], out_pipe[2];
   if (pipe(in_pipe) != 0 || pipe(out_pipe) != 0) throw std::runtime_error("pipe failed");
-  std::vector<std::string> all{"--pty", "--trace"};
+  std::vector<std::string> all = transport == Transport::Pty
+                                     ? std::vector<std::string>{"--pty", "--trace"}
+                                     : std::vector<std::string>{"--eth", "127.0.0.1:0"};
   all.insert(all.end(), args.begin(), args.end());
   const auto exe = program("i20sim").string();
   std::vector<std::string> keep;
@@ -147,7 +149,9 @@ SimProcess::SimProcess(const std::vector<std::string>& args) {
   stdin_fd_ = in_pipe[1];
   stdout_fd_ = out_pipe[0];
   port_ = read_line(10000);
-  if (port_.rfind("/dev/", 0) != 0)
+  const bool looks_right =
+      transport == Transport::Pty ? port_.rfind("/dev/", 0) == 0 : port_.rfind("127.", 0) == 0;
+  if (!looks_right)
     throw std::runtime_error("i20sim did not print a port path; stderr: " + slurp(trace_file_));
 }
 

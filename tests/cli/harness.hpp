@@ -38,10 +38,12 @@ class TempDir {
 };
 
 // `i20sim --pty --trace ARGS...`: the port path, control lines on its stdin, the trace
-// (every command the card received) collected from its stderr.
+// (every command the card received) collected from its stderr. With Transport::Eth it is
+// `i20sim --eth 127.0.0.1:0 ARGS...` and port() is the card's "127.0.0.1:PORT".
 class SimProcess {
  public:
-  explicit SimProcess(const std::vector<std::string>& args = {});
+  enum class Transport { Pty, Eth };
+  explicit SimProcess(const std::vector<std::string>& args = {}, Transport transport = Transport::Pty);
   ~SimProcess();
   SimProcess(const SimProcess&) = delete;
   SimProcess& operator=(const SimProcess&) = delete;
