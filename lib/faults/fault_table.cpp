@@ -5,6 +5,8 @@
 #include <charconv>
 #include <optional>
 
+#include "params/closest.hpp"
+
 namespace i20::faults {
 namespace {
 
@@ -23,21 +25,6 @@ std::string lower(std::string_view s) {
   std::string out(s);
   for (auto& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return out;
-}
-
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
 }
 
 // "8" -> 8; anything else (including "08x" or "99") -> no bit.
@@ -116,21 +103,10 @@ std::uint16_t FaultTable::maskable_bits() const {
 
 std::vector<std::string> FaultTable::suggestions(Register reg, std::string_view key, std::size_t max) const {
   if (bit_number(key)) return {};
-  const auto wanted = lower(key);
-  const std::size_t tolerance = std::max<std::size_t>(2, wanted.size() / 3);
-  std::vector<std::pair<std::size_t, std::string>> scored;
-  for (const auto& b : bits(reg)) {
-    // Score against every spelling of the bit; suggest its slug, the CLI's word.
-    std::size_t best = std::min(edit_distance(wanted, b.slug), edit_distance(wanted, lower(b.name)));
-    const bool contains = wanted.size() >= 3 && (b.slug.find(wanted) != std::string::npos ||
-                                                 lower(b.name).find(wanted) != std::string::npos);
-    if (contains) best = std::min(best, tolerance);
-    if (best <= tolerance) scored.emplace_back(best, b.slug);
-  }
-  std::ranges::sort(scored);
-  std::vector<std::string> out;
-  for (std::size_t i = 0; i < scored.size() && i < max; ++i) out.push_back(scored[i].second);
-  return out;
+  // Every spelling of a bit counts; the slug, the CLI's word, is what is suggested.
+  std::vector<params::Candidate> candidates;
+  for (const auto& b : bits(reg)) candidates.push_back({b.slug, {b.slug, b.name}});
+  return params::closest(key, candidates, max);
 }
 
 }  // namespace i20::faults

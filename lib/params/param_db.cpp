@@ -10,6 +10,8 @@
 #include <set>
 #include <sstream>
 
+#include "params/closest.hpp"
+
 namespace i20::params {
 namespace {
 
@@ -217,21 +219,6 @@ YAML::Node parse_yaml(std::string_view yaml, const std::string& source) {
   }
 }
 
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
 }  // namespace
 
 UnknownParameter::UnknownParameter(const std::string& name, std::vector<std::string> suggestions)
@@ -387,18 +374,9 @@ const Param& ParamDb::get(std::string_view name) const {
 }
 
 std::vector<std::string> ParamDb::suggestions(std::string_view name, std::size_t max) const {
-  const auto key = upper(name);
-  std::vector<std::pair<std::size_t, std::string>> scored;
-  const std::size_t tolerance = std::max<std::size_t>(2, key.size() / 3);
-  for (const auto& p : params_) {
-    const auto d = edit_distance(key, p.name);
-    const bool contains = key.size() >= 3 && p.name.find(key) != std::string::npos;
-    if (d <= tolerance || contains) scored.emplace_back(contains ? std::min(d, tolerance) : d, p.name);
-  }
-  std::ranges::sort(scored);
-  std::vector<std::string> out;
-  for (std::size_t i = 0; i < scored.size() && i < max; ++i) out.push_back(scored[i].second);
-  return out;
+  std::vector<Candidate> candidates;
+  for (const auto& p : params_) candidates.push_back({p.name, {p.name}});
+  return closest(name, candidates, max);
 }
 
 const Param* ParamDb::at_address(Space space, std::uint16_t address) const {
