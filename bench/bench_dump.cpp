@@ -20,6 +20,7 @@
 
 #include "device/amp.hpp"
 #include "link/serial_link.hpp"
+#include "sim_process.hpp"
 
 extern char** environ;
 
@@ -58,45 +59,12 @@ int run_quiet(const std::vector<std::string>& args) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-// i20sim --pty with wire-time emulation; the port path comes on its first stdout line.
-class Simulator {
- public:
-  Simulator() {
-    int out[2];
-    if (pipe(out) != 0) throw std::runtime_error("pipe");
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
-    posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-    const std::string exe = std::string(I20_BIN_DIR) + "/i20sim";
-    const std::string turnaround = std::to_string(kTurnaroundUs);
-    const char* argv[] = {exe.c_str(),        "--pty", "--no-stdin", "--wire-time", "--turnaround-us",
-                          turnaround.c_str(), nullptr};
-    if (posix_spawn(&pid_, exe.c_str(), &actions, nullptr, const_cast<char**>(argv), environ) != 0)
-      throw std::runtime_error("cannot start " + exe);
-    posix_spawn_file_actions_destroy(&actions);
-    close(out[1]);
-    char c;
-    while (read(out[0], &c, 1) == 1 && c != '\n') port_.push_back(c);
-    close(out[0]);
-    if (port_.rfind("/dev/", 0) != 0) throw std::runtime_error("i20sim printed no port");
-  }
-  ~Simulator() {
-    kill(pid_, SIGTERM);
-    waitpid(pid_, nullptr, 0);
-  }
-  const std::string& port() const { return port_; }
-
- private:
-  pid_t pid_ = -1;
-  std::string port_;
-};
-
 }  // namespace
 
 int main(int argc, char** argv) {
   const int runs = argc > 1 ? std::atoi(argv[1]) : 15;
-  Simulator sim;
+  const std::string turnaround = std::to_string(kTurnaroundUs);
+  bench::SimProcess sim({"--pty", "--wire-time", "--turnaround-us", turnaround});
   const std::string bin = I20_BIN_DIR;
   auto db = params::ParamDb::builtin();
   std::vector<const params::Param*> all;
@@ -108,7 +76,7 @@ int main(int argc, char** argv) {
   std::vector<double> in_process;
   link::LinkStatistics stats;
   for (int i = 0; i < runs; ++i) {
-    auto link = link::open_serial_link(sim.port());
+    auto link = link::open_serial_link(sim.address());
     auto fresh_db = db;  // not identified yet, as in a new i20 process
     device::Amp8i20 amp(*link, fresh_db);
     const auto t0 = Clock::now();
@@ -120,7 +88,7 @@ int main(int argc, char** argv) {
   std::vector<double> dump_process;
   for (int i = 0; i < runs; ++i) {
     const auto t0 = Clock::now();
-    if (run_quiet({bin + "/i20", "--port", sim.port(), "--no-user-params", "dump"}) != 0)
+    if (run_quiet({bin + "/i20", "--port", sim.address(), "--no-user-params", "dump"}) != 0)
       throw std::runtime_error("i20 dump failed");
     dump_process.push_back(ms_since(t0));
   }
@@ -129,7 +97,7 @@ int main(int argc, char** argv) {
   for (int i = 0; i < std::max(1, runs / 5); ++i) {
     const auto t0 = Clock::now();
     for (const auto* p : all)
-      if (run_quiet({bin + "/rpd", "--port", sim.port(), "--no-user-params", p->name}) != 0)
+      if (run_quiet({bin + "/rpd", "--port", sim.address(), "--no-user-params", p->name}) != 0)
         throw std::runtime_error("rpd " + p->name + " failed");
     rpd_total.push_back(ms_since(t0));
   }

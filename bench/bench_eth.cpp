@@ -1,11 +1,6 @@
 // Issue 7's figure: UDP round trips per parameter read and write through a 7I96S's SSLBP
 // setup-mode passthrough. Measured against `i20sim --eth` on loopback (a virtual 7I96S
 // with a virtual 8I20), not a real card on a real network.
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -16,44 +11,12 @@
 #include "device/amp.hpp"
 #include "eth/passthrough_link.hpp"
 #include "eth/target.hpp"
-
-extern char** environ;
+#include "sim_process.hpp"
 
 namespace {
 
 using namespace i20;
 using Clock = std::chrono::steady_clock;
-
-class EthSimulator {
- public:
-  EthSimulator() {
-    int out[2];
-    if (pipe(out) != 0) throw std::runtime_error("pipe");
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
-    posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-    const std::string exe = std::string(I20_BIN_DIR) + "/i20sim";
-    const char* argv[] = {exe.c_str(), "--eth", "127.0.0.1:0", "--no-stdin", nullptr};
-    if (posix_spawn(&pid_, exe.c_str(), &actions, nullptr, const_cast<char**>(argv), environ) != 0)
-      throw std::runtime_error("cannot start " + exe);
-    posix_spawn_file_actions_destroy(&actions);
-    close(out[1]);
-    char c;
-    while (read(out[0], &c, 1) == 1 && c != '\n') address_.push_back(c);
-    close(out[0]);
-  }
-  ~EthSimulator() {
-    kill(pid_, SIGTERM);
-    waitpid(pid_, nullptr, 0);
-  }
-  const std::string& address() const { return address_; }
-
- private:
-  pid_t pid_ = -1;
-  std::string address_;
-};
 
 struct Cost {
   double packets;
@@ -73,7 +36,7 @@ Cost measure(eth::SslbpPassthroughLink& link, int runs, const std::function<void
 
 int main(int argc, char** argv) {
   const int runs = argc > 1 ? std::atoi(argv[1]) : 50;
-  EthSimulator sim;
+  bench::SimProcess sim({"--eth", "127.0.0.1:0"});
   auto link = eth::SslbpPassthroughLink::open(eth::make_target(sim.address(), 0));
   auto db = params::ParamDb::builtin();
   device::Amp8i20 amp(*link, db);

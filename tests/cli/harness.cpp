@@ -78,8 +78,8 @@ std::filesystem::path source_dir() {
   return I20_SOURCE_DIR;
 }
 
-Result run(const std::string& name, const std::vector<std::string>& args,
-           const std::map<std::string, std::string>& env, int timeout_s) {
+Child start(const std::string& name, const std::vector<std::string>& args,
+            const std::map<std::string, std::string>& env) {
   const auto exe = program(name).string();
   int out_pipe[2], err_pipe[2];
   if (pipe(out_pipe) != 0 || pipe(err_pipe) != 0) throw std::runtime_error("pipe failed");
@@ -99,12 +99,18 @@ Result run(const std::string& name, const std::vector<std::string>& args,
   }
   close(out_pipe[1]);
   close(err_pipe[1]);
+  return {pid, out_pipe[0], err_pipe[0]};
+}
+
+Result run(const std::string& name, const std::vector<std::string>& args,
+           const std::map<std::string, std::string>& env, int timeout_s) {
+  const Child child = start(name, args, env);
   Result r;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_s);
-  drain(out_pipe[0], err_pipe[0], r.out, r.err, deadline);
+  drain(child.out_fd, child.err_fd, r.out, r.err, deadline);
   int status = 0;
-  if (std::chrono::steady_clock::now() >= deadline) kill(pid, SIGKILL);
-  waitpid(pid, &status, 0);
+  if (std::chrono::steady_clock::now() >= deadline) kill(child.pid, SIGKILL);
+  waitpid(child.pid, &status, 0);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return r;
 }

@@ -18,6 +18,16 @@ struct Result {
 std::filesystem::path program(const std::string& name);
 std::filesystem::path source_dir();
 
+// A started program: its pid and the read ends of its stdout and stderr (its stdin is
+// /dev/null). The caller reads, waits for and closes them.
+struct Child {
+  int pid = -1;
+  int out_fd = -1;
+  int err_fd = -1;
+};
+Child start(const std::string& name, const std::vector<std::string>& args,
+            const std::map<std::string, std::string>& env = {});
+
 // Runs a program to completion with a deadline (killed after `timeout_s`), with extra
 // environment variables (an empty value unsets the variable).
 Result run(const std::string& name, const std::vector<std::string>& args,

@@ -11,29 +11,10 @@
 namespace i20::test {
 
 Spawned::Spawned(const std::string& name, const std::vector<std::string>& args) {
-  const std::string exe = program(name).string();
-  int out_pipe[2], err_pipe[2];
-  if (pipe(out_pipe) != 0 || pipe(err_pipe) != 0) throw std::runtime_error("pipe failed");
-  std::vector<std::string> keep{exe};
-  keep.insert(keep.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& a : keep) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_ = fork();
-  if (pid_ == 0) {
-    dup2(out_pipe[1], STDOUT_FILENO);
-    dup2(err_pipe[1], STDERR_FILENO);
-    const int devnull = open("/dev/null", O_RDONLY);
-    dup2(devnull, STDIN_FILENO);
-    close(out_pipe[0]);
-    close(err_pipe[0]);
-    execv(exe.c_str(), argv.data());
-    _exit(127);
-  }
-  close(out_pipe[1]);
-  close(err_pipe[1]);
-  out_fd_ = out_pipe[0];
-  err_fd_ = err_pipe[0];
+  const Child child = start(name, args);
+  pid_ = child.pid;
+  out_fd_ = child.out_fd;
+  err_fd_ = child.err_fd;
 }
 
 Spawned::~Spawned() {
