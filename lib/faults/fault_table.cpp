@@ -6,9 +6,12 @@
 #include <optional>
 
 #include "params/closest.hpp"
+#include "params/text.hpp"
 
 namespace i20::faults {
 namespace {
+
+using params::lower;
 
 bool same_text(std::string_view a, std::string_view b) {
   return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
@@ -19,12 +22,6 @@ bool same_text(std::string_view a, std::string_view b) {
 bool names(const BitInfo& b, std::string_view key) {
   return same_text(b.slug, key) || same_text(b.name, key) ||
          (!b.linuxcnc_pin.empty() && same_text(b.linuxcnc_pin, key));
-}
-
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (auto& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
 }
 
 // "8" -> 8; anything else (including "08x" or "99") -> no bit.

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "params/closest.hpp"
+#include "params/text.hpp"
 
 namespace i20::params {
 namespace {
@@ -22,12 +23,6 @@ const std::set<std::string> kRequiredNewKeys{"name",   "space",  "address",     
                                              "signed", "access", "description", "provenance"};
 const std::set<std::string> kBaseTopKeys{"schema", "device", "simulator_swrevision", "parameters"};
 const std::set<std::string> kOverlayTopKeys{"schema", "device", "swrevision", "note", "parameters"};
-
-std::string upper(std::string_view s) {
-  std::string out(s);
-  for (auto& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return out;
-}
 
 // Reads YAML and annotates every error with file and line.
 class Reader {

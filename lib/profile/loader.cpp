@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "params/text.hpp"
 #include "params/value.hpp"
 #include "profile/error.hpp"
 #include "profile/quantity.hpp"
@@ -14,26 +15,15 @@
 namespace i20::profile {
 namespace {
 
+using params::iequals;
+using params::trim;
+
 const std::set<std::string> kTopKeys{"schema", "name",  "description", "motor",
                                      "supply", "notes", "target",      "parameters"};
 const std::set<std::string> kMotorKeys{
     "make", "model", "continuous_current", "peak_current", "phase_resistance", "phase_inductance"};
 const std::set<std::string> kSupplyKeys{"description", "bus_voltage"};
 const std::set<std::string> kEntryKeys{"value", "raw", "target"};
-
-std::string trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return std::string(s);
-}
-
-bool iequals(std::string_view a, std::string_view b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i])))
-      return false;
-  return true;
-}
 
 std::string list_of(const std::set<std::string>& keys) {
   std::string out;

@@ -7,8 +7,13 @@
 #include <utility>
 #include <vector>
 
+#include "params/text.hpp"
+
 namespace i20::profile {
 namespace {
+
+using params::iequals;
+using params::trim;
 
 struct Unit {
   const char* name;
@@ -34,20 +39,6 @@ const char* example_of(Quantity kind) {
     case Quantity::Voltage: return "170 V";
   }
   return "";
-}
-
-std::string trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return std::string(s);
-}
-
-bool iequals(std::string_view a, std::string_view b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i])))
-      return false;
-  return true;
 }
 
 // Exact spelling first. Case is forgiven ("Ohm", "v") except on a leading m/M, where it
