@@ -4,19 +4,12 @@
 
 #include "device/errors.hpp"
 #include "interrupt.hpp"
+#include "lbp/bytes.hpp"
 #include "link/link.hpp"
 #include "params/value.hpp"
 
 namespace i20::cli {
-namespace {
-
-std::string hex(unsigned value, int digits) {
-  char buf[16];
-  std::snprintf(buf, sizeof buf, "0x%0*X", digits, value);
-  return buf;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 AmpCardAccess::AmpCardAccess(device::Amp8i20& amp, CardAccessOptions options, Activity activity)
     : amp_(amp), options_(std::move(options)), activity_(std::move(activity)) {}
@@ -129,8 +122,8 @@ std::string AmpCardAccess::describe() {
   for (unsigned attempt = 1;; ++attempt) {
     try {
       const auto info = amp_.info();
-      description_ = info.card_name + " unit " + hex(info.unit_number.value_or(0), 8) + ", SWREVISION " +
-                     hex(info.swrevision.value_or(0), 4) + ", on " +
+      description_ = info.card_name + " unit " + lbp::hex_value(info.unit_number.value_or(0), 8) +
+                     ", SWREVISION " + lbp::hex_value(info.swrevision.value_or(0), 4) + ", on " +
                      (options_.where.empty() ? amp_.link().describe() : options_.where);
       return description_;
     } catch (const link::LinkError&) {

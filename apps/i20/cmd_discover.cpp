@@ -11,6 +11,7 @@
 
 #include "context.hpp"
 #include "device/discover.hpp"
+#include "lbp/bytes.hpp"
 
 namespace i20::cli {
 namespace {
@@ -42,20 +43,14 @@ std::string now_text() {
   return buf;
 }
 
-std::string hex16(std::uint32_t v) {
-  char buf[16];
-  std::snprintf(buf, sizeof buf, "0x%04X", v);
-  return buf;
-}
-
 void print_report(const device::DiscoveryReport& r) {
   std::cout << std::left << std::setw(14) << "PARAMETER" << std::setw(16) << "RESULT" << std::setw(9)
             << "ADDRESS" << std::setw(10) << "DATABASE"
             << "HOW\n";
   for (const auto& f : r.findings) {
     std::cout << std::left << std::setw(14) << f.name << std::setw(16) << device::to_string(f.outcome)
-              << std::setw(9) << (f.address ? hex16(*f.address) : "-") << std::setw(10)
-              << (f.database_address ? hex16(*f.database_address) : "-") << f.detail << "\n";
+              << std::setw(9) << (f.address ? lbp::hex_value(*f.address, 4) : "-") << std::setw(10)
+              << (f.database_address ? lbp::hex_value(*f.database_address, 4) : "-") << f.detail << "\n";
   }
   std::cout << r.count(device::Outcome::Found) << " found, " << r.count(device::Outcome::Ambiguous)
             << " ambiguous, " << r.count(device::Outcome::NotFound) << " not found, "
@@ -99,7 +94,8 @@ void run_discover(Context& ctx, const DiscoverOptions& o) {
                 << std::flush;
     };
   const auto report = device::discover(session.amp(), options);
-  const std::string file = o.out.empty() ? "i20-map-" + hex16(report.swrevision) + ".yaml" : o.out;
+  const std::string file =
+      o.out.empty() ? "i20-map-" + lbp::hex_value(report.swrevision, 4) + ".yaml" : o.out;
   std::ofstream(file) << report.overlay_yaml(now_text());
   if (ctx.options.json) {
     ctx.print_json(report_json(report, file));

@@ -15,6 +15,7 @@
 #include "faults/fault_mask.hpp"
 #include "faults/register_value.hpp"
 #include "faults_render.hpp"
+#include "lbp/bytes.hpp"
 #include "live_source.hpp"
 
 namespace i20::cli {
@@ -39,8 +40,8 @@ void with_fault_errors_mapped(Fn&& fn) {
 }
 
 std::string readings_line(const Readings& r) {
-  std::string line = "FAULT " + hex16(r.fault) + ", STATUS " + hex16(r.status);
-  if (r.faultmask) line += ", FAULTMASK " + hex16(*r.faultmask);
+  std::string line = "FAULT " + lbp::hex_value(r.fault, 4) + ", STATUS " + lbp::hex_value(r.status, 4);
+  if (r.faultmask) line += ", FAULTMASK " + lbp::hex_value(*r.faultmask, 4);
   char buf[96];
   if (r.busv_v) {
     std::snprintf(buf, sizeof buf, "; bus %.2f V", *r.busv_v);
@@ -126,7 +127,7 @@ struct MaskOptions {
 
 void print_mask_state(std::uint16_t faultmask, std::uint16_t fault) {
   const auto& table = F::FaultTable::builtin();
-  std::cout << "FAULTMASK " << hex16(faultmask) << ": ";
+  std::cout << "FAULTMASK " << lbp::hex_value(faultmask, 4) << ": ";
   const auto masked_bits = static_cast<std::uint16_t>(~faultmask & table.maskable_bits());
   if (masked_bits == 0) std::cout << "nothing masked";
   for (const auto& b : table.bits(F::Register::Fault))
@@ -144,8 +145,8 @@ void run_mask_show(Context& ctx) {
   if (!r.faultmask) throw UsageError("the parameter database has no address for FAULTMASK");
   if (ctx.options.json) {
     auto j = app::Json::object();
-    j.set("faultmask", *r.faultmask).set("hex", hex16(*r.faultmask));
-    j.set("maskable_bits", hex16(F::FaultTable::builtin().maskable_bits()));
+    j.set("faultmask", *r.faultmask).set("hex", lbp::hex_value(*r.faultmask, 4));
+    j.set("maskable_bits", lbp::hex_value(F::FaultTable::builtin().maskable_bits(), 4));
     j.set("fault", report_json(F::fault_report(r.fault, r.faultmask)));
     ctx.print_json(j);
     return;
@@ -159,8 +160,8 @@ void print_mask_result(const F::BitInfo& bit, bool masked, std::uint16_t before,
     std::cout << bit.name << " (bit " << bit.bit << ") is already " << (masked ? "masked" : "unmasked")
               << "; nothing written\n";
   else
-    std::cout << "FAULTMASK " << hex16(before) << " -> " << hex16(*after.faultmask) << ": " << bit.name
-              << " (bit " << bit.bit << ") " << (masked ? "masked" : "unmasked") << "\n";
+    std::cout << "FAULTMASK " << lbp::hex_value(before, 4) << " -> " << lbp::hex_value(*after.faultmask, 4)
+              << ": " << bit.name << " (bit " << bit.bit << ") " << (masked ? "masked" : "unmasked") << "\n";
   std::cout << fault_output_text(F::fault_report(after.fault, after.faultmask)) << "\n";
   if (masked)
     std::cout << "A " << bit.slug
@@ -245,8 +246,10 @@ app::Json clear_json(const device::ClearFaultsResult& res, const F::Report& clea
   auto j = app::Json::object();
   j.set("cleared", r.fault == 0)
       .set("fault_before", res.fault_before)
-      .set("fault_before_hex", hex16(res.fault_before));
-  j.set("fault_after", r.fault).set("fault_after_hex", hex16(r.fault)).set("status_after", r.status);
+      .set("fault_before_hex", lbp::hex_value(res.fault_before, 4));
+  j.set("fault_after", r.fault)
+      .set("fault_after_hex", lbp::hex_value(r.fault, 4))
+      .set("status_after", r.status);
   j.set("took_ms", static_cast<long long>(res.took.count()));
   auto gone = app::Json::array();
   for (const auto& line : cleared.lines) gone.push(line_json(line, cleared));
@@ -278,8 +281,9 @@ void run_clear(Context& ctx, const ClearOptions& o) {
               << fault_output_text(remaining) << "\n";
     return;
   }
-  std::cout << took << ": FAULT " << hex16(res.fault_before) << " -> " << hex16(r.fault) << ", "
-            << cleared.lines.size() << " cleared, " << remaining.lines.size() << " remaining\n";
+  std::cout << took << ": FAULT " << lbp::hex_value(res.fault_before, 4) << " -> "
+            << lbp::hex_value(r.fault, 4) << ", " << cleared.lines.size() << " cleared, "
+            << remaining.lines.size() << " remaining\n";
   if (!cleared.lines.empty()) std::cout << "Cleared: " << names_of(cleared) << "\n";
   std::cout << fault_output_text(remaining) << "\n";
   if (r.fault == 0) return;

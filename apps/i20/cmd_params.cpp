@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "context.hpp"
+#include "lbp/bytes.hpp"
 #include "lbp/local.hpp"
 #include "link/ports.hpp"
 #include "params/value.hpp"
@@ -14,14 +15,6 @@ namespace i20::cli {
 namespace {
 
 using params::Param;
-
-std::string hex(std::int64_t raw, unsigned width_bits) {
-  const auto mask = width_bits >= 64 ? ~0ull : (1ull << width_bits) - 1;
-  char buf[24];
-  std::snprintf(buf, sizeof buf, "0x%0*llX", static_cast<int>(width_bits / 4),
-                static_cast<unsigned long long>(raw) & mask);
-  return buf;
-}
 
 std::string lbp_status_text(lbp::Byte status) {
   namespace L = lbp::local;
@@ -75,9 +68,9 @@ void run_info(Context& ctx) {
   const bool is_sim = db.simulator_swrevision() == info.swrevision;
   std::cout
       << info.card_name << " on " << ctx.session().link().describe() << "\n"
-      << "  unit number    " << *info.unit_number << " (" << hex(*info.unit_number, 32) << ")\n"
-      << "  firmware       SWREVISION " << hex(*info.swrevision, 16) << " (" << *info.swrevision << ")"
-      << (is_sim ? ", the i20sim simulator" : "") << "\n"
+      << "  unit number    " << *info.unit_number << " (" << lbp::hex_value(*info.unit_number, 8) << ")\n"
+      << "  firmware       SWREVISION " << lbp::hex_value(*info.swrevision, 4) << " (" << *info.swrevision
+      << ")" << (is_sim ? ", the i20sim simulator" : "") << "\n"
       << "  working map    "
       << (info.working_map_confirmed
               ? "confirmed for this firmware: working parameters can be written"
@@ -85,7 +78,8 @@ void run_info(Context& ctx) {
       << "\n"
       << "  LBP version    " << int(info.lbp_version) << "\n"
       << "  unit ID        " << int(info.unit_id) << "\n"
-      << "  LBP status     " << hex(info.lbp_status, 8) << " (" << lbp_status_text(info.lbp_status) << ")\n"
+      << "  LBP status     " << lbp::hex_value(info.lbp_status, 2) << " (" << lbp_status_text(info.lbp_status)
+      << ")\n"
       << "  CRC errors     " << int(info.crc_errors) << "\n"
       << "  RPC table      " << info.rpc_size << " bytes, pitch " << int(info.rpc_pitch) << "\n";
 }
@@ -111,7 +105,7 @@ void run_get(Context& ctx, const GetOptions& o) {
   for (const auto& v : values) {
     std::cout << v.param->name << " = ";
     if (o.hex)
-      std::cout << hex(v.raw, v.param->width_bits);
+      std::cout << lbp::hex_value(v.raw, static_cast<int>(v.param->width_bits / 4));
     else if (o.raw)
       std::cout << v.raw;
     else

@@ -6,15 +6,10 @@
 #include "context.hpp"
 #include "eth/scan.hpp"
 #include "eth/target.hpp"
+#include "lbp/bytes.hpp"
 
 namespace i20::cli {
 namespace {
-
-std::string hex32(std::uint32_t v) {
-  char buf[16];
-  std::snprintf(buf, sizeof buf, "0x%08X", v);
-  return buf;
-}
 
 app::Json scan_json(const eth::ScanResult& r) {
   auto j = app::Json::object();
@@ -54,7 +49,7 @@ void print_scan(const eth::ScanResult& r) {
     for (const auto& c : p.channels) {
       std::cout << "    ch " << c.channel << ": ";
       if (c.is_8i20())
-        std::cout << "8I20 unit " << c.unit_number << " (" << hex32(c.unit_number) << ")  -> "
+        std::cout << "8I20 unit " << c.unit_number << " (" << lbp::hex_value(c.unit_number, 8) << ")  -> "
                   << eth::EthTarget{r.card_address, p.index, c.channel}.url() << "\n";
       else if (c.answered)
         std::cout << c.device_name << " (not an 8I20), unit " << c.unit_number << "\n";

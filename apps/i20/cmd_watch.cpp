@@ -25,6 +25,7 @@
 #include "faults/fault_mask.hpp"
 #include "faults_render.hpp"
 #include "interrupt.hpp"
+#include "lbp/bytes.hpp"
 #include "live_source.hpp"
 
 namespace i20::cli {
@@ -176,8 +177,8 @@ std::vector<Event> changes(const Readings& before, const Readings& after, WallCl
   if (before.faultmask != after.faultmask && after.faultmask)
     out.push_back({when,
                    Kind::Mask,
-                   "FAULTMASK " + (before.faultmask ? hex16(*before.faultmask) : "?") + " -> " +
-                       hex16(*after.faultmask),
+                   "FAULTMASK " + (before.faultmask ? lbp::hex_value(*before.faultmask, 4) : "?") + " -> " +
+                       lbp::hex_value(*after.faultmask, 4),
                    {},
                    {}});
   return out;
@@ -211,9 +212,9 @@ class CsvLog {
     char elapsed[32];
     std::snprintf(elapsed, sizeof elapsed, "%.3f", s.elapsed_s);
     out_ << clock_text(s.when, true) << "," << elapsed << "," << fixed(r.busv_v, "") << ","
-         << fixed(r.temperature_c, "") << "," << (brake_on(r) ? 1 : 0) << "," << hex16(r.status) << ","
-         << hex16(r.fault) << "," << (r.faultmask ? hex16(*r.faultmask) : "") << "," << (output_on(r) ? 1 : 0)
-         << "," << csv_field(bit_names(F::Register::Fault, r.fault)) << ","
+         << fixed(r.temperature_c, "") << "," << (brake_on(r) ? 1 : 0) << "," << lbp::hex_value(r.status, 4)
+         << "," << lbp::hex_value(r.fault, 4) << "," << (r.faultmask ? lbp::hex_value(*r.faultmask, 4) : "")
+         << "," << (output_on(r) ? 1 : 0) << "," << csv_field(bit_names(F::Register::Fault, r.fault)) << ","
          << csv_field(bit_names(F::Register::Status, r.status)) << "," << csv_field(joined(events)) << "\n";
     out_.flush();  // a watch ends with Ctrl-C or a crash: keep every row written so far
   }
@@ -266,12 +267,12 @@ class PlainView : public View {
     const auto mark = [&](bool changed) { return previous && changed ? "*" : ""; };
     std::cout << clock_text(s.when, false) << "  BUSV " << fixed(r.busv_v, " V") << "  TEMP "
               << fixed(r.temperature_c, " C") << "  brake " << (brake_on(r) ? "on" : "off")
-              << mark(previous && brake_on(*previous) != brake_on(r)) << "  STATUS " << hex16(r.status)
-              << mark(previous && previous->status != r.status) << "  FAULT " << hex16(r.fault)
-              << mark(previous && previous->fault != r.fault) << "  output " << (output_on(r) ? "ON" : "OFF")
-              << mark(previous && output_on(*previous) != output_on(r));
+              << mark(previous && brake_on(*previous) != brake_on(r)) << "  STATUS "
+              << lbp::hex_value(r.status, 4) << mark(previous && previous->status != r.status) << "  FAULT "
+              << lbp::hex_value(r.fault, 4) << mark(previous && previous->fault != r.fault) << "  output "
+              << (output_on(r) ? "ON" : "OFF") << mark(previous && output_on(*previous) != output_on(r));
     if (r.faultmask)
-      std::cout << "  FAULTMASK " << hex16(*r.faultmask)
+      std::cout << "  FAULTMASK " << lbp::hex_value(*r.faultmask, 4)
                 << mark(previous && previous->faultmask != r.faultmask);
     std::cout << "\n";
     for (const auto& e : events) event(e);
@@ -417,14 +418,14 @@ void AnsiView::draw_values(std::vector<std::string>& lines) const {
   lines.push_back("  Brake         " + fresh(kBrake, brake_on(r) ? "ON" : "off") +
                   ((r.status & (1u << 2)) ? "  (has been on: BRAKEWASONSTATUS)" : ""));
   const std::string fault =
-      hex16(r.fault) + "  " + (r.fault ? bit_names(F::Register::Fault, r.fault) : "none");
+      lbp::hex_value(r.fault, 4) + "  " + (r.fault ? bit_names(F::Register::Fault, r.fault) : "none");
   lines.push_back("  FAULT         " + fresh(kFault, r.fault ? paint(ansi::kRed, clip(fault)) : fault));
   lines.push_back("  Fault output  " +
                   fresh(kOutput, on ? paint(ansi::kGreen, "ON") : paint(ansi::kRed, "OFF: drive stopped")));
-  lines.push_back("  STATUS        " +
-                  fresh(kStatus, clip(hex16(r.status) + "  " + bit_names(F::Register::Status, r.status))));
+  lines.push_back("  STATUS        " + fresh(kStatus, clip(lbp::hex_value(r.status, 4) + "  " +
+                                                           bit_names(F::Register::Status, r.status))));
   if (r.faultmask)
-    lines.push_back("  FAULTMASK     " + fresh(kMask, hex16(*r.faultmask)) +
+    lines.push_back("  FAULTMASK     " + fresh(kMask, lbp::hex_value(*r.faultmask, 4)) +
                     (*r.faultmask == F::kNothingMasked ? "  nothing masked" : "  some faults masked"));
 }
 

@@ -6,6 +6,7 @@
 
 #include "device/amp.hpp"
 #include "faults/fault_table.hpp"
+#include "lbp/bytes.hpp"
 
 namespace i20::cli {
 namespace {
@@ -201,12 +202,6 @@ CauseNow cause_now(unsigned fault_bit, const Readings& r) {
   }
 }
 
-std::string hex16(std::uint16_t value) {
-  char buf[8];
-  std::snprintf(buf, sizeof buf, "0x%04X", static_cast<unsigned>(value));
-  return buf;
-}
-
 std::string bit_label(const F::ReportLine& line) {
   if (line.reserved) return "reserved bit " + std::to_string(line.bit);
   return line.name + " (bit " + std::to_string(line.bit) + ")";
@@ -250,7 +245,7 @@ bool brake_on(const Readings& r) {
 
 app::Json line_json(const F::ReportLine& line, const F::Report& report, const Readings* live) {
   auto j = app::Json::object();
-  j.set("bit", line.bit).set("mask", hex16(static_cast<std::uint16_t>(1u << line.bit)));
+  j.set("bit", line.bit).set("mask", lbp::hex_value(static_cast<std::uint16_t>(1u << line.bit), 4));
   j.set("reserved", line.reserved);
   j.set("name", line.reserved ? app::Json() : app::Json(line.name));
   j.set("slug", line.reserved ? app::Json() : app::Json(line.slug));
@@ -269,7 +264,7 @@ app::Json line_json(const F::ReportLine& line, const F::Report& report, const Re
 app::Json report_json(const F::Report& report, const Readings* live) {
   auto j = app::Json::object();
   j.set("register", std::string(F::to_string(report.reg))).set("value", report.value);
-  j.set("hex", hex16(report.value)).set("title", report.title);
+  j.set("hex", lbp::hex_value(report.value, 4)).set("title", report.title);
   if (report.reg == F::Register::Fault) {
     j.set("faultmask", report.faultmask ? app::Json(*report.faultmask) : app::Json());
     j.set("fault_output_on", report.fault_output_on ? app::Json(*report.fault_output_on) : app::Json());

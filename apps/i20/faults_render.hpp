@@ -56,8 +56,6 @@ struct CauseNow {
 };
 CauseNow cause_now(unsigned fault_bit, const Readings& r);
 
-// "0x0102".
-std::string hex16(std::uint16_t value);
 // "NOENABLEFAULT (bit 1)" or "reserved bit 3".
 std::string bit_label(const faults::ReportLine& line);
 

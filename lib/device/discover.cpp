@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "lbp/bytes.hpp"
 #include "lbp/rpc.hpp"
 #include "params/value.hpp"
 
@@ -12,12 +13,6 @@ namespace i20::device {
 namespace {
 
 using params::Param;
-
-std::string hex16(std::uint32_t v) {
-  char buf[16];
-  std::snprintf(buf, sizeof buf, "0x%04X", v);
-  return buf;
-}
 
 // SSLBP's per-cycle words, byte by byte: INTERFACE0 write = ANGLE (LSW), QSETPOINT (MSW);
 // reads INTERFACE0 = TEMPERATURE (LSW), BUSV (MSW), INTERFACE1 = STATUS (LSW), FAULT (MSW).
@@ -117,9 +112,11 @@ Finding value_finding(const Param& working, const Param& nv, std::int64_t nv_raw
     f.outcome = Outcome::Found;
     f.method = Method::UniqueValueMatch;
     f.address = candidates.front();
-    f.detail = what + " found once in RAM " + hex16(o.scan_begin) + ".." + hex16(o.scan_end - 1);
+    f.detail = what + " found once in RAM " + lbp::hex_value(o.scan_begin, 4) + ".." +
+               lbp::hex_value(o.scan_end - 1, 4);
   } else if (candidates.empty()) {
-    f.detail = what + " not found in RAM " + hex16(o.scan_begin) + ".." + hex16(o.scan_end - 1);
+    f.detail = what + " not found in RAM " + lbp::hex_value(o.scan_begin, 4) + ".." +
+               lbp::hex_value(o.scan_end - 1, 4);
   } else {
     f.outcome = Outcome::Ambiguous;
     f.candidates = candidates;
@@ -201,19 +198,19 @@ DiscoveryReport discover(Amp8i20& amp, const DiscoveryOptions& o) {
 std::string DiscoveryReport::overlay_yaml(const std::string& generated_at) const {
   std::ostringstream y;
   y << "# Working-parameter addresses found by `i20 discover` (read-only discovery).\n"
-    << "# Card: unit number " << unit_number << ", SWREVISION " << hex16(swrevision) << "; " << generated_at
-    << ".\n"
-    << "# RAM scanned " << hex16(scan_begin) << ".." << hex16(scan_end - 1)
+    << "# Card: unit number " << unit_number << ", SWREVISION " << lbp::hex_value(swrevision, 4) << "; "
+    << generated_at << ".\n"
+    << "# RAM scanned " << lbp::hex_value(scan_begin, 4) << ".." << lbp::hex_value(scan_end - 1, 4)
     << (was_reset ? " right after a reset" : " WITHOUT a reset (working values may differ from NV)") << ".\n"
     << "# Use with: i20 --params THIS_FILE ...  (applies only to cards reporting this SWREVISION)\n"
-    << "schema: 1\nswrevision: " << hex16(swrevision) << "\n"
+    << "schema: 1\nswrevision: " << lbp::hex_value(swrevision, 4) << "\n"
     << "note: \"i20 discover, unit " << unit_number << ", " << generated_at << "\"\nparameters:\n";
   for (const auto& f : findings) {
     if (f.outcome != Outcome::Found) continue;
     const char* how = f.method == Method::RpcTable ? "RPC table decode" : "unique NV value match after reset";
-    y << "  - name: " << f.name << "\n    address: " << hex16(*f.address) << "\n"
+    y << "  - name: " << f.name << "\n    address: " << lbp::hex_value(*f.address, 4) << "\n"
       << "    provenance: {source: \"i20 discover (" << how << ") on unit " << unit_number << ", "
-      << generated_at << "\", confirmed_on: [" << hex16(swrevision) << "]}\n";
+      << generated_at << "\", confirmed_on: [" << lbp::hex_value(swrevision, 4) << "]}\n";
   }
   // The database's guesses for what was not found are wrong on this card as often as
   // not, and could collide with what was: on this revision their address is unknown.
@@ -228,7 +225,7 @@ std::string DiscoveryReport::overlay_yaml(const std::string& generated_at) const
     y << "# " << f.name << ": " << to_string(f.outcome) << ": " << f.detail;
     if (!f.candidates.empty()) {
       y << " (candidates:";
-      for (auto c : f.candidates) y << " " << hex16(c);
+      for (auto c : f.candidates) y << " " << lbp::hex_value(c, 4);
       y << ")";
     }
     y << "\n";

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "eth/errors.hpp"
+#include "lbp/bytes.hpp"
 
 namespace i20::eth {
 
@@ -10,13 +11,6 @@ namespace lbp16 = lbp::lbp16;
 namespace hm2 = lbp::hm2;
 
 namespace {
-
-std::string hex(std::uint32_t v, int digits) {
-  static constexpr char d[] = "0123456789ABCDEF";
-  std::string s = "0x";
-  for (int i = digits - 1; i >= 0; --i) s.push_back(d[(v >> (4 * i)) & 0xF]);
-  return s;
-}
 
 struct Block {
   std::uint32_t address = 0;
@@ -90,9 +84,10 @@ HostMot2Info read_hostmot2(Lbp16Transport& bus) {
   info.ident = hm2::IdentArea::parse(read_block(bus, hm2::kCookieAddress, 16));
   if (!info.ident.valid())
     throw DiscoveryError("no HostMot2 configuration on " + bus.describe() + ": cookie at 0x0100 reads " +
-                         hex(info.ident.cookie, 8) + ", expected 0x55AACAFE (is the FPGA configured?)");
+                         lbp::hex_value(info.ident.cookie, 8) +
+                         ", expected 0x55AACAFE (is the FPGA configured?)");
   if (info.ident.idrom_address == 0 || info.ident.idrom_address > 0xFFFF - hm2::Idrom::kBytes)
-    throw DiscoveryError("HostMot2 IDROM pointer " + hex(info.ident.idrom_address, 8) + " on " +
+    throw DiscoveryError("HostMot2 IDROM pointer " + lbp::hex_value(info.ident.idrom_address, 8) + " on " +
                          bus.describe() + " is outside space 0");
   info.idrom = hm2::Idrom::parse(read_block(bus, info.ident.idrom_address, hm2::Idrom::kBytes));
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "eth/errors.hpp"
+#include "lbp/bytes.hpp"
 
 namespace i20::eth {
 
@@ -21,13 +22,6 @@ std::vector<unsigned> channels_of(std::uint8_t mask) {
 
 std::uint32_t word(const lbp::Bytes& bytes) {
   return static_cast<std::uint32_t>(lbp::read_le(bytes));
-}
-
-std::string hex32(std::uint32_t v) {
-  static constexpr char d[] = "0123456789ABCDEF";
-  std::string s = "0x";
-  for (int i = 7; i >= 0; --i) s.push_back(d[(v >> (4 * i)) & 0xF]);
-  return s;
 }
 
 }  // namespace
@@ -74,7 +68,7 @@ NormalModeSession::NormalModeSession(std::unique_ptr<Lbp16Transport> bus, unsign
   for (std::size_t i = 0; i < channels.size(); ++i) {
     if (failed & (1u << channels[i]))
       problems += (problems.empty() ? "" : "; ") + std::string("ch ") + std::to_string(channels[i]) +
-                  " (CS " + hex32(regs[i].cs) + ": " + regs[i].status().describe() + ")";
+                  " (CS " + lbp::hex_value(regs[i].cs, 8) + ": " + regs[i].status().describe() + ")";
     unit_numbers_.emplace_back(channels[i], regs[i].interface0);
   }
   if (!problems.empty()) {

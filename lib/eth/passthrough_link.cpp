@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "eth/errors.hpp"
+#include "lbp/bytes.hpp"
 
 namespace i20::eth {
 
@@ -10,13 +11,6 @@ namespace lbp16 = lbp::lbp16;
 namespace sslbp = lbp::hm2::sslbp;
 
 namespace {
-
-std::string hex32(std::uint32_t v) {
-  static constexpr char d[] = "0123456789ABCDEF";
-  std::string s = "0x";
-  for (int i = 7; i >= 0; --i) s.push_back(d[(v >> (4 * i)) & 0xF]);
-  return s;
-}
 
 // Setup mode's serial rate when the firmware does not say (8I20 setup mode: 115200 8N1).
 constexpr std::uint32_t kFallbackBaud = 115200;
@@ -49,10 +43,10 @@ SslbpPassthroughLink::SslbpPassthroughLink(std::unique_ptr<Lbp16Transport> bus, 
                    ", firmware version " + std::to_string(card_.firmware_version) + ", HostMot2 " +
                    info.idrom.board_name);
   notes_.push_back("SSLBP " + parameters_.version() + " on SSERIAL port " + std::to_string(port.index) +
-                   " (COMMAND at " + hex32(port.registers.command) + "), " +
+                   " (COMMAND at " + lbp::hex_value(port.registers.command, 8) + "), " +
                    std::to_string(parameters_.channels) + " channel(s), remote baud " +
                    (baud_ ? std::to_string(baud_) : std::string("unknown")));
-  notes_.push_back("remote " + remote_.name + " unit " + hex32(remote_.unit_number));
+  notes_.push_back("remote " + remote_.name + " unit " + lbp::hex_value(remote_.unit_number, 8));
   notes_.push_back(card_.has_timer_space() ? "passthrough waits inside the packet (LBP16 WaituS)"
                                            : "no LBP16 timer space: passthrough polls COMMAND");
 }
@@ -72,8 +66,9 @@ void SslbpPassthroughLink::start_setup() {
   const ChannelRegisters regs = port_->read_channels(mask).front();
   remote_ = RemoteInfo{.name = regs.name(), .unit_number = regs.interface0, .cs = regs.cs};
   if (failed & mask)
-    throw DiscoveryError("no remote answered on " + describe() + " at setup start (CS " + hex32(regs.cs) +
-                         ": " + regs.status().describe() + "); check the cable and the 8I20's logic power");
+    throw DiscoveryError("no remote answered on " + describe() + " at setup start (CS " +
+                         lbp::hex_value(regs.cs, 8) + ": " + regs.status().describe() +
+                         "); check the cable and the 8I20's logic power");
   if (options_.require_8i20 && regs.interface1 != sslbp::kName8i20)
     throw DiscoveryError("the remote on " + describe() + " reports itself as '" + regs.name() +
                          "', not an 8I20");
@@ -145,7 +140,7 @@ void SslbpPassthroughLink::raise_transfer_error(const lbp::Command& command, std
                                                 std::size_t index) const {
   const sslbp::ChannelStatus status{cs};
   const std::string message = "the remote on " + describe() + " did not complete LBP command " +
-                              lbp::to_hex(command.bytes) + " (SSLBP CS " + hex32(cs) + ": " +
+                              lbp::to_hex(command.bytes) + " (SSLBP CS " + lbp::hex_value(cs, 8) + ": " +
                               status.describe() + ")";
   if (status.timed_out()) throw link::TimeoutError(message, index);
   if (status.crc_error()) throw link::CrcError(message, index);

@@ -4,6 +4,7 @@
 #include <thread>
 
 #include "eth/errors.hpp"
+#include "lbp/bytes.hpp"
 
 namespace i20::eth {
 
@@ -12,13 +13,6 @@ namespace sslbp = lbp::hm2::sslbp;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-
-std::string hex16(std::uint32_t v) {
-  static constexpr char d[] = "0123456789ABCDEF";
-  std::string s = "0x";
-  for (int i = 3; i >= 0; --i) s.push_back(d[(v >> (4 * i)) & 0xF]);
-  return s;
-}
 
 std::uint32_t word(const lbp::Bytes& bytes) {
   return static_cast<std::uint32_t>(lbp::read_le(bytes));
@@ -88,8 +82,8 @@ Completion SslbpPort::run(std::span<const lbp16::Command> before, std::uint32_t 
       const Reading probe = parse(bus_.transact(read_back(results)), 0, results.size());
       if (probe.command != 0) return poll(results, command, round_trips);
       if (!repeatable || attempt >= options_.lost_reply_retries)
-        throw link::TimeoutError("the reply to SSLBP command " + hex16(command) + " on " + describe() +
-                                 " was lost and the command " +
+        throw link::TimeoutError("the reply to SSLBP command " + lbp::hex_value(command, 4) + " on " +
+                                 describe() + " was lost and the command " +
                                  (repeatable
                                       ? "still got no answer when resent"
                                       : "cannot be resent safely: it may or may not have taken effect"));
@@ -111,9 +105,10 @@ Completion SslbpPort::poll(std::span<const std::uint16_t> results, std::uint32_t
       return c;
     }
     if (Clock::now() >= deadline)
-      throw link::TimeoutError("SSLBP on " + describe() + " did not finish command " + hex16(command) +
-                               " within " + std::to_string(options_.command_timeout.count()) +
-                               " ms (COMMAND still reads " + hex16(r.command) + ")");
+      throw link::TimeoutError("SSLBP on " + describe() + " did not finish command " +
+                               lbp::hex_value(command, 4) + " within " +
+                               std::to_string(options_.command_timeout.count()) +
+                               " ms (COMMAND still reads " + lbp::hex_value(r.command, 4) + ")");
   }
 }
 

@@ -2,19 +2,14 @@
 
 #include <algorithm>
 
+#include "lbp/bytes.hpp"
+
 namespace i20::ethsim {
 namespace {
 
 // Events the device may raise while we wait for one reply (timeouts, EEPROM, delayed
 // replies); more than this means it is stuck, and the exchange ends.
 constexpr unsigned kMaxEventSteps = 256;
-
-std::string hex32(std::uint64_t v) {
-  static constexpr char d[] = "0123456789ABCDEF";
-  std::string s = "0x";
-  for (int i = 7; i >= 0; --i) s.push_back(d[(v >> (4 * i)) & 0xF]);
-  return s;
-}
 
 }  // namespace
 
@@ -59,7 +54,7 @@ std::vector<lbp::Command> Virtual8i20Remote::normal_start_commands() const {
 }
 
 std::string Virtual8i20Remote::describe() const {
-  return "8I20 unit " + hex32(device_.amplifier().value("UNITNUMBER"));
+  return "8I20 unit " + lbp::hex_value(device_.amplifier().value("UNITNUMBER"), 8);
 }
 
 }  // namespace i20::ethsim

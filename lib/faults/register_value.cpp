@@ -4,6 +4,8 @@
 #include <optional>
 #include <string>
 
+#include "lbp/bytes.hpp"
+
 namespace i20::faults {
 namespace {
 
@@ -36,12 +38,6 @@ std::optional<std::uint64_t> digits(std::string_view s, int base) {
   return value;
 }
 
-std::string hex(std::uint64_t v, int width) {
-  char buf[24];
-  std::snprintf(buf, sizeof buf, "0x%0*llX", width, static_cast<unsigned long long>(v));
-  return buf;
-}
-
 std::string quoted(std::string_view s) {
   constexpr std::size_t kShown = 40;
   return "'" + std::string(s.substr(0, kShown)) + (s.size() > kShown ? "...'" : "'");
@@ -56,8 +52,8 @@ std::uint16_t fit(std::uint64_t value, std::string_view text, std::string_view w
   std::string why = quoted(text) + " does not fit the 16-bit register (at most 0xFFFF = 65535)";
   // A 32-bit paste is most likely SSLBP's Interface1 word: FAULT high, STATUS low.
   if (value <= 0xFFFFFFFF)
-    why += "; if it is SSLBP's Interface1 word, FAULT is " + hex(value >> 16, 4) + " and STATUS " +
-           hex(value & 0xFFFF, 4);
+    why += "; if it is SSLBP's Interface1 word, FAULT is " + lbp::hex_value(value >> 16, 4) + " and STATUS " +
+           lbp::hex_value(value & 0xFFFF, 4);
   reject(what, why);
 }
 

@@ -4,15 +4,10 @@
 
 #include "faults/decode.hpp"
 #include "faults/fault_mask.hpp"
+#include "lbp/bytes.hpp"
 
 namespace i20::faults {
 namespace {
-
-std::string hex4(std::uint16_t v) {
-  char buf[8];
-  std::snprintf(buf, sizeof buf, "0x%04X", static_cast<unsigned>(v));
-  return buf;
-}
 
 ReportLine reserved_line(Register reg, unsigned bit) {
   ReportLine line;
@@ -54,8 +49,8 @@ ReportLine line_for(const DecodedBit& d) {
 // "FAULT 0x0102: 2 faults set: NOENABLEFAULT (bit 1), BUSLOVFAULT (bit 8, masked)".
 std::string title_for(const Report& r) {
   const bool fault = r.reg == Register::Fault;
-  std::string title = std::string(to_string(r.reg)) + " " + hex4(r.value);
-  if (r.faultmask) title += " (FAULTMASK " + hex4(*r.faultmask) + ")";
+  std::string title = std::string(to_string(r.reg)) + " " + lbp::hex_value(r.value, 4);
+  if (r.faultmask) title += " (FAULTMASK " + lbp::hex_value(*r.faultmask, 4) + ")";
   const auto n = r.lines.size();
   if (n == 0) return title + (fault ? ": no faults" : ": no bits set");
   title += ": " + std::to_string(n) +

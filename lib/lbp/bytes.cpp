@@ -17,6 +17,13 @@ std::string to_hex(ByteView bytes) {
   return text;
 }
 
+std::string hex_value(std::uint64_t value, int digits) {
+  static constexpr char upper_digits[] = "0123456789ABCDEF";
+  std::string text = "0x";
+  for (int i = digits - 1; i >= 0; --i) text.push_back(upper_digits[(value >> (4 * i)) & 0xF]);
+  return text;
+}
+
 Bytes from_hex(const std::string& text) {
   Bytes out;
   int pending = -1;

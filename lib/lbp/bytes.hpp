@@ -33,6 +33,10 @@ inline Bytes to_le(std::uint64_t value, std::size_t count) {
 // "6e 10 00 aa": for error messages, logs and tests.
 std::string to_hex(ByteView bytes);
 
+// "0x8CA0": the low `digits` hexadecimal digits of `value`, upper case, zero-padded. The
+// one way the toolkit shows register values, addresses and command words.
+std::string hex_value(std::uint64_t value, int digits);
+
 // Parses "6e1000aa", "6e 10 00 aa" or "6E:10"; throws std::invalid_argument on bad input.
 Bytes from_hex(const std::string& text);
 

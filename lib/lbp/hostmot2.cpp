@@ -1,5 +1,6 @@
 #include "lbp/hostmot2.hpp"
 
+#include "lbp/bytes.hpp"
 #include "lbp/error.hpp"
 #include "lbp/lbp16.hpp"
 
@@ -18,13 +19,6 @@ void require_size(ByteView bytes, std::size_t size, const char* what) {
 
 void append_text(Bytes& out, const std::string& text, std::size_t size) {
   for (std::size_t i = 0; i < size; ++i) out.push_back(i < text.size() ? static_cast<Byte>(text[i]) : 0);
-}
-
-std::string hex32(std::uint32_t v) {
-  static constexpr char digits[] = "0123456789ABCDEF";
-  std::string s = "0x";
-  for (int shift = 28; shift >= 0; shift -= 4) s.push_back(digits[(v >> shift) & 0xF]);
-  return s;
 }
 
 }  // namespace
@@ -110,7 +104,7 @@ std::uint32_t ModuleDescriptor::instance_stride(const Idrom& idrom) const {
 
 std::uint16_t ModuleDescriptor::register_address(const Idrom& idrom, unsigned reg, unsigned instance) const {
   if (instance >= instances)
-    throw UsageError("module 0x" + hex32(gtag).substr(8) + " has " + std::to_string(instances) +
+    throw UsageError("module " + lbp::hex_value(gtag, 2) + " has " + std::to_string(instances) +
                      " instance(s), there is no instance " + std::to_string(instance));
   if (reg >= registers)
     throw UsageError("module has " + std::to_string(registers) + " registers, there is no register " +
@@ -158,7 +152,7 @@ std::vector<PinDescriptor> parse_pins(ByteView bytes, std::size_t count) {
 SserialRegisters SserialRegisters::locate(const Idrom& idrom, const ModuleDescriptor& module,
                                           unsigned instance) {
   if (!is_sserial(module.gtag))
-    throw UsageError("module " + hex32(module.gtag) + " is not an SSERIAL module");
+    throw UsageError("module " + lbp::hex_value(module.gtag, 8) + " is not an SSERIAL module");
   if (module.registers < sserial_reg::kCount)
     throw UsageError("SSERIAL module lists " + std::to_string(module.registers) + " registers, SSLBP needs " +
                      std::to_string(sserial_reg::kCount));

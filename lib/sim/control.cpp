@@ -4,6 +4,7 @@
 #include <sstream>
 #include <vector>
 
+#include "lbp/bytes.hpp"
 #include "sim/bits.hpp"
 #include "sim/error.hpp"
 
@@ -105,12 +106,6 @@ std::uint16_t fault_bit(const std::string& text) {
   const auto n = integer(text, "fault NAME|BIT on|off");
   if (n > 15) fail("fault bit " + text + " is outside 0..15");
   return static_cast<std::uint16_t>(1u << n);
-}
-
-std::string hex16(unsigned v) {
-  char buf[16];
-  std::snprintf(buf, sizeof buf, "0x%04X", v);
-  return buf;
 }
 
 std::string upper(std::string s) {
@@ -261,9 +256,9 @@ std::string describe_state(Virtual8i20& card) {
                 "lbp_status=0x%02X fault_output=%s brake=%s crc_errors=%u",
                 card.powered() ? "on" : "off", card.mode() == FramingMode::Setup ? "setup" : "operate",
                 card.baud(), s.bus_volts, s.temperature_c, s.enable ? "on" : "off",
-                hex16(amp.fault()).c_str(), hex16(amp.status()).c_str(), card.lbp_registers().status,
-                amp.fault_output_active() ? "fault" : "ok", amp.brake_on() ? "on" : "off",
-                card.lbp_registers().crc_errors);
+                lbp::hex_value(amp.fault(), 4).c_str(), lbp::hex_value(amp.status(), 4).c_str(),
+                card.lbp_registers().status, amp.fault_output_active() ? "fault" : "ok",
+                amp.brake_on() ? "on" : "off", card.lbp_registers().crc_errors);
   return buf;
 }
 

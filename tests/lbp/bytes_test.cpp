@@ -24,3 +24,10 @@ TEST(Bytes, HexRoundTrip) {
   EXPECT_THROW(from_hex("6e1"), std::invalid_argument);
   EXPECT_THROW(from_hex("zz"), std::invalid_argument);
 }
+
+TEST(Bytes, HexValueIsZeroPaddedUpperCaseAndKeepsTheLowDigits) {
+  EXPECT_EQ(hex_value(0x8CA0, 4), "0x8CA0");
+  EXPECT_EQ(hex_value(0x12345, 8), "0x00012345");
+  EXPECT_EQ(hex_value(0x5A, 2), "0x5A");
+  EXPECT_EQ(hex_value(0x1FFFF, 4), "0xFFFF");  // wider values show their low word
+}
