@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "errors.hpp"
+#include "faults/bit_info.hpp"
 #include "interrupt.hpp"
 #include "profile/finding.hpp"
 
@@ -13,11 +14,10 @@ namespace {
 
 using profile::Outcome;
 
-// STATUS sticky bits that record a reset: WDTO (4, DSP watchdog), SWR (5, software reset
-// command), EXTR (6, power-up / external reset). See params/faults.yaml.
-constexpr std::int64_t kWdto = 1 << 4;
-constexpr std::int64_t kSwr = 1 << 5;
-constexpr std::int64_t kExtr = 1 << 6;
+using faults::kResetCauseBits;
+using faults::kStatusExtr;
+using faults::kStatusSwr;
+using faults::kStatusWdto;
 
 std::optional<std::int64_t> try_read(Connection& c, const std::string& name, unsigned attempts) {
   for (unsigned attempt = 0; attempt < attempts; ++attempt) {
@@ -39,8 +39,9 @@ std::optional<std::int64_t> sticky_status(Connection& c) {
 
 std::string reset_names(std::int64_t bits) {
   std::string names;
-  const std::pair<std::int64_t, const char*> all[] = {
-      {kWdto, "WDTO, DSP watchdog"}, {kSwr, "SWR, software reset"}, {kExtr, "EXTR, power-up"}};
+  const std::pair<std::int64_t, const char*> all[] = {{kStatusWdto, "WDTO, DSP watchdog"},
+                                                      {kStatusSwr, "SWR, software reset"},
+                                                      {kStatusExtr, "EXTR, power-up"}};
   for (const auto& [bit, name] : all)
     if (bits & bit) names += (names.empty() ? "" : "; ") + std::string(name);
   return names;
@@ -52,8 +53,8 @@ void check_card_reset(Connection& c, std::optional<std::int64_t> before, TargetR
   if (!before) return;
   const auto after = sticky_status(c);
   if (!after) return;
-  std::int64_t fresh = *after & ~*before & (kWdto | kSwr | kExtr);
-  if (run.result->reset_done) fresh &= ~kSwr;  // ours
+  std::int64_t fresh = *after & ~*before & kResetCauseBits;
+  if (run.result->reset_done) fresh &= ~std::int64_t{kStatusSwr};  // ours
   if (fresh == 0) return;
   run.card_reset = "the card reset itself during the apply (STATUS " + reset_names(fresh) +
                    "): its working values were reloaded from the EEPROM as it was at that moment";

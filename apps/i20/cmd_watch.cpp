@@ -35,9 +35,6 @@ namespace F = i20::faults;
 using Clock = std::chrono::steady_clock;
 using WallClock = std::chrono::system_clock;
 
-// STATUS bits the DSP sets when it starts (manual: WDTO, SWR, EXTR; all sticky). One that
-// rises between two samples means the card restarted under us.
-constexpr std::uint16_t kRestartBits = (1u << 4) | (1u << 5) | (1u << 6);
 // A lost card is retried at the sample interval, but not more often than this: opening a
 // vanished port or waiting out a timeout every 20 ms would only spin.
 constexpr std::chrono::milliseconds kMinRetry{500};
@@ -529,7 +526,7 @@ bool Watcher::sleep_until(Clock::time_point t) const {
 std::vector<Event> Watcher::restart_events(const Readings& r) {
   std::vector<Event> out;
   if (!previous_) return out;
-  const auto rose = static_cast<std::uint16_t>(r.status & ~previous_->status & kRestartBits);
+  const auto rose = static_cast<std::uint16_t>(r.status & ~previous_->status & F::kResetCauseBits);
   if (rose == 0) return out;
   out.push_back({WallClock::now(),
                  Kind::Restarted,

@@ -8,6 +8,14 @@
 
 namespace i20::faults {
 
+// STATUS sticky bits that record why the DSP last started (manual, STATUS REGISTER):
+// WDTO (4, hardware watchdog), SWR (5, software reset), EXTR (6, external reset). A bit
+// rising between two readings means the card restarted and reloaded its NV values.
+inline constexpr std::uint16_t kStatusWdto = 1u << 4;
+inline constexpr std::uint16_t kStatusSwr = 1u << 5;
+inline constexpr std::uint16_t kStatusExtr = 1u << 6;
+inline constexpr std::uint16_t kResetCauseBits = kStatusWdto | kStatusSwr | kStatusExtr;
+
 enum class Register { Fault, Status };
 
 // How much the bit matters to someone whose axis just dropped out.
