@@ -19,7 +19,7 @@ constexpr unsigned kOverTempBit = 2;
 constexpr unsigned kBusLowBit = 8;
 constexpr unsigned kBusHighBit = 9;
 constexpr unsigned kBusMaxBit = 10;
-// STATUS bits LinuxCNC names (facts.md s4) that report a level condition live.
+// STATUS bits LinuxCNC names (docs/facts.md s4) that report a level condition live.
 constexpr std::uint16_t kStatusBusUnderV = 1u << 3;
 constexpr std::uint16_t kStatusNoEnable = 1u << 8;
 constexpr std::uint16_t kStatusBrakeOn = 1u << 1;  // manual: BRAKESTATUS

@@ -1,5 +1,5 @@
 // Finding the working (RAM) addresses of a real 8I20 without writing to it (issue 4;
-// facts.md s3 names both methods):
+// docs/facts.md s3 names both methods):
 //  1. the pre-loaded RPC table holds the commands SSLBP's normal mode runs every cycle
 //     (write ANGLE and QSETPOINT, read TEMPERATURE, BUSV, STATUS, FAULT, in the order of
 //     SSLBP's INTERFACE0/INTERFACE1 words, LSW first), so decoding it names those

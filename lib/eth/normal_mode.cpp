@@ -66,9 +66,13 @@ NormalModeSession::NormalModeSession(std::unique_ptr<Lbp16Transport> bus, unsign
   const auto channels = channels_of(mask_);
   std::string problems;
   for (std::size_t i = 0; i < channels.size(); ++i) {
-    if (failed & (1u << channels[i]))
-      problems += (problems.empty() ? "" : "; ") + std::string("ch ") + std::to_string(channels[i]) +
-                  " (CS " + lbp::hex_value(regs[i].cs, 8) + ": " + regs[i].status().describe() + ")";
+    if (failed & (1u << channels[i])) {
+      // Appended piece by piece: GCC 12's -Wrestrict misfires on `const char* + std::string`
+      // chains in optimised builds.
+      if (!problems.empty()) problems += "; ";
+      problems += "ch " + std::to_string(channels[i]);
+      problems += " (CS " + lbp::hex_value(regs[i].cs, 8) + ": " + regs[i].status().describe() + ")";
+    }
     unit_numbers_.emplace_back(channels[i], regs[i].interface0);
   }
   if (!problems.empty()) {

@@ -51,7 +51,7 @@ struct ChannelSample {
   unsigned channel = 0;
   std::uint16_t bus_voltage = 0;  // INTERFACE0 MSW, 10 mV per count
   // INTERFACE0 LSW. The SSLBP chapter says "in oC", the parameter table says TEMPERATURE
-  // is 0.01 C per count (facts.md section 1); the register carries the parameter.
+  // is 0.01 C per count (docs/facts.md section 1); the register carries the parameter.
   std::uint16_t temperature = 0;
   std::uint16_t fault = 0;       // INTERFACE1 MSW
   std::uint16_t status = 0;      // INTERFACE1 LSW

@@ -44,7 +44,7 @@ struct PassthroughOptions {
   // times as SSLBP sets it; manual, "FRAMING").
   unsigned turnaround_characters = 26;
   // Extra wait for a data write while NV access is EEPROM or flash: a cell write takes
-  // milliseconds (facts.md section 7). Underestimating only costs a poll.
+  // milliseconds (docs/facts.md section 7). Underestimating only costs a poll.
   std::chrono::microseconds nv_write_time{5000};
 };
 

@@ -1,5 +1,5 @@
 // How one 8I20 LBP command travels through SSLBP's setup-mode passthrough (8I20 manual,
-// "SETUP MODE OPERATION"; facts.md section 5):
+// "SETUP MODE OPERATION"; docs/facts.md section 5):
 //
 //   data read/write with a 2-byte address, 1/2/4 data bytes:
 //       CS = header << 24 | address, INTERFACE0 = write data (right justified)

@@ -20,7 +20,7 @@ constexpr std::uint8_t kStateStopped = 0x00;
 constexpr std::uint8_t kStateNormal = 0x09;
 constexpr std::uint8_t kStateSetup = 0x0F;
 
-// UNITNUMBER's public address (facts.md section 2): SSLBP reads it at start.
+// UNITNUMBER's public address (docs/facts.md section 2): SSLBP reads it at start.
 constexpr std::uint16_t kUnitNumberAddress = 2344;
 
 // Bound on catch-up chatter after a long quiet spell (the host was away for seconds).

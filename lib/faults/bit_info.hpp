@@ -38,7 +38,7 @@ struct BitInfo {
   bool sticky = false;              // stays set after its cause is gone
   bool maskable = false;            // a 0 in FAULTMASK keeps it off the fault output
   bool clears_while_cause_persists = false;
-  std::string source;  // manual section or facts.md
+  std::string source;  // manual section or docs/facts.md
   std::string origin;  // "file:line" of the entry
 
   std::uint16_t mask() const { return static_cast<std::uint16_t>(1u << bit); }

@@ -14,7 +14,7 @@ struct Command {
   Bytes bytes;                  // header, address, data: everything but the CRC
   std::size_t reply_bytes = 0;  // data bytes in the reply, CRC excluded
   // A barrier must be answered before anything else is sent: EEPROM writes take
-  // milliseconds (facts.md section 7) and resets drop whatever follows.
+  // milliseconds (docs/facts.md section 7) and resets drop whatever follows.
   bool barrier = false;
 
   bool operator==(const Command&) const = default;

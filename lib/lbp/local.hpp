@@ -1,5 +1,5 @@
 // Local LBP commands 0xC0..0xFF (manual, "LOCAL LBP COMMANDS"), plus the NV access
-// command the manual lists as reserved (../shared/reference/facts.md section 2).
+// command the manual lists as reserved (docs/facts.md section 2).
 // Reads (0xC0..0xDF) return one data byte. Writes (0xE0..0xFE) take one data byte;
 // 0xFF takes none. 0xFE resets the LBP processor only when its data byte is 0x5A.
 #pragma once
@@ -18,7 +18,7 @@ inline constexpr Byte kGetCrcEnable = 0xC2;
 inline constexpr Byte kGetCrcErrorCount = 0xC3;
 inline constexpr Byte kGetRpcMemAccess = 0xCA;
 inline constexpr Byte kGetCommandTimeout = 0xCB;
-inline constexpr Byte kGetNvAccess = 0xCC;   // facts.md: current NV access mode
+inline constexpr Byte kGetNvAccess = 0xCC;   // docs/facts.md: current NV access mode
 inline constexpr Byte kGetCardName0 = 0xD0;  // 0xD0..0xD3: 4 character card name
 inline constexpr Byte kGetCardName3 = 0xD3;
 inline constexpr Byte kGetConfigName0 = 0xD4;  // 0xD4..0xD7: configuration name (some configurations)
@@ -38,7 +38,7 @@ inline constexpr Byte kSetCrcEnable = 0xE2;
 inline constexpr Byte kSetCrcErrorCount = 0xE3;
 inline constexpr Byte kSetRpcMemAccess = 0xEA;  // non-zero enables access to the RPC table
 inline constexpr Byte kSetCommandTimeout = 0xEB;
-inline constexpr Byte kSetNvAccess = 0xEC;  // facts.md: 0 RAM, 1 EEPROM, 2 flash
+inline constexpr Byte kSetNvAccess = 0xEC;  // docs/facts.md: 0 RAM, 1 EEPROM, 2 flash
 inline constexpr Byte kWriteLeds = 0xF7;
 inline constexpr Byte kSetLowAddress = 0xF8;
 inline constexpr Byte kSetHighAddress = 0xF9;

@@ -1,6 +1,6 @@
 // Setup-mode LBP over a byte stream (manual, "FRAMING"): the 8I20 frames commands by
 // pre-parsing, so a batch can go out back to back and the replies are cut apart by
-// their expected lengths. Two cautions bound the pipelining (facts.md section 7): the
+// their expected lengths. Two cautions bound the pipelining (docs/facts.md section 7): the
 // card's receive buffer size is unpublished, so the bytes of unanswered commands are
 // capped by a window; and barrier commands (EEPROM writes, resets) must be answered
 // before anything else is sent.

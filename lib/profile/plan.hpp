@@ -1,7 +1,7 @@
 // What an apply will write, and in which order.
 //
 // Only cells that differ from the card are written: EEPROM cells wear out and each write
-// takes milliseconds (facts.md s7), so applying the same profile twice writes nothing.
+// takes milliseconds (docs/facts.md s7), so applying the same profile twice writes nothing.
 #pragma once
 
 #include <vector>

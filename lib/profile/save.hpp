@@ -18,7 +18,7 @@ struct SaveOptions {
 };
 
 // What `save` reads when no names are given: the writable EEPROM parameters whose
-// addresses are public for every firmware (facts.md s2) and that need no --force, i.e.
+// addresses are public for every firmware (docs/facts.md s2) and that need no --force, i.e.
 // the power-up setup of the drive.
 std::vector<std::string> default_save_names(const params::ParamDb& db);
 

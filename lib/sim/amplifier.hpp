@@ -12,7 +12,7 @@
 //  - FAULTMASK: a 0 bit masks that fault from the fault output; only bit 8 is maskable.
 //  - Brake: on above BRAKEONV or the fixed 385 V, off below BRAKEOFFV (hysteresis).
 //  - STATUS bit 0 (current limited) is set above 70 C (the card's 70 C derating point);
-//    bits 3, 8 and 9 follow LinuxCNC's names (facts.md s4).
+//    bits 3, 8 and 9 follow LinuxCNC's names (docs/facts.md s4).
 #pragma once
 
 #include <chrono>

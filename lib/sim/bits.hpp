@@ -1,5 +1,5 @@
 // FAULT and STATUS register bits (manual "FAULT CONDITIONS", "STATUS REGISTER";
-// facts.md s4 for the bits only LinuxCNC names).
+// docs/facts.md s4 for the bits only LinuxCNC names).
 #pragma once
 
 #include <cstdint>
@@ -30,12 +30,12 @@ namespace status {
 inline constexpr std::uint16_t kCurrentLimited = 1u << 0;    // temperature/current limiting
 inline constexpr std::uint16_t kBrakeOn = 1u << 1;           // live brake state
 inline constexpr std::uint16_t kBrakeWasOn = 1u << 2;        // sticky
-inline constexpr std::uint16_t kBusUnderV = 1u << 3;         // LinuxCNC name (facts.md s4), live
+inline constexpr std::uint16_t kBusUnderV = 1u << 3;         // LinuxCNC name (docs/facts.md s4), live
 inline constexpr std::uint16_t kDspWatchdogReset = 1u << 4;  // sticky: WDTO
 inline constexpr std::uint16_t kSoftwareReset = 1u << 5;     // sticky: SWR, after 0xFE 0x5A
 inline constexpr std::uint16_t kExternalReset = 1u << 6;     // sticky: EXTR, at power-up
-inline constexpr std::uint16_t kNoEnable = 1u << 8;          // LinuxCNC name (facts.md s4), live
-inline constexpr std::uint16_t kCurrentLoopOn = 1u << 9;     // LinuxCNC name (facts.md s4), live
+inline constexpr std::uint16_t kNoEnable = 1u << 8;          // LinuxCNC name (docs/facts.md s4), live
+inline constexpr std::uint16_t kCurrentLoopOn = 1u << 9;     // LinuxCNC name (docs/facts.md s4), live
 inline constexpr std::uint16_t kSticky = kBrakeWasOn | kDspWatchdogReset | kSoftwareReset | kExternalReset;
 }  // namespace status
 

@@ -1,5 +1,5 @@
 // What each LBP command does on the virtual 8I20 (manual "LBP", "LOCAL LBP COMMANDS",
-// "RPC COMMANDS"; facts.md s2 for NV access).
+// "RPC COMMANDS"; docs/facts.md s2 for NV access).
 #include <algorithm>
 
 #include "lbp/error.hpp"

@@ -24,7 +24,7 @@ constexpr std::string_view kRequired[] = {"FAULT",       "STATUS",    "CLEARFAUL
                                           "TEMPERATURE", "ANGLE",     "QSETPOINT",  "BUSUNDERV", "BUSOVERV",
                                           "BRAKEONV",    "BRAKEOFFV", "SWREVISION", "UNITNUMBER"};
 
-// Registers that keep their public addresses when a map is shuffled (facts.md s2).
+// Registers that keep their public addresses when a map is shuffled (docs/facts.md s2).
 bool is_fixed(const Register& r) {
   return r.space == Space::Eeprom || r.name == "SWREVISION" || r.name == "UNITNUMBER";
 }

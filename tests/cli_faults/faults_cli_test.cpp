@@ -109,7 +109,7 @@ TEST(FaultsCliDecode, EveryStatusBitIsNamedOrReportedReserved) {
     EXPECT_TRUE(has(r.out, info->name + " (bit " + std::to_string(bit) + ")")) << r.out;
     EXPECT_TRUE(has(r.out, info->meaning)) << r.out;
   }
-  // LinuxCNC names bits 3, 8 and 9 too (facts.md s4); nothing else is defined.
+  // LinuxCNC names bits 3, 8 and 9 too (docs/facts.md s4); nothing else is defined.
   EXPECT_EQ(table.defined_bits(F::Register::Status), 0x037F);
   EXPECT_EQ(table.defined_bits(F::Register::Fault), 0xCFF7);
 }

@@ -1,5 +1,5 @@
 // HostMot2 identification, IDROM, module/pin descriptors and the SSERIAL register
-// addresses (facts.md section 5), and the SSLBP command words (8I20 manual, "SSLBP").
+// addresses (docs/facts.md section 5), and the SSLBP command words (8I20 manual, "SSLBP").
 #include <gtest/gtest.h>
 
 #include "lbp/error.hpp"

@@ -14,7 +14,7 @@ using lbp::DataSize;
 
 namespace {
 
-// Public addresses (facts.md section 2) and the simulator's map for the RAM ones.
+// Public addresses (docs/facts.md section 2) and the simulator's map for the RAM ones.
 constexpr std::uint16_t kUnitNumber = 2344;
 constexpr std::uint16_t kSwRevision = 2164;
 constexpr std::uint16_t kNvKqp = 10;

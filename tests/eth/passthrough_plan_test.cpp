@@ -1,5 +1,5 @@
 // LBP command -> SSLBP setup-mode passthrough registers (8I20 manual, "SETUP MODE
-// OPERATION"; facts.md section 5).
+// OPERATION"; docs/facts.md section 5).
 #include "eth/passthrough_plan.hpp"
 
 #include <gtest/gtest.h>

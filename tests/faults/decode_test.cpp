@@ -1,5 +1,5 @@
 // Decoding FAULT and STATUS against the manual's tables (FAULT CONDITIONS, STATUS REGISTER)
-// and facts.md s4.
+// and docs/facts.md s4.
 #include "faults/decode.hpp"
 
 #include <gtest/gtest.h>
@@ -92,7 +92,7 @@ TEST(StatusDecode, EveryManualBitAloneDecodesToItsNameAndNumber) {
 }
 
 TEST(StatusDecode, LinuxCncBitsAreDecodedAndMarkedWithTheirSource) {
-  // facts.md s4: LinuxCNC names bit 3 bus under-voltage, 8 no enable, 9 current loop on.
+  // docs/facts.md s4: LinuxCNC names bit 3 bus under-voltage, 8 no enable, 9 current loop on.
   const std::pair<unsigned, const char*> linuxcnc[] = {
       {3, "status.bus-underv"}, {8, "status.no-enable"}, {9, "status.pid-on"}};
   for (const auto& [bit, pin] : linuxcnc) {

@@ -1,4 +1,4 @@
-// Little-endian data (facts.md section 1: the byte at the lower address is the LSB).
+// Little-endian data (docs/facts.md section 1: the byte at the lower address is the LSB).
 #include "lbp/bytes.hpp"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// CRC-8 vectors: manual "CRC" (Dallas/Maxim polynomial x^8+x^5+x^4+1) and facts.md section 1.
+// CRC-8 vectors: manual "CRC" (Dallas/Maxim polynomial x^8+x^5+x^4+1) and docs/facts.md section 1.
 #include "lbp/crc8.hpp"
 
 #include <gtest/gtest.h>

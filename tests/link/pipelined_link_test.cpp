@@ -1,5 +1,5 @@
 // PipelinedLink against a scripted in-process 8I20 (scripted_stream.hpp): setup-mode
-// pipelining (manual "FRAMING"), the window and barrier cautions (facts.md section 7),
+// pipelining (manual "FRAMING"), the window and barrier cautions (docs/facts.md section 7),
 // reply splitting, CRC and timeout errors, and resynchronisation.
 #include "link/pipelined_link.hpp"
 

@@ -1,4 +1,4 @@
-// The parameter database against the manual's PARAMETERS table and facts.md s2.
+// The parameter database against the manual's PARAMETERS table and docs/facts.md s2.
 #include "params/param_db.hpp"
 
 #include <gtest/gtest.h>
@@ -54,7 +54,7 @@ TEST(ParamDb, HoldsEveryParameterOfTheManualTableAndItsNvTwin) {
 }
 
 TEST(ParamDb, NvAddressesAreThePublicOnes) {
-  // facts.md section 2, table of NV byte addresses.
+  // docs/facts.md section 2, table of NV byte addresses.
   const std::pair<const char*, int> expected[] = {
       {"NVMAXCURRENT", 2}, {"NVBAUDRATE", 6},  {"NVKQP", 10},      {"NVKQI", 12},
       {"NVKQIL", 16},      {"NVKDP", 18},      {"NVKDI", 20},      {"NVKDIL", 24},

@@ -1,5 +1,5 @@
 // Manual "FAULT CONDITIONS", "CLEARING FAULTS", "FAULT MASK", "STATUS REGISTER",
-// "MOTOR BRAKE"; facts.md s4 (LinuxCNC's extra STATUS bits). Everything is read back
+// "MOTOR BRAKE"; docs/facts.md s4 (LinuxCNC's extra STATUS bits). Everything is read back
 // over LBP, as a host would.
 #include "bench.hpp"
 #include "sim/bits.hpp"

@@ -1,4 +1,4 @@
-// Manual "LOCAL LBP COMMANDS" and facts.md s2 (NV access 0xEC/0xCC): every local read
+// Manual "LOCAL LBP COMMANDS" and docs/facts.md s2 (NV access 0xEC/0xCC): every local read
 // and write, sent as raw bytes.
 #include "bench.hpp"
 #include "sim/bits.hpp"

@@ -96,7 +96,7 @@ TEST(SimMap, ShuffledCardBehavesAtItsOwnAddresses) {
   o.map = RegisterMap::builtin().shuffled(3);
   Bench b(o);
   const auto& m = b.card.amplifier().map();
-  // After power-up each working twin equals its NV value, wherever it lives (facts.md s3).
+  // After power-up each working twin equals its NV value, wherever it lives (docs/facts.md s3).
   EXPECT_EQ(b.read(m.at("BRAKEONV").address), 36000u);
   EXPECT_EQ(b.read(m.at("KQI").address, 4), 150000u);
   EXPECT_EQ(b.read(m.at("BUSV").address), 32000u);

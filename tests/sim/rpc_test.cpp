@@ -1,4 +1,4 @@
-// Manual "RPC COMMANDS", "EXAMPLE RPC COMMAND LIST"; facts.md s3 (the preloaded RPCs
+// Manual "RPC COMMANDS", "EXAMPLE RPC COMMAND LIST"; docs/facts.md s3 (the preloaded RPCs
 // name the addresses of ANGLE, QSETPOINT, BUSV, TEMPERATURE, FAULT and STATUS).
 #include "lbp/rpc.hpp"
 
