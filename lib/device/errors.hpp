@@ -9,26 +9,26 @@ namespace i20::device {
 // read-only). Raised before any byte goes on the wire.
 class SafetyError : public Error {
  public:
-  using Error::Error;
+  explicit SafetyError(const std::string& message) : Error(message, ErrorKind::Refused) {}
 };
 
 // The card accepted a write but reads back something else.
 class VerifyError : public Error {
  public:
-  using Error::Error;
+  explicit VerifyError(const std::string& message) : Error(message, ErrorKind::Uncertain) {}
 };
 
 // The card may be left in a mode it must not stay in (NV access, RPC memory access):
 // the message says what to do (reset or power-cycle).
 class CardStateError : public Error {
  public:
-  using Error::Error;
+  explicit CardStateError(const std::string& message) : Error(message, ErrorKind::Uncertain) {}
 };
 
 // The user interrupted (Ctrl-C). Raised between exchanges, after cleanup.
 class Cancelled : public Error {
  public:
-  using Error::Error;
+  explicit Cancelled(const std::string& message) : Error(message, ErrorKind::Cancelled) {}
 };
 
 }  // namespace i20::device

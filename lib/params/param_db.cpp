@@ -228,7 +228,8 @@ UnknownParameter::UnknownParameter(const std::string& name, std::vector<std::str
           msg += " (list them all with `i20 dump` or see params/8i20.yaml)";
         }
         return msg;
-      }()),
+      }(),
+            ErrorKind::BadInput),
       suggestions_(std::move(suggestions)) {}
 
 ParamDb ParamDb::load_file(const std::filesystem::path& path) {

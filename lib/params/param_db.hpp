@@ -21,7 +21,7 @@ namespace i20::params {
 // A database or overlay file is malformed. what() is "file:line: reason".
 class ParamFileError : public Error {
  public:
-  using Error::Error;
+  explicit ParamFileError(const std::string& message) : Error(message, ErrorKind::BadInput) {}
 };
 
 // A name not in the database. what() suggests the closest names.

@@ -15,7 +15,7 @@ namespace i20::params {
 // A value the database does not allow for this parameter. Nothing is sent.
 class ValueError : public Error {
  public:
-  using Error::Error;
+  explicit ValueError(const std::string& message) : Error(message, ErrorKind::BadInput) {}
 };
 
 // Raw integer: decimal ("32000", "-5") or hexadecimal ("0x7D00", "7D00h").

@@ -16,7 +16,7 @@ std::string compose(const std::string& where, const std::string& key, const std:
 }  // namespace
 
 ProfileError::ProfileError(std::string where, std::string key, std::string rule, const std::string& reason)
-    : Error(compose(where, key, rule, reason)),
+    : Error(compose(where, key, rule, reason), ErrorKind::BadInput),
       where_(std::move(where)),
       key_(std::move(key)),
       rule_(std::move(rule)),

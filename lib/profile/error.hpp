@@ -34,7 +34,7 @@ class BackupError : public Error {
 // A tuning request that makes no physical sense (zero inductance, no bus voltage, ...).
 class TuneError : public Error {
  public:
-  using Error::Error;
+  explicit TuneError(const std::string& message) : Error(message, ErrorKind::BadInput) {}
 };
 
 }  // namespace i20::profile

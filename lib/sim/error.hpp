@@ -9,13 +9,13 @@ namespace i20::sim {
 // A simulator option, address map or EEPROM image is unusable.
 class ConfigError : public Error {
  public:
-  using Error::Error;
+  explicit ConfigError(const std::string& message) : Error(message, ErrorKind::BadInput) {}
 };
 
 // A control line ("busv 320") could not be understood.
 class ControlError : public Error {
  public:
-  using Error::Error;
+  explicit ControlError(const std::string& message) : Error(message, ErrorKind::BadInput) {}
 };
 
 }  // namespace i20::sim
