@@ -80,6 +80,7 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
   const auto start = std::chrono::steady_clock::now();
   const auto status_before = sticky_status(card);
   auto options = job.transaction;
+  options.force = options.force || job.write.force;  // one --force: guards and the measured-bus rules
   if (options.backup_label.empty())
     options.backup_label =
         job.profile->name + "-unit" + lbp::hex_value(card.identity().info.unit_number.value_or(0), 8).substr(2);
