@@ -29,6 +29,11 @@ struct TransportStats {
   std::uint64_t stale_ignored = 0;    // late replies to earlier packets
 };
 
+// Space 4 WaituS (7I96S/7I92T manuals, "SPACE 4 LBP TIMER/UTILITY AREA"): writing it
+// delays the card's processing of the rest of the packet by that many microseconds
+// (0..65535), so the reply comes that much later.
+inline constexpr std::uint16_t kWaitMicrosecondsAddress = 0x0002;
+
 class Lbp16Transport {
  public:
   virtual ~Lbp16Transport() = default;
