@@ -57,7 +57,7 @@ TEST_F(AmpTest, NvWriteEntersWritesReadsBackAndLeaves) {
   EXPECT_TRUE(report.verified);
   EXPECT_TRUE(report.needs_reset);
   EXPECT_EQ(card.get(2, 2, true), 2500u);
-  EXPECT_EQ(card.get(0x0812, 2), 0u) << "an NV write changes nothing live";
+  EXPECT_EQ(card.get(0x08E8, 2), 0u) << "an NV write changes nothing live (MAXCURRENT, RAM 0x08E8)";
   ASSERT_EQ(card.sent.size(), 6u);
   EXPECT_EQ(card.sent[0].bytes, (lbp::Bytes{0xEC, 0x01}));
   EXPECT_EQ(card.sent[1].bytes, (lbp::Bytes{0xCC}));                          // still in NV mode?
