@@ -42,6 +42,7 @@ app::Json scan_json(const eth::ScanResult& r) {
   }
   j.set("ports", std::move(ports));
   j.set("other_host", r.host_activity.describe());
+  j.set("foreign_packets_during_scan", r.foreign_packets_during_scan);
   return j;
 }
 
@@ -84,6 +85,10 @@ void run_scan(Context& ctx, bool force) {
   if (force && eth::host_is_running(result.host_activity, options.running_host))
     std::cerr << "i20: scan --force: " << result.host_activity.describe()
               << "; the SSERIAL ports were stopped under that host, its axes dropped out\n";
+  if (result.foreign_packets_during_scan > 0)
+    std::cerr << "i20: another host sent " << result.foreign_packets_during_scan
+              << " packet(s) to the card during the scan: its DOITs may have changed what the channels "
+                 "reported; stop it and scan again\n";
   if (ctx.options.json)
     ctx.print_json(scan_json(result));
   else

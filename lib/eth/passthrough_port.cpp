@@ -4,6 +4,7 @@
 #include <cassert>
 
 #include "eth/errors.hpp"
+#include "eth/running_host.hpp"
 #include "lbp/bytes.hpp"
 #include "lbp/local.hpp"
 
@@ -19,11 +20,13 @@ namespace {
 // Setup mode's serial rate when the firmware does not say (8I20 setup mode: 115200 8N1).
 constexpr std::uint32_t kFallbackBaud = 115200;
 // What UdpClient adds to every packet: the sequence tag write and read (space 6 Scratch).
-constexpr std::size_t kTagRequestBytes = 6 + 4;
-constexpr std::size_t kTagReplyBytes = 2;
+// What every packet starts with: UdpClient's sequence tag (write and read of space 6
+// Scratch) and our read of RXUDPCount.
+constexpr std::size_t kTagRequestBytes = 6 + 4 + 4;
+constexpr std::size_t kTagReplyBytes = 2 + 2;
 // Late DOITs tolerated in one execute() before the link gives up: each costs a replay,
 // and a remote that is always slower than its estimate is better reported than chased.
-constexpr unsigned kMaxReplays = 8;
+constexpr unsigned kMaxReplays = 16;
 
 std::uint32_t word(const lbp::Bytes& bytes) {
   return static_cast<std::uint32_t>(lbp::read_le(bytes));
@@ -67,6 +70,8 @@ std::exception_ptr with_completed(const std::exception_ptr& error, std::size_t c
     return std::make_exception_ptr(BadReplyError(e.what(), completed));
   } catch (const SslbpError& e) {
     return std::make_exception_ptr(SslbpError(e.what(), completed));
+  } catch (const ForeignHostError& e) {
+    return std::make_exception_ptr(ForeignHostError(e.what(), completed));
   } catch (const link::LinkError& e) {
     return std::make_exception_ptr(link::LinkError(e.what(), completed));
   } catch (...) {
@@ -171,6 +176,8 @@ PassthroughPort::PassthroughPort(std::unique_ptr<Lbp16Transport> bus, unsigned s
   sslbp_ = std::make_unique<SslbpPort>(*bus_, port, card_.has_timer_space(), options_.sslbp);
   activity_ = require_no_running_host(*bus_, std::span(&port, 1), options_.running_host,
                                       "stop SSERIAL port " + std::to_string(port.index) + " for setup mode");
+  last_received_ = activity_.last_received;
+  sent_at_last_ = activity_.sent_at_last;
   sslbp_->stop_all();
   parameters_ = sslbp_->read_parameters();
   for (unsigned ch : channels_of(mask_)) {
@@ -251,8 +258,11 @@ void PassthroughPort::resync() {
   if (!sslbp_->wait_idle()) {
     // Restarting is a start: the running-host rule applies again.
     ++stats_.restarts;
-    require_no_running_host(*bus_, std::span(&sslbp_->port(), 1), options_.running_host,
-                            "restart SSERIAL port " + std::to_string(sserial_port_) + " in setup mode");
+    const HostActivity seen =
+        require_no_running_host(*bus_, std::span(&sslbp_->port(), 1), options_.running_host,
+                                "restart SSERIAL port " + std::to_string(sserial_port_) + " in setup mode");
+    last_received_ = seen.last_received;
+    sent_at_last_ = seen.sent_at_last;
     start_setup();
   }
   needs_resync_ = false;
@@ -260,15 +270,31 @@ void PassthroughPort::resync() {
 
 // ---- what a DOIT costs --------------------------------------------------------------------
 
-std::chrono::microseconds PassthroughPort::settle_for(const PassthroughStep& step, unsigned channel,
-                                                      std::optional<std::uint8_t> nv_mode) const {
+std::chrono::microseconds PassthroughPort::serial_time(const PassthroughStep& step, unsigned channel) const {
   const std::uint64_t baud = bauds_.at(channel) ? bauds_.at(channel) : kFallbackBaud;
   const std::uint64_t characters = step.wire_bytes + options_.turnaround_characters;
-  auto us = microseconds(characters * 10 * 1'000'000 / baud) + options_.overhead;
+  return microseconds(characters * 10 * 1'000'000 / baud);
+}
+
+std::chrono::microseconds PassthroughPort::settle_for(const PassthroughStep& step, unsigned channel,
+                                                      std::optional<std::uint8_t> nv_mode) const {
+  auto us = serial_time(step, channel) + options_.overhead + slack_;
   // A data write may be an EEPROM write: while NV access is on, or not known to be off.
   if (step.data_write && nv_mode.value_or(1) != 0)
     us += options_.nv_write_time * static_cast<long>(std::max<std::size_t>(1, step.data_bytes / 2));
   return us;
+}
+
+// A DOIT outlived its WaituS: the remote or SSLBP is slower than the estimate. Every later
+// WaituS of this port gets longer (doubling, up to options.max_slack), so a slow card
+// costs a few replays, not one per command. EEPROM writes do not teach: their time is a
+// guess of its own (nv_write_time), and a slow cell only costs a poll.
+void PassthroughPort::learn_from_late(const Round& round) {
+  const bool eeprom = std::any_of(round.slots.begin(), round.slots.end(),
+                                  [](const Slot& s) { return s.plan.data_write && s.mode.value_or(1) != 0; });
+  if (eeprom) return;
+  const microseconds step = std::max(round.settle - slack_, microseconds{50});
+  slack_ = std::min(std::max(2 * slack_, step), microseconds(options_.max_slack));
 }
 
 // Fills in a round's mask, timing and LBP16 commands from its slots.
@@ -282,9 +308,7 @@ void PassthroughPort::lay_out(Round& round, const std::vector<Channel>& channels
     numbers.push_back(ch);
     round.mask |= bit(ch);
     round.settle = std::max(round.settle, settle_for(s.plan, ch, s.mode));
-    PassthroughStep plain = s.plan;
-    plain.data_write = false;  // the serial part only
-    round.serial = std::max(round.serial, settle_for(plain, ch, 0) - options_.overhead);
+    round.serial = std::max(round.serial, serial_time(s.plan, ch));
   }
   round.commands.clear();
   round.interface0_reads.clear();
@@ -496,7 +520,9 @@ std::vector<PassthroughPort::Round> PassthroughPort::next_packet(std::vector<Cha
 
 PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& packet,
                                                           std::vector<Channel>& channels) {
-  std::vector<lbp16::Command> commands;
+  // First RXUDPCount: whether anyone else's packets reached the card since our last one.
+  std::vector<lbp16::Command> commands{
+      lbp16::read(lbp16::space::kStatus, kRxUdpCountAddress, lbp16::Width::Bits16)};
   std::vector<std::size_t> offsets;
   for (const Round& r : packet) {
     offsets.push_back(commands.size());
@@ -510,6 +536,7 @@ PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& pa
   } catch (const link::TimeoutError&) {
     return lost_reply(packet, channels);
   }
+  require_no_foreign_packets(static_cast<std::uint16_t>(lbp::read_le(parts.front())));
   for (std::size_t r = 0; r < packet.size(); ++r) {
     Round& round = packet[r];
     const std::size_t at = offsets[r] + round.command_read;
@@ -517,6 +544,7 @@ PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& pa
     stats_.serial_time += round.serial;
     if ((word(parts[at]) & 0xFFFF) != 0) {
       ++stats_.late_doits;
+      learn_from_late(round);
       if (r + 1 == packet.size()) {
         // Nothing was issued after it: wait for it, what the polls read is its result.
         complete_by_polling(round, channels,
@@ -525,9 +553,14 @@ PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& pa
       }
       // SSLBP ignored the next DOITs of this packet, or (a microsecond race) ran one: wait
       // until it is idle, restore the NV mode the late round expects, replay from it.
+      // A channel whose DATA bit is set failed there (or just after): it ends, the others
+      // replay. Later WaituS get longer.
       const Completion idle = sslbp_->poll({}, sslbp::doit(round.mask));
       stats_.round_trips += idle.round_trips;
       ++stats_.replays;
+      for (const Slot& slot : round.slots)
+        if (slot.step && (idle.data & bit(channels[slot.owner].channel)))
+          finish(channels, slot, 0, idle.data);
       return {PacketResult::Next::Replay, restore_round(packet, r, channels)};
     }
     const auto data = static_cast<std::uint8_t>(word(parts[at + 1]));
@@ -540,6 +573,19 @@ PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& pa
       finish(channels, round.slots[i], interface0[i], data);
   }
   return {};
+}
+
+void PassthroughPort::require_no_foreign_packets(std::uint16_t received) {
+  const std::uint64_t sent = bus_->stats().packets_sent;
+  const std::uint32_t moved = static_cast<std::uint16_t>(received - last_received_);
+  const std::uint64_t ours = sent - sent_at_last_;
+  last_received_ = received;
+  sent_at_last_ = sent;
+  if (moved <= ours) return;
+  throw ForeignHostError(
+      "another host sent " + std::to_string(moved - ours) + " packet(s) to the card on " + describe() +
+      " during this exchange (LinuxCNC running?): its DOITs run the passthrough's commands "
+      "too, so the results were discarded; stop that host and run the command again");
 }
 
 PassthroughPort::PacketResult PassthroughPort::lost_reply(std::vector<Round>& packet,
@@ -754,7 +800,9 @@ std::uint32_t PassthroughPort::baud(unsigned channel) const {
 
 PassthroughStats PassthroughPort::stats() const {
   std::lock_guard lock(execute_mutex_);
-  return stats_;
+  PassthroughStats s = stats_;
+  s.slack = slack_;
+  return s;
 }
 
 TransportStats PassthroughPort::transport_stats() const {

@@ -44,6 +44,11 @@
 // Assumption (the manual is silent): SSLBP takes CS and INTERFACE0 when it accepts a DOIT,
 // so the next round's register writes cannot disturb a DOIT still in flight.
 //
+// Another host: every packet also reads RXUDPCount. When packets that are not ours reached
+// the card since our last one (LinuxCNC started, or kept running after a take-over), the
+// exchange fails with ForeignHostError and its results are discarded: that host's DOITs
+// run whatever our CS and INTERFACE0 hold, and its DOIT could be taken for ours.
+//
 // Thread safety: execute() and the links may be used from several threads; links of
 // different channels that execute at about the same time (within options.gather_window)
 // are combined into one execute().
@@ -90,6 +95,8 @@ struct PassthroughOptions {
   unsigned max_doits_per_packet = 0;
   // Total WaituS one packet may ask for; the card answers only after it.
   std::chrono::milliseconds max_packet_wait{50};
+  // Longest extra wait the link adds to every DOIT after DOITs outlived their WaituS.
+  std::chrono::milliseconds max_slack{20};
   // How long a link waits for the links of other channels to join its execute().
   std::chrono::microseconds gather_window{2000};
 };
@@ -103,13 +110,14 @@ struct RemoteInfo {
 };
 
 struct PassthroughStats {
-  std::uint64_t commands = 0;         // LBP commands completed (all channels)
-  std::uint64_t round_trips = 0;      // UDP request packets, polls included
-  std::uint64_t max_round_trips = 0;  // of any single execute()
-  std::uint64_t doits = 0;            // DOITs (one serves every channel of its round)
-  std::uint64_t late_doits = 0;       // DOITs still busy at their read-back
-  std::uint64_t replays = 0;          // packets run again from a late DOIT on
-  std::uint64_t restarts = 0;         // setup restarts after errors
+  std::uint64_t commands = 0;          // LBP commands completed (all channels)
+  std::uint64_t round_trips = 0;       // UDP request packets, polls included
+  std::uint64_t max_round_trips = 0;   // of any single execute()
+  std::uint64_t doits = 0;             // DOITs (one serves every channel of its round)
+  std::uint64_t late_doits = 0;        // DOITs still busy at their read-back
+  std::uint64_t replays = 0;           // packets run again from a late DOIT on
+  std::uint64_t restarts = 0;          // setup restarts after errors
+  std::chrono::microseconds slack{0};  // extra wait per DOIT learnt from late ones
   // Estimated serial time of the DOITs at the remotes' baud (the slowest channel of each
   // round), what the WaituS were sized from, EEPROM time excluded.
   std::chrono::microseconds serial_time{0};
@@ -164,8 +172,11 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   std::string describe(unsigned channel) const;
   const PassthroughOptions& options() const { return options_; }
 
+  // Serial time of one DOIT of `step` on `channel` at its baud, turnaround included.
+  std::chrono::microseconds serial_time(const PassthroughStep& step, unsigned channel) const;
   // Estimated time of one DOIT of `step` on `channel` while NV access is `nv_mode`
-  // (nullopt: not known), what the WaituS asks for.
+  // (nullopt: not known), what the WaituS asks for: serial time, processing, what late
+  // DOITs taught (stats().slack), and the EEPROM write time of an EEPROM write.
   std::chrono::microseconds settle_for(const PassthroughStep& step, unsigned channel,
                                        std::optional<std::uint8_t> nv_mode) const;
 
@@ -187,6 +198,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   // The rounds of the next packet under the packing rules, at most `max_doits` (0: no limit).
   std::vector<Round> next_packet(std::vector<Channel>& channels, unsigned max_doits) const;
   void lay_out(Round& round, const std::vector<Channel>& channels) const;
+  void learn_from_late(const Round& round);
   PacketResult run_packet(std::vector<Round>& packet, std::vector<Channel>& channels);
   PacketResult lost_reply(std::vector<Round>& packet, std::vector<Channel>& channels);
   std::vector<std::uint16_t> interface0_addresses(const Round& round,
@@ -196,6 +208,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
                                      std::vector<Channel>& channels) const;
   void finish(std::vector<Channel>& channels, const Slot& slot, std::uint32_t interface0, std::uint8_t data);
   void describe_failures(std::vector<Channel>& channels);
+  void require_no_foreign_packets(std::uint16_t received);
   void lead_combined(std::unique_lock<std::mutex>& lock);
 
   std::unique_ptr<Lbp16Transport> bus_;
@@ -213,6 +226,11 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   std::vector<std::optional<std::uint8_t>> nv_modes_ = std::vector<std::optional<std::uint8_t>>(kMaxChannels);
   std::vector<std::string> notes_{};
   bool needs_resync_ = false;
+  std::chrono::microseconds slack_{0};  // learnt from late DOITs, added to every WaituS
+  // RXUDPCount at our last look and our packets by then: any difference at the next look
+  // is another host's (require_no_foreign_packets).
+  std::uint16_t last_received_ = 0;
+  std::uint64_t sent_at_last_ = 0;
 
   mutable std::mutex execute_mutex_;  // one execute at a time on the wire
   PassthroughStats stats_;            // under execute_mutex_

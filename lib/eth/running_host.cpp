@@ -104,7 +104,16 @@ HostActivity observe_host_activity(Lbp16Transport& bus, std::span<const SserialP
   activity.own_packets = static_cast<std::uint32_t>(bus.stats().packets_sent - sent_after_first);
   activity.foreign_received = beyond(first.received, last.received, activity.own_packets);
   activity.foreign_sent = beyond(first.sent, last.sent, activity.own_packets);
+  activity.last_received = last.received;
+  activity.sent_at_last = bus.stats().packets_sent;
   return activity;
+}
+
+std::uint32_t foreign_packets_since(Lbp16Transport& bus, const HostActivity& since) {
+  const lbp16::Command read = counters_read();
+  const Counters now = counters_of(bus.transact(std::span(&read, 1)).front());
+  const std::uint64_t ours = bus.stats().packets_sent - since.sent_at_last;
+  return beyond(since.last_received, now.received, static_cast<std::uint32_t>(ours));
 }
 
 bool host_is_running(const HostActivity& activity, const RunningHostCheck& check) {

@@ -60,6 +60,10 @@ struct HostActivity {
   std::uint32_t foreign_sent = 0;      // TXUDPCount moves beyond our replies
   unsigned command_samples = 0;
   std::vector<BusyCommand> busy{};  // COMMAND seen non-zero
+  // RXUDPCount at the last read, and how many packets we had sent by then: the start of
+  // the count PassthroughPort keeps to notice a host that talks during its exchanges.
+  std::uint16_t last_received = 0;
+  std::uint64_t sent_at_last = 0;
 
   std::uint32_t foreign_packets() const { return foreign_received + foreign_sent; }
   // "the card received 31 UDP packets and sent 30 that were not ours in 30 ms; SSERIAL
@@ -94,6 +98,10 @@ bool host_is_running(const HostActivity& activity, const RunningHostCheck& check
 // way (a take-over is worth a note).
 HostActivity require_no_running_host(Lbp16Transport& bus, std::span<const SserialPort> ports,
                                      const RunningHostCheck& check, std::string_view action);
+
+// Packets that reached the card since `since` was observed and were not ours (one
+// read-only packet).
+std::uint32_t foreign_packets_since(Lbp16Transport& bus, const HostActivity& since);
 
 // Space 6 counters.
 inline constexpr std::uint16_t kRxUdpCountAddress = 0x000A;

@@ -55,6 +55,9 @@ struct ScanResult {
   std::uint32_t clock_low_hz = 0;
   std::vector<PortReport> ports{};
   HostActivity host_activity{};  // what the running-host check saw before the first stop
+  // Packets of another host that reached the card while we scanned (after a take-over):
+  // its DOITs may have changed what the channels reported.
+  std::uint32_t foreign_packets_during_scan = 0;
 
   // Every channel with an 8I20, as targets the other commands accept.
   std::vector<EthTarget> targets() const;

@@ -28,7 +28,8 @@ constexpr std::string_view kRequired[] = {"FAULT",       "STATUS",    "CLEARFAUL
 // the EEPROM, and the RAM registers LinuxCNC reads on every real 8I20 (MAXCURRENT at
 // 0x08E8 to scale its current pin, SWREVISION, UNITNUMBER).
 bool is_fixed(const Register& r) {
-  return r.space == Space::Eeprom || r.name == "SWREVISION" || r.name == "UNITNUMBER" || r.name == "MAXCURRENT";
+  return r.space == Space::Eeprom || r.name == "SWREVISION" || r.name == "UNITNUMBER" ||
+         r.name == "MAXCURRENT";
 }
 
 std::string trim(std::string_view s) {
