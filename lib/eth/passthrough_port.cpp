@@ -285,6 +285,20 @@ std::chrono::microseconds PassthroughPort::settle_for(const PassthroughStep& ste
   return us;
 }
 
+// A round that writes an EEPROM cell and reads nothing back: when it is late, the DOIT in
+// flight is ours (nothing else can be), and DATA, once COMMAND clears, is its outcome
+// (unless a later DOIT of the packet ran in the microsecond after our read-back; then the
+// cell's failure could hide behind that DOIT's success, which the read-back of every NV
+// write catches).
+bool PassthroughPort::is_eeprom_write(const Round& round) {
+  const bool writes = std::any_of(round.slots.begin(), round.slots.end(), [](const Slot& s) {
+    return s.plan.data_write && s.mode.value_or(1) != 0;
+  });
+  const bool reads = std::any_of(round.slots.begin(), round.slots.end(),
+                                 [](const Slot& s) { return s.plan.reply_bytes > 0; });
+  return writes && !reads;
+}
+
 // A DOIT outlived its WaituS: the remote or SSLBP is slower than the estimate. Every later
 // WaituS of this port gets longer (doubling, up to options.max_slack), so a slow card
 // costs a few replays, not one per command. EEPROM writes do not teach: their time is a
@@ -369,6 +383,7 @@ struct PassthroughPort::PacketResult {
   enum class Next { Continue, Replay, Resend };
   Next next = Next::Continue;
   std::optional<Round> restore{};  // run alone before the replay
+  bool slow = false;               // the replay's first round goes alone (a late DOIT)
 };
 
 std::vector<PassthroughPort::Outcome> PassthroughPort::execute(std::span<const Batch> batches) {
@@ -435,7 +450,7 @@ void PassthroughPort::run(std::vector<Channel>& channels) {
       }
       PacketResult result = run_packet(packet, channels);
       restore = std::move(result.restore);
-      slow = result.next == PacketResult::Next::Replay;
+      slow = result.slow;
       if (result.next == PacketResult::Next::Replay && ++replays > kMaxReplays)
         throw link::TimeoutError(
             "SSLBP DOITs on " + describe() + " keep finishing later than their serial traffic needs (" +
@@ -487,10 +502,7 @@ std::vector<PassthroughPort::Round> PassthroughPort::next_packet(std::vector<Cha
         case StepEffect::Unrepeatable: round.alone = true; break;
         case StepEffect::LocalWrite: allowed = allowed && !s.any; break;
         case StepEffect::NvMode: allowed = allowed && (!s.any || c.mode_before[s.first].has_value()); break;
-        case StepEffect::DataWrite:
-          allowed = allowed && !s.data_read;
-          if (mode.value_or(1) != 0) round.ends_packet = true;  // an EEPROM write
-          break;
+        case StepEffect::DataWrite: allowed = allowed && !s.data_read; break;
       }
     }
     if (round.slots.empty()) break;
@@ -551,6 +563,15 @@ PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& pa
                             sslbp_->poll(interface0_addresses(round, channels), sslbp::doit(round.mask)));
         return {};
       }
+      if (is_eeprom_write(round)) {
+        // An EEPROM cell that took longer than its WaituS: wait for it and take DATA as its
+        // outcome rather than write the cell again; the rest of the packet replays.
+        const Completion idle = sslbp_->poll({}, sslbp::doit(round.mask));
+        stats_.round_trips += idle.round_trips;
+        ++stats_.replays;
+        for (const Slot& slot : round.slots) finish(channels, slot, 0, idle.data);
+        return {PacketResult::Next::Replay, restore_round(packet, r + 1, channels)};
+      }
       // SSLBP ignored the next DOITs of this packet, or (a microsecond race) ran one: wait
       // until it is idle, restore the NV mode the late round expects, replay from it.
       // A channel whose DATA bit is set failed there (or just after): it ends, the others
@@ -561,7 +582,7 @@ PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& pa
       for (const Slot& slot : round.slots)
         if (slot.step && (idle.data & bit(channels[slot.owner].channel)))
           finish(channels, slot, 0, idle.data);
-      return {PacketResult::Next::Replay, restore_round(packet, r, channels)};
+      return {PacketResult::Next::Replay, restore_round(packet, r, channels), /*slow=*/true};
     }
     const auto data = static_cast<std::uint8_t>(word(parts[at + 1]));
     std::vector<std::uint32_t> interface0(round.slots.size(), 0);

@@ -34,10 +34,11 @@
 //   - other local writes open a packet for their channel; 0xEC (NV access) may sit
 //     anywhere when the channel's mode at the start of the packet is known, because a
 //     replay first restores the mode the late round expects (one DOIT of its own);
-//   - an EEPROM write (a data write while NV access is on, or not known to be off) ends
-//     its packet: it waits inside the packet (WaituS up to 65535 us) and a slow cell costs
-//     a poll, not a second write. (A replay caused by an earlier round can still write a
-//     cell twice, with the same value.)
+//   - an EEPROM write (a data write while NV access is on, or not known to be off) waits
+//     inside the packet (WaituS up to 65535 us, options.nv_write_time per word); a cell
+//     that takes longer is waited for and not written again: DATA, once COMMAND clears, is
+//     its outcome, and the rest of the packet replays. (A replay caused by an earlier late
+//     round can still write a cell twice, with the same value.)
 // Packets stay within 1472 bytes each way and options.max_packet_wait of WaituS. Cards
 // without LBP16 space 4 (LBP16 version < 3) get one round per packet and polling.
 //
@@ -199,6 +200,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   std::vector<Round> next_packet(std::vector<Channel>& channels, unsigned max_doits) const;
   void lay_out(Round& round, const std::vector<Channel>& channels) const;
   void learn_from_late(const Round& round);
+  static bool is_eeprom_write(const Round& round);
   PacketResult run_packet(std::vector<Round>& packet, std::vector<Channel>& channels);
   PacketResult lost_reply(std::vector<Round>& packet, std::vector<Channel>& channels);
   std::vector<std::uint16_t> interface0_addresses(const Round& round,
