@@ -12,7 +12,8 @@ namespace i20::sim::app {
 namespace {
 
 const char* kDescription =
-    "i20sim: a virtual Mesa 8I20 servo amplifier on a pseudo-terminal.\n"
+    "i20sim: a virtual Mesa 8I20 servo amplifier on a pseudo-terminal, or several behind a virtual\n"
+    "7I96S/7I92T Ethernet card (--eth).\n"
     "Strict like the real card in setup mode (115200 8N1, CRC-8, pre-parse framing, command timeout,\n"
     "NV values only after reset), with switches to script the world and inject faults.\n\n"
     "Examples:\n"
