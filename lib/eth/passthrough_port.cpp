@@ -165,7 +165,18 @@ std::shared_ptr<PassthroughPort> PassthroughPort::open(const HostPort& card, uns
   return std::make_shared<PassthroughPort>(std::move(bus), sserial_port, channel_mask, std::move(options));
 }
 
-PassthroughPort::PassthroughPort(std::unique_ptr<Lbp16Transport> bus, unsigned sserial_port,
+std::shared_ptr<PassthroughPort> PassthroughPort::open(std::shared_ptr<Lbp16Transport> card,
+                                                       unsigned sserial_port, std::uint8_t channel_mask,
+                                                       PassthroughOptions options) {
+  return std::make_shared<PassthroughPort>(std::move(card), sserial_port, channel_mask, std::move(options));
+}
+
+std::shared_ptr<Lbp16Transport> PassthroughPort::card_transport(const HostPort& card,
+                                                                const UdpOptions& options) {
+  return std::make_shared<SharedTransport>(std::make_unique<UdpClient>(card.ip, card.port, options));
+}
+
+PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned sserial_port,
                                  std::uint8_t channel_mask, PassthroughOptions options)
     : bus_(std::move(bus)), sserial_port_(sserial_port), mask_(channel_mask), options_(std::move(options)) {
   if (mask_ == 0) throw UsageError("a passthrough port needs at least one channel");
@@ -291,9 +302,8 @@ std::chrono::microseconds PassthroughPort::settle_for(const PassthroughStep& ste
 // cell's failure could hide behind that DOIT's success, which the read-back of every NV
 // write catches).
 bool PassthroughPort::is_eeprom_write(const Round& round) {
-  const bool writes = std::any_of(round.slots.begin(), round.slots.end(), [](const Slot& s) {
-    return s.plan.data_write && s.mode.value_or(1) != 0;
-  });
+  const bool writes = std::any_of(round.slots.begin(), round.slots.end(),
+                                  [](const Slot& s) { return s.plan.data_write && s.mode.value_or(1) != 0; });
   const bool reads = std::any_of(round.slots.begin(), round.slots.end(),
                                  [](const Slot& s) { return s.plan.reply_bytes > 0; });
   return writes && !reads;
@@ -541,14 +551,15 @@ PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& pa
     commands.insert(commands.end(), r.commands.begin(), r.commands.end());
   }
   std::vector<lbp::Bytes> parts;
+  std::uint64_t sent = 0;
   ++stats_.round_trips;
   try {
     // Never resent blindly: it holds writes. A lost reply is sorted out by lost_reply().
-    parts = bus_->transact(commands, Resend::Never);
+    parts = bus_->transact_counted(commands, Resend::Never, sent);
   } catch (const link::TimeoutError&) {
     return lost_reply(packet, channels);
   }
-  require_no_foreign_packets(static_cast<std::uint16_t>(lbp::read_le(parts.front())));
+  require_no_foreign_packets(static_cast<std::uint16_t>(lbp::read_le(parts.front())), sent);
   for (std::size_t r = 0; r < packet.size(); ++r) {
     Round& round = packet[r];
     const std::size_t at = offsets[r] + round.command_read;
@@ -596,8 +607,7 @@ PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& pa
   return {};
 }
 
-void PassthroughPort::require_no_foreign_packets(std::uint16_t received) {
-  const std::uint64_t sent = bus_->stats().packets_sent;
+void PassthroughPort::require_no_foreign_packets(std::uint16_t received, std::uint64_t sent) {
   const std::uint32_t moved = static_cast<std::uint16_t>(received - last_received_);
   const std::uint64_t ours = sent - sent_at_last_;
   last_received_ = received;

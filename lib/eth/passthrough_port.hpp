@@ -52,7 +52,8 @@
 //
 // Thread safety: execute() and the links may be used from several threads; links of
 // different channels that execute at about the same time (within options.gather_window)
-// are combined into one execute().
+// are combined into one execute(). Ports of one card used at once share one transport
+// (card_transport()).
 #pragma once
 
 #include <chrono>
@@ -131,8 +132,15 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   // 8I20) or link::LinkError.
   static std::shared_ptr<PassthroughPort> open(const HostPort& card, unsigned sserial_port,
                                                std::uint8_t channel_mask, PassthroughOptions options = {});
+  // Several ports of one card at once (a fleet over a 7I92T's two ports): open them over
+  // one card_transport(), or each one's check for another host sees the other's packets
+  // (and refuses, or discards its results).
+  static std::shared_ptr<PassthroughPort> open(std::shared_ptr<Lbp16Transport> card, unsigned sserial_port,
+                                               std::uint8_t channel_mask, PassthroughOptions options = {});
+  // A SharedTransport over UDP to `card`, for the open() above.
+  static std::shared_ptr<Lbp16Transport> card_transport(const HostPort& card, const UdpOptions& options = {});
   // The same over any transport (tests inject faults here).
-  PassthroughPort(std::unique_ptr<Lbp16Transport> bus, unsigned sserial_port, std::uint8_t channel_mask,
+  PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned sserial_port, std::uint8_t channel_mask,
                   PassthroughOptions options = {});
   ~PassthroughPort();
   PassthroughPort(const PassthroughPort&) = delete;
@@ -210,10 +218,11 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
                                      std::vector<Channel>& channels) const;
   void finish(std::vector<Channel>& channels, const Slot& slot, std::uint32_t interface0, std::uint8_t data);
   void describe_failures(std::vector<Channel>& channels);
-  void require_no_foreign_packets(std::uint16_t received);
+  // `received`: RXUDPCount read in our latest packet; `sent`: our packets by then.
+  void require_no_foreign_packets(std::uint16_t received, std::uint64_t sent);
   void lead_combined(std::unique_lock<std::mutex>& lock);
 
-  std::unique_ptr<Lbp16Transport> bus_;
+  std::shared_ptr<Lbp16Transport> bus_;
   unsigned sserial_port_;
   std::uint8_t mask_;
   PassthroughOptions options_;

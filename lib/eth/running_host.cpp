@@ -34,11 +34,11 @@ Counters counters_of(const lbp::Bytes& words) {
 // One read-only packet: optionally the counters, then COMMAND of every port. Returns the
 // counters when asked for and records busy COMMANDs.
 std::optional<Counters> sample(Lbp16Transport& bus, std::span<const SserialPort> ports, bool counters,
-                               HostActivity& activity) {
+                               HostActivity& activity, std::uint64_t& sent) {
   std::vector<lbp16::Command> packet;
   if (counters) packet.push_back(counters_read());
   for (const auto& port : ports) packet.push_back(lbp16::read_hm2(port.registers.command));
-  const auto parts = bus.transact(packet);
+  const auto parts = bus.transact_counted(packet, Resend::IfReadOnly, sent);
   const std::size_t first = counters ? 1 : 0;
   for (std::size_t i = 0; i < ports.size(); ++i) {
     const auto command = static_cast<std::uint32_t>(lbp::read_le(parts[first + i])) & 0xFFFF;
@@ -87,32 +87,34 @@ HostActivity observe_host_activity(Lbp16Transport& bus, std::span<const SserialP
                                    const RunningHostCheck& check) {
   HostActivity activity;
   const auto start = std::chrono::steady_clock::now();
-  const Counters first = *sample(bus, ports, true, activity);
-  const std::uint64_t sent_after_first = bus.stats().packets_sent;
+  std::uint64_t sent_after_first = 0, sent = 0;
+  const Counters first = *sample(bus, ports, true, activity, sent_after_first);
   const unsigned between = std::max(1u, check.command_samples) - 1;
   const auto step = check.window / (between + 1);
   for (unsigned i = 0; i < between; ++i) {
     std::this_thread::sleep_until(start + step * (i + 1));
-    sample(bus, ports, false, activity);
+    sample(bus, ports, false, activity, sent);
   }
   std::this_thread::sleep_until(start + check.window);
-  const Counters last = *sample(bus, ports, true, activity);
+  const Counters last = *sample(bus, ports, true, activity, sent);
   activity.window =
       std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start);
   // Every packet we sent after the first counter read was counted on the way in; every
   // reply from the first one on was counted on the way out.
-  activity.own_packets = static_cast<std::uint32_t>(bus.stats().packets_sent - sent_after_first);
+  activity.own_packets = static_cast<std::uint32_t>(sent - sent_after_first);
   activity.foreign_received = beyond(first.received, last.received, activity.own_packets);
   activity.foreign_sent = beyond(first.sent, last.sent, activity.own_packets);
   activity.last_received = last.received;
-  activity.sent_at_last = bus.stats().packets_sent;
+  activity.sent_at_last = sent;
   return activity;
 }
 
 std::uint32_t foreign_packets_since(Lbp16Transport& bus, const HostActivity& since) {
   const lbp16::Command read = counters_read();
-  const Counters now = counters_of(bus.transact(std::span(&read, 1)).front());
-  const std::uint64_t ours = bus.stats().packets_sent - since.sent_at_last;
+  std::uint64_t sent = 0;
+  const Counters now =
+      counters_of(bus.transact_counted(std::span(&read, 1), Resend::IfReadOnly, sent).front());
+  const std::uint64_t ours = sent - since.sent_at_last;
   return beyond(since.last_received, now.received, static_cast<std::uint32_t>(ours));
 }
 

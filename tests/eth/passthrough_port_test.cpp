@@ -310,7 +310,13 @@ TEST(EthBatching, LinksOfSeveralThreadsShareTheirDoits) {
   std::vector<std::thread> threads;
   const auto batch = dump_like();
   for (std::size_t i = 0; i < links.size(); ++i)
-    threads.emplace_back([&, i] { units[i] = value(links[i]->execute(batch)[1]); });
+    threads.emplace_back([&, i] {
+      try {
+        units[i] = value(links[i]->execute(batch)[1]);
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << e.what();
+      }
+    });
   for (auto& t : threads) t.join();
   EXPECT_EQ(units, (std::vector<std::uint64_t>{0x00012345u, 0x00012346u, 0x00012347u}));
   EXPECT_LT(port->stats().doits, 3 * batch.size())
@@ -353,4 +359,32 @@ TEST(EthReadOnly, LinuxCncsMaxcurrentReadFindsMaxcurrent) {
   test::RunningCard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   EXPECT_EQ(value(link->execute_one(lbp::read(kMaxCurrent, DataSize::Two))), 1000u);
+}
+
+TEST(EthBatching, TwoPortsOfOneCardAtOnceShareOneTransport) {
+  // A fleet over both ports of a 7I92T: over one card transport each port counts the
+  // other's packets as ours; over two UDP clients they would be another host's.
+  ethsim::ServerOptions options;
+  options.card = ethsim::CardKind::I7i92t;
+  options.amplifiers = {{0, 0}, {1, 0}};
+  test::RunningCard card(options);
+  const auto bus = PassthroughPort::card_transport(card.address());
+  const auto port0 = PassthroughPort::open(bus, 0, 0x01);
+  const auto port1 = PassthroughPort::open(bus, 1, 0x01);
+  const auto batch = dump_like();
+  std::vector<std::uint64_t> units(2);
+  std::vector<std::string> errors(2);
+  std::vector<std::thread> threads;
+  for (unsigned p = 0; p < 2; ++p)
+    threads.emplace_back([&, p] {
+      try {
+        auto link = (p == 0 ? port0 : port1)->link(0);
+        for (int i = 0; i < 5; ++i) units[p] = value(link->execute(batch)[1]);
+      } catch (const std::exception& e) {
+        errors[p] = e.what();
+      }
+    });
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(errors, (std::vector<std::string>{"", ""}));
+  EXPECT_EQ(units, (std::vector<std::uint64_t>{0x00012345u, 0x00012346u}));
 }
