@@ -217,12 +217,12 @@ struct ClearOptions {
   unsigned wait_ms = 1000;
 };
 
-std::string why_remaining(const F::ReportLine& line, const Readings& r) {
+std::string why_remaining(const F::ReportLine& line, const Readings& r, const std::string& flags) {
   const CauseNow c = cause_now(line.bit, r);
   if (c.state == CauseNow::Present) return "the cause is still present: " + c.evidence;
   if (c.state == CauseNow::Gone)
     return "set again at once although " + c.evidence +
-           ": the condition is marginal or intermittent; watch it with `i20 watch`";
+           ": the condition is marginal or intermittent; watch it with `i20 " + flags + " watch`";
   if (line.reserved) return "a bit the manual does not define came back: note the value and ask Mesa";
   return "set again at once: the card still detects it, so its cause is present now";
 }
@@ -230,7 +230,7 @@ std::string why_remaining(const F::ReportLine& line, const Readings& r) {
 void print_remaining(const F::Report& remaining, const Readings& r, const std::string& flags) {
   for (const auto& line : remaining.lines) {
     std::cout << "\nRemains: " << bit_label(line) << (line.masked ? " [masked]" : "") << ": " << line.meaning
-              << "\n  why:   " << why_remaining(line, r) << "\n";
+              << "\n  why:   " << why_remaining(line, r, flags) << "\n";
     for (std::size_t i = 0; i < line.checks.size(); ++i)
       std::cout << (i ? "         " : "  check: ") << i + 1 << ". " << line.checks[i] << "\n";
   }
@@ -243,8 +243,8 @@ std::string names_of(const F::Report& report) {
   return out.empty() ? "none" : out;
 }
 
-app::Json clear_json(const ops::ClearResult& res, const F::Report& cleared,
-                     const F::Report& remaining, const Readings& r) {
+app::Json clear_json(const ops::ClearResult& res, const F::Report& cleared, const F::Report& remaining,
+                     const Readings& r, const std::string& flags) {
   auto j = app::Json::object();
   j.set("cleared", r.fault == 0)
       .set("fault_before", res.fault_before)
@@ -259,7 +259,7 @@ app::Json clear_json(const ops::ClearResult& res, const F::Report& cleared,
   auto rem = app::Json::array();
   for (const auto& line : remaining.lines) {
     auto bit = line_json(line, remaining, &r);
-    bit.set("why", why_remaining(line, r));
+    bit.set("why", why_remaining(line, r, flags));
     rem.push(std::move(bit));
   }
   j.set("remaining", std::move(rem)).set("readings", readings_json(r));
@@ -273,7 +273,7 @@ void run_clear(Context& ctx, const ClearOptions& o) {
   const auto cleared = F::fault_report(static_cast<std::uint16_t>(res.fault_before & ~r.fault));
   const auto remaining = F::fault_report(r.fault, r.faultmask);
   if (r.fault != 0) ctx.exit_code = app::kFaultsRemain;
-  if (ctx.options.json) return ctx.print_json(clear_json(res, cleared, remaining, r));
+  if (ctx.options.json) return ctx.print_json(clear_json(res, cleared, remaining, r, ctx.target_flags()));
   const std::string took = "CLEARFAULT acknowledged in " + std::to_string(res.took.count()) + " ms";
   if (res.fault_before == 0 && r.fault == 0) {
     std::cout << "No faults to clear: FAULT 0x0000 (" << took << ")\n"

@@ -18,7 +18,8 @@ const params::Param& fact_required(Card& card, const char* name) {
   if (!p.address || !card.db().address_confirmed(p))
     throw device::SafetyError(std::string(name) + " cannot be read as a fact on " + card.describe() + ": " +
                               card.unconfirmed_reason(p) +
-                              ", and the card's RPC table did not name it; `i20 discover` may find it");
+                              ", and the card's RPC table did not name it; `i20 " + card.endpoint().flags() +
+                              " discover` may find it");
   return p;
 }
 
