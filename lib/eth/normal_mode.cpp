@@ -98,7 +98,10 @@ NormalModeSession::~NormalModeSession() {
 
 std::string NormalModeSession::describe() const {
   std::string s = port_->describe() + " normal mode, ch";
-  for (unsigned ch : channels_of(mask_)) s += " " + std::to_string(ch);
+  for (unsigned ch : channels_of(mask_)) {
+    s += ' ';  // appended apart: GCC 12's -O3 -Wrestrict misfires on `" " + std::to_string(ch)`
+    s += std::to_string(ch);
+  }
   return s;
 }
 

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "faults/fault_table.hpp"
+#include "params/data_file.hpp"
 
 namespace i20::faults {
 namespace {
@@ -229,12 +230,9 @@ YAML::Node parse_yaml(std::string_view yaml, const std::string& source) {
 }  // namespace
 
 FaultTable FaultTable::load_file(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in)
-    throw FaultFileError(path.string() + ": cannot open the fault table (does it exist and is it readable?)");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return load_string(text.str(), path.string());
+  const auto file = params::read_data_file(path, "fault table");
+  if (!file.problem.empty()) throw FaultFileError(path.string() + ": " + file.problem);
+  return load_string(file.text, path.string());
 }
 
 FaultTable FaultTable::load_string(std::string_view yaml, const std::string& source_name) {

@@ -20,8 +20,11 @@ inline std::uint64_t read_le(ByteView bytes) {
   return value;
 }
 
+// `count` bytes of `value`, least significant first; past 8 bytes, zeros (the value
+// zero-extended: shifting a 64-bit value by 64 or more is undefined).
 inline void append_le(Bytes& out, std::uint64_t value, std::size_t count) {
-  for (std::size_t i = 0; i < count; ++i) out.push_back(static_cast<Byte>(value >> (8 * i)));
+  for (std::size_t i = 0; i < count; ++i)
+    out.push_back(i < 8 ? static_cast<Byte>(value >> (8 * i)) : Byte{0});
 }
 
 inline Bytes to_le(std::uint64_t value, std::size_t count) {

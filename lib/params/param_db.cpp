@@ -11,7 +11,9 @@
 #include <sstream>
 
 #include "params/closest.hpp"
+#include "params/data_file.hpp"
 #include "params/text.hpp"
+#include "params/value.hpp"
 
 namespace i20::params {
 namespace {
@@ -42,25 +44,15 @@ class Reader {
     return node.Scalar();
   }
 
-  // Integers in decimal or 0x hexadecimal, optionally negative.
+  // Integers in decimal or 0x hexadecimal, with one optional sign (value.hpp's syntax).
   std::int64_t integer(const YAML::Node& node, const std::string& key) const {
     const std::string s = text(node, key);
-    std::string_view v = s;
-    bool negative = false;
-    if (!v.empty() && (v[0] == '-' || v[0] == '+')) {
-      negative = v[0] == '-';
-      v.remove_prefix(1);
-    }
-    int base = 10;
-    if (v.size() > 2 && v[0] == '0' && (v[1] == 'x' || v[1] == 'X')) {
-      base = 16;
-      v.remove_prefix(2);
-    }
-    std::int64_t value = 0;
-    const auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), value, base);
-    if (ec != std::errc() || ptr != v.data() + v.size() || v.empty())
+    const auto parsed = scan_integer(s, /*hex_suffix=*/false);
+    if (parsed.status == IntegerText::Status::OutOfRange)
+      fail(node, "'" + key + "' is out of range for a 64-bit integer: '" + s + "'");
+    if (parsed.status != IntegerText::Status::Ok)
       fail(node, "'" + key + "' must be an integer, not '" + s + "'");
-    return negative ? -value : value;
+    return parsed.value;
   }
 
   double real(const YAML::Node& node, const std::string& key) const {
@@ -122,7 +114,17 @@ void read_provenance(const Reader& r, const YAML::Node& node, Provenance& out) {
   }
 }
 
+// The bits a value has on the wire: 8, 16 or 32, checked before anything shifts by it.
+unsigned read_width(const Reader& r, const YAML::Node& node) {
+  const auto w = r.integer(node, "width");
+  if (w != 8 && w != 16 && w != 32)
+    r.fail(node, "'width' must be 8, 16 or 32 bits, not " + std::to_string(w));
+  return static_cast<unsigned>(w);
+}
+
+// Every value a `width`-bit field holds; width is 8, 16 or 32 (read_width).
 std::pair<std::int64_t, std::int64_t> width_range(unsigned width, bool is_signed) {
+  if (width == 0 || width > 32) throw ParamFileError("internal: width_range(" + std::to_string(width) + ")");
   if (is_signed) return {-(std::int64_t{1} << (width - 1)), (std::int64_t{1} << (width - 1)) - 1};
   return {0, (std::int64_t{1} << width) - 1};
 }
@@ -152,10 +154,7 @@ void read_fields(const Reader& r, const YAML::Node& node, Param& p) {
         p.address = static_cast<std::uint16_t>(a);
       }
     } else if (key == "width") {
-      const auto w = r.integer(v, key);
-      if (w != 8 && w != 16 && w != 32)
-        r.fail(v, "'width' must be 8, 16 or 32 bits, not " + std::to_string(w));
-      p.width_bits = static_cast<unsigned>(w);
+      p.width_bits = read_width(r, v);
     } else if (key == "signed") {
       p.is_signed = r.boolean(v, key);
     } else if (key == "unit") {
@@ -197,13 +196,9 @@ void read_fields(const Reader& r, const YAML::Node& node, Param& p) {
 }
 
 std::string read_text_file(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in)
-    throw ParamFileError(path.string() +
-                         ": cannot open the parameter file (does it exist and is it readable?)");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  auto file = read_data_file(path, "parameter file");
+  if (!file.problem.empty()) throw ParamFileError(path.string() + ": " + file.problem);
+  return std::move(file.text);
 }
 
 YAML::Node parse_yaml(std::string_view yaml, const std::string& source) {
@@ -342,8 +337,7 @@ void ParamDb::merge(std::string_view yaml, const std::string& source, bool is_ba
     for (const auto& key : kRequiredNewKeys)
       if (!entry[key]) r.fail(entry, "parameter '" + name + "' lacks required key '" + key + "'");
     Param p;
-    const auto [lo, hi] = width_range(static_cast<unsigned>(r.integer(entry["width"], "width")),
-                                      r.boolean(entry["signed"], "signed"));
+    const auto [lo, hi] = width_range(read_width(r, entry["width"]), r.boolean(entry["signed"], "signed"));
     p.min = lo;  // full width unless the entry narrows it
     p.max = hi;
     read_fields(r, entry, p);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -19,13 +20,43 @@ class ValueError : public Error {
 };
 
 // Raw integer: decimal ("32000", "-5") or hexadecimal ("0x7D00", "7D00h").
-// Throws ValueError naming the parameter when the text is not an integer.
+// Throws ValueError naming the parameter when the text is not an integer, or when it is
+// one that no 64-bit value holds ("out of range for NAME (min..max)").
 std::int64_t parse_raw(const Param& param, std::string_view text);
 
 // A raw integer, or an engineering value with the parameter's unit ("320V", "320 V",
-// "7.5A", "750mA", "45.5degC"). A bare number with a fraction is refused: the user must
-// say which they mean. Values finer than the parameter's resolution are refused.
+// "7.5A", "750mA", "45.5degC", "1.5e2V"). A bare number with a fraction is refused: the
+// user must say which they mean. The value must be an exact multiple of the parameter's
+// resolution ("1e-20A" is refused, not rounded to 0). No NaN, infinity, hexadecimal
+// fractions or second signs.
 std::int64_t parse_value(const Param& param, std::string_view text);
+
+// The integer syntax shared by the value parser and the database loader: exactly one
+// optional sign, then decimal digits, "0x" hexadecimal or, when `hex_suffix`, hexadecimal
+// with a trailing 'h' ("7D00h"). Nothing else: no second sign, no sign after the prefix
+// ("0x-10"), no spaces.
+struct IntegerText {
+  enum class Status { Ok, NotInteger, OutOfRange };  // OutOfRange: integer syntax, not in int64
+  Status status = Status::NotInteger;
+  std::int64_t value = 0;
+};
+IntegerText scan_integer(std::string_view text, bool hex_suffix = true);
+
+// A plain decimal number at the start of `text`: one optional sign, digits with at most
+// one '.', an optional exponent ("e-3"). Exactly: value = (-1)^negative * digits * 10^exponent,
+// with `digits` free of leading and trailing zeros (empty for zero). No NaN or infinity,
+// no hexadecimal. `length` is how many characters of `text` it took.
+struct DecimalText {
+  bool negative = false;
+  std::string digits;
+  long exponent = 0;
+  std::size_t length = 0;
+
+  bool is_zero() const { return digits.empty(); }
+  // The nearest double (0 or +-infinity when far outside double's range).
+  double to_double() const;
+};
+std::optional<DecimalText> scan_decimal(std::string_view text);
 
 // Throws ValueError if raw is outside min..max or not one of the allowed values.
 void check_range(const Param& param, std::int64_t raw);

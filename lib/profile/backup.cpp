@@ -38,7 +38,12 @@ std::string slug(const std::string& label) {
 std::pair<File, std::filesystem::path> create_unique(const std::filesystem::path& dir,
                                                      const std::string& stem) {
   for (int n = 1; n < 1000; ++n) {
-    const auto path = dir / (stem + (n == 1 ? "" : "-" + std::to_string(n)) + ".yaml");
+    std::string name = stem;  // appended apart: GCC 12's -O3 -Wrestrict misfires on `"-" + std::to_string(n)`
+    if (n > 1) {
+      name += '-';
+      name += std::to_string(n);
+    }
+    const auto path = dir / (name + ".yaml");
     File f(std::fopen(path.c_str(), "wx"));
     if (f) return {std::move(f), path};
     if (errno != EEXIST)

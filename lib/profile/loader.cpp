@@ -3,10 +3,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cctype>
-#include <fstream>
 #include <set>
-#include <sstream>
 
+#include "params/data_file.hpp"
 #include "params/text.hpp"
 #include "params/value.hpp"
 #include "profile/error.hpp"
@@ -209,13 +208,9 @@ Profile load_profile_string(std::string_view yaml, const std::string& source, co
 }
 
 Profile load_profile_file(const std::filesystem::path& path, const params::ParamDb& db) {
-  std::ifstream in(path);
-  if (!in)
-    throw ProfileError(path.string(), "", "file",
-                       "cannot open the profile (does it exist and is it readable?)");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return load_profile_string(ss.str(), path.string(), db);
+  const auto file = params::read_data_file(path, "profile");
+  if (!file.problem.empty()) throw ProfileError(path.string(), "", "file", file.problem);
+  return load_profile_string(file.text, path.string(), db);
 }
 
 }  // namespace i20::profile

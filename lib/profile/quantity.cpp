@@ -3,11 +3,11 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <utility>
 #include <vector>
 
 #include "params/text.hpp"
+#include "params/value.hpp"
 
 namespace i20::profile {
 namespace {
@@ -52,18 +52,32 @@ std::optional<double> factor_of(Quantity kind, const std::string& unit) {
   return std::nullopt;
 }
 
+constexpr double kSmallest = 1e-9;
+constexpr double kLargest = 1e9;
+
+std::string format_si(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 }  // namespace
 
 std::optional<double> parse_quantity(Quantity kind, std::string_view text, std::string& why) {
   const std::string t = trim(text);
-  const char* begin = t.c_str();
-  char* end = nullptr;
-  const double number = std::strtod(begin, &end);
-  if (end == begin) {
+  // The value parser's number syntax: one sign, a decimal point, an exponent; no NaN,
+  // infinity or hexadecimal fractions, which strtod would take.
+  const auto number = params::scan_decimal(t);
+  if (!number) {
     why = "'" + t + "' is not a number with a unit (e.g. " + example_of(kind) + ")";
     return std::nullopt;
   }
-  const std::string unit = trim(std::string_view(end));
+  const std::string_view rest = std::string_view(t).substr(number->length);
+  if (rest.size() > 1 && rest[0] == ',' && std::isdigit(static_cast<unsigned char>(rest[1]))) {
+    why = "'" + t + "' has a decimal comma; write the fraction with a point (e.g. " + example_of(kind) + ")";
+    return std::nullopt;
+  }
+  const std::string unit = trim(rest);
   if (unit.empty()) {
     why = "'" + t + "' needs a unit (e.g. " + example_of(kind) + ")";
     return std::nullopt;
@@ -75,9 +89,15 @@ std::optional<double> parse_quantity(Quantity kind, std::string_view text, std::
     why = "'" + unit + "' is not a unit for this value (use " + list + ")";
     return std::nullopt;
   }
-  const double value = number * *factor;
-  if (!std::isfinite(value) || value <= 0) {
+  if (number->negative || number->is_zero()) {
     why = "'" + t + "' must be positive";
+    return std::nullopt;
+  }
+  // Far outside anything a motor or supply has: the models downstream would overflow.
+  const double value = number->to_double() * *factor;
+  if (!(value >= kSmallest && value <= kLargest)) {
+    why = "'" + t + "' is out of range for a motor or supply value (" + format_si(kSmallest) + " .. " +
+          format_si(kLargest) + " in " + units_of(kind).front().name + ")";
     return std::nullopt;
   }
   return value;

@@ -14,7 +14,9 @@ enum class Quantity { Current, Resistance, Inductance, Voltage };
 
 // The value in SI units (A, ohm, H, V), or nullopt with `why` set. The unit is required:
 // a bare "6.2" could be H or mH. Accepted: A, mA; ohm, mohm (also the Greek sign);
-// H, mH, uH; V, mV. The value must be positive and finite.
+// H, mH, uH; V, mV. The number is written like a parameter value (one sign, a decimal
+// point, an optional exponent; no NaN or infinity); the value must be positive and within
+// 1e-9 .. 1e9 of the base unit.
 std::optional<double> parse_quantity(Quantity kind, std::string_view text, std::string& why);
 
 // Formatting that parse_quantity reads back: "2.7 A", "6.2 mH", "1.9 ohm", "170 V".

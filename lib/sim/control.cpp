@@ -1,5 +1,7 @@
 #include "sim/control.hpp"
 
+#include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <vector>
@@ -37,7 +39,7 @@ const char* kHelp =
     "                            bushigh busmax module overrun framing, or a bit number)\n"
     "corrupt RATE               probability 0..1 that a reply byte is corrupted\n"
     "drop RATE                  probability 0..1 that a reply is lost\n"
-    "delay MS                   extra latency before each reply\n"
+    "delay MS                   extra latency before each reply, 0..60000\n"
     "reset-after N|off          reset the card right after N more commands\n"
     "clearfault-stuck on|off    CLEARFAULT never returns to 0\n"
     "eeprom-power-loss off|lost|torn   power fails during the next EEPROM write\n"
@@ -59,25 +61,46 @@ std::vector<std::string> words(std::string_view line) {
   throw ControlError(why);
 }
 
+std::string format_limit(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+// Reply delays beyond a minute are no test of a host's timeout, and a duration_cast of
+// 1e300 ms overflows.
+constexpr double kMaxDelayMs = 60000;
+
 void need(const std::vector<std::string>& w, std::size_t count, const char* form) {
   if (w.size() != count) fail(std::string("expected '") + form + "'");
 }
 
+// A finite number: "nan" and "inf" would reach the world's integer conversions.
 double number(const std::string& text, const char* form) {
   try {
     std::size_t used = 0;
     const double v = std::stod(text, &used);
-    if (used == text.size()) return v;
+    if (used == text.size() && std::isfinite(v)) return v;
   } catch (const std::exception&) {
   }
   fail("'" + text + "' is not a number in '" + form + "'");
 }
 
+// A finite number within lo..hi.
+double number_in(const std::string& text, double lo, double hi, const char* form) {
+  const double v = number(text, form);
+  if (v < lo || v > hi)
+    fail(text + " is outside " + format_limit(lo) + ".." + format_limit(hi) + " in '" + form + "'");
+  return v;
+}
+
+// Decimal or 0x hexadecimal, no sign (stoull would wrap "-1" to 2^64-1).
 std::uint64_t integer(const std::string& text, const char* form) {
   try {
     std::size_t used = 0;
+    const bool digits_first = !text.empty() && std::isdigit(static_cast<unsigned char>(text[0]));
     const unsigned long long v = std::stoull(text, &used, 0);
-    if (used == text.size()) return v;
+    if (digits_first && used == text.size()) return v;
   } catch (const std::exception&) {
   }
   fail("'" + text + "' is not a whole number in '" + form + "'");
@@ -163,7 +186,7 @@ std::string injection_command(Virtual8i20& card, const std::vector<std::string>&
   } else if (c == "delay") {
     need(w, 2, "delay MS");
     inj.reply_delay = std::chrono::duration_cast<Duration>(
-        std::chrono::duration<double, std::milli>(number(w[1], "delay MS")));
+        std::chrono::duration<double, std::milli>(number_in(w[1], 0, kMaxDelayMs, "delay MS")));
   } else if (c == "reset-after") {
     need(w, 2, "reset-after N|off");
     inj.reset_after_commands = count_or_off(w[1], "reset-after N|off");

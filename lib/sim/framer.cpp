@@ -24,17 +24,20 @@ void Framer::push(lbp::Byte byte, Clock::time_point t) {
 
 std::optional<Framer::Frame> Framer::next(lbp::ByteView rpc_table) {
   if (config_.mode == FramingMode::Operate) {
-    while (ready_.empty() && !closed_.empty()) {
-      const lbp::Bytes packet = std::move(closed_.front());
-      closed_.pop_front();
-      queued_bytes_ -= packet.size();
-      split_packet(packet, rpc_table);
+    for (;;) {
+      while (ready_.empty() && !closed_.empty()) {
+        const lbp::Bytes packet = std::move(closed_.front());
+        closed_.pop_front();
+        queued_bytes_ -= packet.size();
+        split_packet(packet, rpc_table);
+      }
+      if (ready_.empty()) return std::nullopt;
+      Frame frame = std::move(ready_.front());
+      ready_.pop_front();
+      queued_bytes_ -= frame.command.size() + 1;
+      if (still_fits(frame, rpc_table)) return frame;
+      drop_rest_of_packet(frame);
     }
-    if (ready_.empty()) return std::nullopt;
-    Frame frame = std::move(ready_.front());
-    ready_.pop_front();
-    queued_bytes_ -= frame.command.size() + 1;
-    return frame;
   }
   auto n = splitter_.next(rpc_table);
   switch (n.status) {
@@ -68,6 +71,25 @@ void Framer::split_packet(const lbp::Bytes& packet, lbp::ByteView rpc_table) {
   }
   for (auto& f : frames) queued_bytes_ += f.command.size() + 1;
   ready_ = std::move(frames);
+}
+
+// The packet was split against the RPC table as it was when it arrived; a command before
+// this one may have rewritten the table through RPCMEM. The card parses each command when
+// its turn comes, so an RPC whose stored list now has another length (or no longer
+// decodes) is not the command the bytes were cut for.
+bool Framer::still_fits(const Frame& frame, lbp::ByteView rpc_table) {
+  const auto shape = lbp::shape_of(frame.command.front(), rpc_table);
+  return shape.ok && shape.shape == frame.shape;
+}
+
+void Framer::drop_rest_of_packet(const Frame& frame) {
+  dropped_ += frame.command.size() + 1;
+  for (const auto& f : ready_) {
+    dropped_ += f.command.size() + 1;
+    queued_bytes_ -= f.command.size() + 1;
+  }
+  ready_.clear();
+  timeout_ = true;
 }
 
 void Framer::close_packet() {

@@ -7,7 +7,9 @@
 //
 // Operate mode: timing alone frames. A gap longer than the command timeout ends a
 // packet; a packet that is not a whole number of commands (partial, or garbage) is
-// dropped entirely.
+// dropped entirely. A command whose RPC list an earlier command of the same packet
+// rewrote (RPCMEM) no longer has the length it was cut with: it and the rest of the
+// packet are dropped.
 //
 // The receive buffer is finite: bytes beyond `capacity` are dropped and flagged.
 // Timeout and overflow events are flags the device turns into LBP status bits.
@@ -66,6 +68,8 @@ class Framer {
   bool quiet_since_last_byte(Clock::time_point t) const;
   void close_packet();
   void split_packet(const lbp::Bytes& packet, lbp::ByteView rpc_table);
+  static bool still_fits(const Frame& frame, lbp::ByteView rpc_table);
+  void drop_rest_of_packet(const Frame& frame);
 
   Config config_;
   lbp::CommandSplitter splitter_;  // setup mode

@@ -116,7 +116,14 @@ lbp::Bytes Virtual8i20::data_access(const lbp::DataHeader& h, std::optional<std:
 }
 
 lbp::Bytes Virtual8i20::run_rpc(unsigned number, lbp::ByteView stream, Clock::time_point t) {
-  const lbp::RpcList list = lbp::decode_rpc_list(rpc_table_, number);  // the framer checked it decodes
+  // The framer cut the command against the table as it is now (Framer::still_fits), so
+  // the list decodes and the stream holds its data; a mismatch here is a framer bug, and
+  // executing anyway would read past the command.
+  const lbp::RpcList list = lbp::decode_rpc_list(rpc_table_, number);
+  if (list.stream_bytes != stream.size())
+    throw ProtocolError("internal: RPC " + std::to_string(number) + " framed with " +
+                             std::to_string(stream.size()) + " stream bytes, its list takes " +
+                             std::to_string(list.stream_bytes));
   lbp::Bytes reply;
   std::size_t used = 0;
   for (const auto& step : list.steps) {

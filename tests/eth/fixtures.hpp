@@ -20,7 +20,10 @@ namespace i20::test {
 // A virtual card serving on 127.0.0.1:<ephemeral> for the lifetime of the object.
 class RunningCard {
  public:
-  explicit RunningCard(ethsim::ServerOptions options = {}) : server_(ephemeral(std::move(options))) {
+  // The defaults are built in a named local (loopback()): a temporary ServerOptions as a
+  // default argument makes GCC 12 at -O3 report -Wmaybe-uninitialized, a false positive.
+  RunningCard() : server_(loopback()) { server_.start(); }
+  explicit RunningCard(ethsim::ServerOptions options) : server_(ephemeral(std::move(options))) {
     server_.start();
   }
   eth::HostPort address() const { return server_.address(); }
@@ -36,6 +39,12 @@ class RunningCard {
   }
 
  private:
+  // Default options on an ephemeral loopback port.
+  static ethsim::ServerOptions loopback() {
+    ethsim::ServerOptions o;
+    o.listen = eth::HostPort{.ip = "127.0.0.1", .port = 0};
+    return o;
+  }
   static ethsim::ServerOptions ephemeral(ethsim::ServerOptions o) {
     o.listen = eth::HostPort{.ip = "127.0.0.1", .port = 0};
     return o;

@@ -39,7 +39,10 @@ class EthMesaflash : public ::testing::Test {
   void SetUp() override {
     if (!std::filesystem::exists(kMesaflash)) GTEST_SKIP() << "mesaflash is not installed";
   }
-  std::unique_ptr<ethsim::CardServer> serve(ethsim::ServerOptions options = {}) {
+  // Overloaded rather than defaulted: a default-argument ServerOptions temporary makes
+  // GCC 12 at -O3 report -Wmaybe-uninitialized (a false positive) at every call site.
+  std::unique_ptr<ethsim::CardServer> serve() { return serve(ethsim::ServerOptions()); }
+  std::unique_ptr<ethsim::CardServer> serve(ethsim::ServerOptions options) {
     options.listen = eth::HostPort{.ip = private_loopback(), .port = 27181};
     auto server = std::make_unique<ethsim::CardServer>(options);
     server->start();

@@ -171,6 +171,31 @@ TEST(FaultLoader, MissingFileSaysSo) {
   }
 }
 
+// A fault table is a few KB; a directory or a huge file is refused before parsing.
+TEST(FaultLoader, RefusesDirectoriesAndHugeFilesBeforeParsing) {
+  const auto dir = std::filesystem::temp_directory_path() / "i20-fault-loader-bounds";
+  std::filesystem::create_directories(dir);
+  const auto huge = dir / "faults.yaml";
+  std::ofstream(huge) << "";
+  std::filesystem::resize_file(huge, 2u << 20);
+  try {
+    FaultTable::load_file(huge);
+    FAIL();
+  } catch (const FaultFileError& e) {
+    EXPECT_EQ(
+        std::string(e.what()),
+        huge.string() +
+            ": the fault table is larger than 1048576 bytes, the limit for it (a real one is a few KB)");
+  }
+  try {
+    FaultTable::load_file(dir);
+    FAIL();
+  } catch (const FaultFileError& e) {
+    EXPECT_EQ(std::string(e.what()), dir.string() + ": is a directory, not a fault table");
+  }
+  std::filesystem::remove_all(dir);
+}
+
 TEST(FaultBuiltin, CompiledInCopyEqualsParamsFaultsYaml) {
   ASSERT_NE(std::getenv("I20_SOURCE_DIR"), nullptr) << "run under ctest";
   const auto file = FaultTable::load_file(source_file());

@@ -84,3 +84,13 @@ TEST(FaultValue, HexDigitsWithoutPrefixAskForOne) {
   EXPECT_TRUE(contains(msg, "looks like hex")) << msg;
   EXPECT_TRUE(contains(msg, "0x01AB")) << msg;
 }
+
+// The value parser's sign rule holds here too (no sign at all: registers are unsigned),
+// and no spelling sneaks a sign or a second prefix past the digit check.
+TEST(FaultValue, RejectsSignsInsideTheNumber) {
+  for (const char* text :
+       {"0x-10", "0x+10", "--5", "+-5", "+5", "0b-1", "-0x10", "0x0x10", "10-h", "nan", "inf"})
+    EXPECT_FALSE(error_of(text).empty()) << text << " was accepted";
+  EXPECT_TRUE(contains(error_of("--5"), "negative"));
+  EXPECT_TRUE(contains(error_of("0x-10"), "not a number"));
+}

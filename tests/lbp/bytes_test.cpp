@@ -31,3 +31,11 @@ TEST(Bytes, HexValueIsZeroPaddedUpperCaseAndKeepsTheLowDigits) {
   EXPECT_EQ(hex_value(0x5A, 2), "0x5A");
   EXPECT_EQ(hex_value(0x1FFFF, 4), "0xFFFF");  // wider values show their low word
 }
+
+// Found by the sanitizer suite: a 16-byte LBP16 read answered with append_le(value, 16)
+// shifted a 64-bit value by 64 (undefined). Past 8 bytes the value is zero-extended.
+TEST(Bytes, AppendLeZeroExtendsPastEightBytes) {
+  i20::lbp::Bytes out;
+  i20::lbp::append_le(out, 0x0807060504030201ull, 12);
+  EXPECT_EQ(out, (i20::lbp::Bytes{1, 2, 3, 4, 5, 6, 7, 8, 0, 0, 0, 0}));
+}

@@ -222,6 +222,67 @@ TEST(ProfileLoader, FileErrorsNameTheFile) {
   std::filesystem::remove(path);
 }
 
+// Fuzz findings (fuzz/regressions/profile_loader): "nan A" became NaN converted to an
+// int64; "1e-20 A" rounded to 0 A. Both are value errors at their line.
+TEST(ProfileLoader, RejectsValuesThatAreNotExactNumbers) {
+  for (const char* value : {"nan A", "NaN A", "inf A", "-inf A", "1e-20 A", "0x1p3 A", "--10 A", "7,5 A"}) {
+    const auto e = load_error(with_params(std::string("  NVMAXCURRENT: ") + value + "\n"));
+    EXPECT_EQ(e.rule(), "value") << value << ": " << e.what();
+    EXPECT_EQ(e.where(), "test.yaml:3") << value;
+  }
+  EXPECT_EQ(load_error(with_params("  NVMAXCURRENT: {raw: --1000}\n")).rule(), "value");
+  EXPECT_EQ(load_error(with_params("  NVMAXCURRENT: {raw: 18446744073709551616}\n")).reason(),
+            "18446744073709551616 is out of range for NVMAXCURRENT (0..3000 = 0.00 A .. 30.00 A)");
+}
+
+TEST(ProfileLoader, RejectsQuantitiesThatAreNotPlainPositiveNumbers) {
+  for (const char* q : {"nan ohm", "inf ohm", "0x1p3 ohm", "1e300 ohm", "1e-300 ohm", "--2 ohm", "0 ohm"}) {
+    const auto e =
+        load_error(std::string("name: x\nmotor:\n  phase_resistance: ") + q + "\nparameters:\n  NVKQP: 50\n");
+    EXPECT_EQ(e.rule(), "unit") << q << ": " << e.what();
+    EXPECT_EQ(e.where(), "test.yaml:3") << q;
+  }
+  EXPECT_NE(load_error("name: x\nmotor:\n  phase_resistance: 1,9 ohm\nparameters:\n  NVKQP: 50\n")
+                .reason()
+                .find("decimal comma"),
+            std::string::npos);
+  EXPECT_NE(load_error("name: x\nmotor:\n  phase_resistance: 1e300 ohm\nparameters:\n  NVKQP: 50\n")
+                .reason()
+                .find("out of range"),
+            std::string::npos);
+}
+
+// A profile is a few KB; a wrong file is refused before anything reads it into memory.
+TEST(ProfileLoader, RefusesHugeFilesAndDirectoriesBeforeParsing) {
+  const auto dir = std::filesystem::temp_directory_path() / "i20-profile-loader-bounds";
+  std::filesystem::create_directories(dir);
+  const auto huge = dir / "huge.yaml";
+  std::ofstream(huge) << "";
+  std::filesystem::resize_file(huge, 126u << 20);  // sparse: nothing on disk
+  try {
+    load_profile_file(huge, db());
+    FAIL() << "a 126 MB profile was accepted";
+  } catch (const ProfileError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              huge.string() +
+                  ": the profile is larger than 1048576 bytes, the limit for it (a real one "
+                  "is a few KB) [file]");
+  }
+  try {
+    load_profile_file(dir, db());
+    FAIL() << "a directory was accepted";
+  } catch (const ProfileError& e) {
+    EXPECT_EQ(std::string(e.what()), dir.string() + ": is a directory, not a profile [file]");
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ProfileLoader, DeepNestingIsOneLineOfError) {
+  const auto e = load_error("name: x\nparameters: " + std::string(5000, '[') + std::string(5000, ']') + "\n");
+  EXPECT_EQ(e.rule(), "yaml");
+  EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+}
+
 TEST(ProfileWriter, RoundTripsThroughTheLoader) {
   Profile p = load(R"(name: "tricky \"name\": with colon"
 description: one line

@@ -102,5 +102,34 @@ TEST(SimControl, MistakesSayWhatIsExpected) {
   EXPECT_NE(error_of("get NOSUCH").find("NOSUCH"), std::string::npos);
 }
 
+// Fuzz findings (fuzz/regressions/sim_control): "temp nan" reached a uint16 conversion
+// (std::clamp lets NaN through) and "delay 1e300" overflowed duration_cast. Numbers must
+// be finite, delays within a minute, counts unsigned.
+TEST(SimControl, RefusesNumbersThatAreNotFiniteOrInRange) {
+  Bench b;
+  const auto refused = [&](const char* line) {
+    try {
+      apply_control(b.card, line, b.t);
+    } catch (const ControlError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  for (const char* line :
+       {"temp nan", "temp NAN", "busv inf", "busv -inf", "noise busv nan", "corrupt nan", "drop nan"})
+    EXPECT_NE(refused(line).find("not a number"), std::string::npos) << line << ": " << refused(line);
+  EXPECT_NE(refused("delay 1e300").find("outside 0..60000"), std::string::npos) << refused("delay 1e300");
+  EXPECT_NE(refused("delay -1").find("outside 0..60000"), std::string::npos);
+  EXPECT_NE(refused("reset-after -1").find("not a whole number"), std::string::npos) << "stoull wraps -1";
+  EXPECT_NE(refused("set MAXCURRENT -5").find("not a whole number"), std::string::npos);
+  EXPECT_EQ(b.card.world().settings().temperature_c, 35.0) << "nothing refused changed the world";
+  EXPECT_EQ(b.card.injection().reply_delay, Clock::duration::zero());
+  EXPECT_EQ(apply_control(b.card, "delay 60000", b.t), "ok");
+  EXPECT_EQ(b.card.injection().reply_delay, std::chrono::milliseconds(60000));
+  apply_control(b.card, "delay 0", b.t);
+  EXPECT_EQ(apply_control(b.card, "temp -20.5", b.t), "ok") << "negative temperatures are fine";
+  EXPECT_EQ(b.read("TEMPERATURE"), 0u) << "clamped at the register's 0";
+}
+
 }  // namespace
 }  // namespace i20::sim::test

@@ -147,5 +147,39 @@ TEST_F(SimOperate, AGapSplitsPackets) {
   EXPECT_GE(b.card.framer_dropped_bytes(), 4u);
 }
 
+// Fuzz finding (fuzz/regressions/sim_8i20/rpcmem-rewrites-rpc-in-same-packet): one
+// packet enables RPCMEM, rewrites RPC 6 (slot 0x30) into "write 2 stream bytes at 0",
+// then invokes RPC 6 with no stream bytes. The packet was cut against the old (empty)
+// list; running the new one read past the end of the command. The card parses each
+// command when its turn comes (manual "FRAMING": a command's length follows from its
+// header and, for an RPC, the stored list), so RPC 6 no longer fits the bytes it was cut
+// with: it and the rest of the packet are dropped, as a packet that is not a whole number
+// of commands is.
+TEST_F(SimOperate, AnRpcRewrittenEarlierInItsPacketIsNotRunWithTheOldLength) {
+  const lbp::Bytes packet = lbp::from_hex("EA 01 CC 65 30 00 65 00 2E 86 51");
+  ASSERT_EQ(packet, cat({framed("EA 01"), framed("65 30 00 65 00"), framed("86")})) << "the CRCs are right";
+  b.raw(packet);
+  EXPECT_EQ(b.wait(kGap), cat({reply(""), reply("")}))
+      << "RPCMEM on and the table write are answered, RPC 6 is not";
+  EXPECT_EQ(b.card.rpc_table()[0x30], 0x65) << "the table write itself took effect";
+  EXPECT_EQ(b.card.rpc_table()[0x00], 0x65) << "RPC 6's new list (write at 0) did not run";
+  EXPECT_GE(b.card.framer_dropped_bytes(), 2u);
+  b.send("C1");
+  EXPECT_TRUE(b.wait(kGap).front() & lbp::local::kStatusCommandTimeout) << "flagged like a framing error";
+}
+
+TEST_F(SimOperate, AnRpcRewrittenInAnEarlierPacketRunsItsNewList) {
+  // RPC 6 := read 2 bytes at STATUS (45 addr), terminator.
+  const std::uint16_t status = b.address_of("STATUS");
+  const std::string status_hex =
+      lbp::to_hex(lbp::Bytes{static_cast<lbp::Byte>(status), static_cast<lbp::Byte>(status >> 8)});
+  b.raw(cat({framed("EA 01"), framed("66 30 00 45 " + status_hex + " 00"), framed("EA 00")}));
+  EXPECT_EQ(b.wait(kGap), cat({reply(""), reply(""), reply("")}));
+  b.send("86");
+  const lbp::Bytes answer = b.wait(kGap);
+  ASSERT_EQ(answer.size(), 3u);
+  EXPECT_EQ(lbp::read_le(lbp::ByteView(answer).first(2)), b.card.amplifier().status());
+}
+
 }  // namespace
 }  // namespace i20::sim::test
