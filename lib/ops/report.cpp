@@ -1,5 +1,7 @@
 #include "ops/report.hpp"
 
+#include <algorithm>
+
 #include "link/pipelined_link.hpp"
 #include "profile/save.hpp"
 #include "profile/timestamp.hpp"
@@ -15,7 +17,8 @@ ServiceReport gather_report(Card& card, std::chrono::system_clock::time_point wh
   for (const auto& v : r.values) {
     const auto& p = *v.param;
     if (!p.is_nv() || p.twin.empty() || !v.fact()) continue;
-    const auto twin = std::ranges::find_if(r.values, [&](const Reading& w) { return w.param->name == p.twin; });
+    const auto twin =
+        std::find_if(r.values.begin(), r.values.end(), [&](const Reading& w) { return w.param->name == p.twin; });
     if (twin != r.values.end() && twin->fact() && *twin->raw != *v.raw) r.not_live.push_back(p.name);
   }
   try {
