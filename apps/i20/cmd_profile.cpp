@@ -10,6 +10,7 @@
 
 #include "amp_card_access.hpp"
 #include "apply_run.hpp"
+#include "cmd_profile_export.hpp"
 #include "cmd_tune.hpp"
 #include "context.hpp"
 #include "fleet.hpp"
@@ -19,6 +20,7 @@
 #include "profile/save.hpp"
 #include "profile/validate.hpp"
 #include "profile/writer.hpp"
+#include "profile_lookup.hpp"
 #include "profile_render.hpp"
 #include "target_spec.hpp"
 
@@ -387,7 +389,7 @@ void register_validate(CLI::App& profile, Context& ctx) {
       "Check profiles against the parameter database and the manual's cross-parameter rules; with a card "
       "(--target or --port/--sim) rules use the card's values for what the profile does not set. Exit 2 if "
       "any profile has errors");
-  cmd->add_option("FILE", o->files, "Profile files (YAML)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("FILE", o->files, "Profile files (YAML), or names of shipped profiles")->required()->transform(profile_file());
   add_target_option(cmd, o->targets, false);
   cmd->add_flag("--force", o->force, "Guarded parameters (NVBAUDRATE) are a warning, not an error");
   cmd->callback([&ctx, o] { run_validate(ctx, *o); });
@@ -396,7 +398,7 @@ void register_validate(CLI::App& profile, Context& ctx) {
 void register_diff(CLI::App& profile, Context& ctx) {
   auto o = std::make_shared<DiffOptions>();
   auto* cmd = profile.add_subcommand("diff", "The card against a profile, parameter by parameter");
-  cmd->add_option("FILE", o->file, "Profile file (YAML)")->required();
+  cmd->add_option("FILE", o->file, "Profile file (YAML), or the name of a shipped profile")->required()->transform(profile_file());
   add_target_option(cmd, o->targets, false);
   cmd->callback([&ctx, o] { run_diff(ctx, *o); });
 }
@@ -408,7 +410,7 @@ void register_apply(CLI::App& profile, Context& ctx) {
       "Validate against the card, back up its current values, write only what differs in a safe order, read "
       "every value back; on any failure restore the backup. Exit 0 applied and verified or nothing to do, 2 "
       "invalid profile, 3 refused by a safety rule, 4 rolled back (or rollback failed), 1 card not reached");
-  cmd->add_option("FILE", o->file, "Profile file (YAML)")->required();
+  cmd->add_option("FILE", o->file, "Profile file (YAML), or the name of a shipped profile")->required()->transform(profile_file());
   add_target_option(cmd, o->targets, true);
   cmd->add_flag("--dry-run,-n", o->dry_run, "Read the card and print the plan; write nothing");
   cmd->add_option("--backup-dir", o->backup_dir, "Where the backup of the card's values goes (default: .)");
@@ -449,6 +451,7 @@ void register_profile_commands(CLI::App& app, Context& ctx) {
   register_diff(*profile, ctx);
   register_apply(*profile, ctx);
   register_save(*profile, ctx);
+  register_profile_export(*profile, ctx);
   register_tune_command(app, ctx);
 }
 

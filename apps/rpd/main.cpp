@@ -9,6 +9,7 @@
 #include "legacy_env.hpp"
 #include "params/value.hpp"
 #include "session.hpp"
+#include "version/build_info.hpp"
 
 using namespace i20;
 
@@ -18,6 +19,7 @@ int main(int argc, char** argv) {
       "Prints the raw value in decimal, or in hexadecimal when H follows the name.\n"
       "The port comes from COMPORT (and BAUDRATE, PROTOCOL=LBP) like RPD, or --port.\n"
       "Examples:\n  COMPORT=/dev/ttyUSB0 rpd BUSV\n  rpd --sim FAULT H"};
+  cli.set_version_flag("--version", "rpd " + std::string(build::kVersion), "Print the version and exit");
   app::GlobalOptions options;
   std::string name, hex;
   cli.add_option("NAME", name, "Parameter name, e.g. BUSV, NVMAXCURRENT, FAULT")->required();

@@ -9,6 +9,7 @@
 #include "legacy_env.hpp"
 #include "params/value.hpp"
 #include "session.hpp"
+#include "version/build_info.hpp"
 
 using namespace i20;
 
@@ -36,6 +37,7 @@ int main(int argc, char** argv) {
       "The port comes from COMPORT (and BAUDRATE, PROTOCOL=LBP) like WPD, or --port.\n"
       "Examples:\n  wpd NVMAXCURRENT 2500     (25 A)\n  wpd NVBRAKEONV 19000      (190 V)\n"
       "  wpd --sim BRAKEONV 30000  (300 V, live)"};
+  cli.set_version_flag("--version", "wpd " + std::string(build::kVersion), "Print the version and exit");
   app::GlobalOptions options;
   device::WriteOptions write;
   std::string name, value_text;
