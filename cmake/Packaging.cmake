@@ -8,6 +8,7 @@ set(CPACK_PACKAGE_NAME i20tools)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGE_VENDOR "i20tools")
 set(CPACK_PACKAGE_CONTACT "i20tools maintainers <i20tools@example.invalid>")
+# The first line of the Debian description; CPACK_PACKAGE_DESCRIPTION is the rest.
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "set up Mesa 8I20 servo amplifiers (LBP over RS-422 or Ethernet)")
 set(CPACK_PACKAGE_DESCRIPTION
     "i20tools reads and writes the working and EEPROM parameters of Mesa 8I20 servo\n"
@@ -30,6 +31,5 @@ set(CPACK_DEBIAN_PACKAGE_HOMEPAGE "https://example.invalid/i20tools")
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # The completion and man pages are only useful with these; neither is required.
 set(CPACK_DEBIAN_PACKAGE_SUGGESTS "bash-completion, mesaflash, linuxcnc-uspace")
-set(CPACK_DEBIAN_PACKAGE_DESCRIPTION "${CPACK_PACKAGE_DESCRIPTION_SUMMARY}\n${CPACK_PACKAGE_DESCRIPTION}")
 
 include(CPack)

@@ -96,7 +96,8 @@ NormalModeSession::~NormalModeSession() {
 
 std::string NormalModeSession::describe() const {
   std::string s = port_->describe() + " normal mode, ch";
-  for (unsigned ch : channels_of(mask_)) s += " " + std::to_string(ch);
+  // Appended, not " " + std::to_string(): GCC 12's -Wrestrict misfires on that in Release.
+  for (unsigned ch : channels_of(mask_)) s.append(" ").append(std::to_string(ch));
   return s;
 }
 

@@ -68,8 +68,9 @@ const BitInfo& FaultTable::get(Register reg, std::string_view key) const {
   if (const auto bit = bit_number(key)) {
     message = reg_name + " bit " + std::to_string(*bit) + " is reserved: the 8I20 manual does not define it";
   } else if (const BitInfo* other = find(key)) {
-    message = "'" + std::string(key) + "' is a " + std::string(to_string(other->reg)) + " bit, not a " +
-              reg_name + " bit";
+    // Appended piece by piece: GCC 12's -Wrestrict misfires on "'" + std::string(...) in Release.
+    message.append("'").append(key).append("' is a ").append(to_string(other->reg));
+    message.append(" bit, not a ").append(reg_name).append(" bit");
   } else {
     message = "unknown " + lower(reg_name) + " bit '" + std::string(key) + "'";
   }

@@ -40,7 +40,10 @@ std::optional<std::uint64_t> digits(std::string_view s, int base) {
 
 std::string quoted(std::string_view s) {
   constexpr std::size_t kShown = 40;
-  return "'" + std::string(s.substr(0, kShown)) + (s.size() > kShown ? "...'" : "'");
+  // Appended, not "'" + std::string(...): GCC 12's -Wrestrict misfires on that in Release.
+  std::string text = "'";
+  text.append(s.substr(0, kShown)).append(s.size() > kShown ? "...'" : "'");
+  return text;
 }
 
 [[noreturn]] void reject(std::string_view what, const std::string& why) {

@@ -36,7 +36,9 @@ std::string slug(const std::string& label) {
 std::pair<File, std::filesystem::path> create_unique(const std::filesystem::path& dir,
                                                      const std::string& stem) {
   for (int n = 1; n < 1000; ++n) {
-    const auto path = dir / (stem + (n == 1 ? "" : "-" + std::to_string(n)) + ".yaml");
+    // No "-" + std::to_string(n): GCC 12's -Wrestrict misfires on it in Release.
+    const std::string suffix = n == 1 ? std::string() : std::string("-").append(std::to_string(n));
+    const auto path = dir / (stem + suffix + ".yaml");
     File f(std::fopen(path.c_str(), "wx"));
     if (f) return {std::move(f), path};
     if (errno != EEXIST)
