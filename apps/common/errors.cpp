@@ -4,16 +4,13 @@
 
 #include <iostream>
 
-#include "device/errors.hpp"
-#include "link/link.hpp"
-#include "params/param_db.hpp"
-#include "params/value.hpp"
+#include "lbp/error.hpp"
 
 namespace i20::app {
 namespace {
 
-int print(const char* program, const std::string& kind, const std::string& message, int code) {
-  std::cerr << program << ": " << kind << ": " << message << "\n";
+int print(const char* program, const std::string& label, const std::string& message, int code) {
+  std::cerr << program << ": " << label << ": " << message << "\n";
   return code;
 }
 
@@ -22,30 +19,15 @@ int print(const char* program, const std::string& kind, const std::string& messa
 int report_current_exception(const char* program) {
   try {
     throw;
-  } catch (const device::Cancelled& e) {
-    return print(program, "interrupted", e.what(), kInterrupted);
-  } catch (const device::SafetyError& e) {
-    return print(program, "refused", e.what(), kRefused);
-  } catch (const device::VerifyError& e) {
-    return print(program, "verify failed", e.what(), kCardState);
-  } catch (const device::CardStateError& e) {
-    return print(program, "card state", e.what(), kCardState);
-  } catch (const params::ParamFileError& e) {
-    return print(program, "error", e.what(), kBadInput);
-  } catch (const params::UnknownParameter& e) {
-    return print(program, "error", e.what(), kBadInput);
-  } catch (const params::ValueError& e) {
-    return print(program, "error", std::string(e.what()) + "; nothing was written", kBadInput);
-  } catch (const UsageError& e) {
-    return print(program, "error", e.what(), kBadInput);
-  } catch (const link::LinkError& e) {
-    return print(program, "error", e.what(), kFailure);
   } catch (const Error& e) {
-    return print(program, "error", e.what(), kFailure);
+    return print(program, ops::error_label(e.kind()), e.what(), ops::exit_code(e.kind()));
   } catch (const YAML::Exception& e) {
     return print(program, "error", std::string("YAML: ") + e.what(), kBadInput);
   } catch (const std::exception& e) {
-    return print(program, "error", e.what(), kFailure);
+    // Not one of the toolkit's own errors: a defect, at a point nobody planned for, so
+    // nothing can be claimed about the card. Say so rather than guess.
+    return print(program, "internal error", std::string(e.what()) + " (a defect: please report it; the card's "
+                 "state is not known, check it with `i20 dump`)", kCardState);
   }
 }
 

@@ -1,22 +1,23 @@
-// Exit codes and the one-line error report every app prints.
+// The one-line error report every app prints, and the exit codes (lib/ops/outcome.hpp owns
+// the map; these names are the apps' spelling of it).
 #pragma once
 
-#include <exception>
+#include "ops/outcome.hpp"
 
 namespace i20::app {
 
 enum ExitCode : int {
-  kOk = 0,
-  kFailure = 1,       // link or card failure (timeout, CRC, card error)
-  kBadInput = 2,      // bad arguments, files or values: nothing was sent
-  kRefused = 3,       // a safety rule refused the write: nothing was sent
-  kCardState = 4,     // verify failed or the card may be left in a special mode
-  kFaultsRemain = 5,  // clear-faults: faults could not be cleared
-  kInterrupted = 130,
+  kOk = ops::kExitOk,
+  kFailure = ops::kExitFailed,              // failed before anything was written (card not reached)
+  kBadInput = ops::kExitBadInput,           // bad arguments, files or values: nothing was sent
+  kRefused = ops::kExitRefused,             // a safety rule refused: nothing was written
+  kCardState = ops::kExitUncertain,         // state uncertain or rolled back: cells named
+  kFaultsRemain = ops::kExitFaultsRemain,   // clear-faults: faults could not be cleared
+  kInterrupted = ops::kExitInterrupted,
 };
 
-// Prints "PROGRAM: error: MESSAGE" (one line) to stderr and returns the exit code for
-// the exception. Call from a catch (...) block.
+// Prints "PROGRAM: LABEL: MESSAGE" (one line) to stderr and returns the exit code for the
+// exception. Call from a catch (...) block.
 int report_current_exception(const char* program);
 
 }  // namespace i20::app

@@ -23,27 +23,30 @@ std::string trimmed_upper(std::string s) {
 
 }  // namespace
 
-void apply_legacy_environment(GlobalOptions& o) {
+void apply_legacy_environment(GlobalOptions& o, bool require_port) {
   const auto protocol = trimmed_upper(env("PROTOCOL"));
   if (!protocol.empty() && protocol != "LBP")
     throw UsageError("PROTOCOL is '" + env("PROTOCOL") + "' but the 8I20 speaks LBP: set PROTOCOL=LBP");
-  const bool target_given = o.sim || !o.eth.empty() || !o.port.empty();
-  if (target_given) return;
-  o.port = env("COMPORT");
-  if (o.port.empty())
+  if (o.has_target()) return;
+  o.target.port = env("COMPORT");
+  if (o.target.port.empty()) {
+    if (!require_port) return;
     throw UsageError(
-        "no port: set COMPORT (e.g. export COMPORT=/dev/ttyUSB0; `i20 ports` lists them) or pass --port, or "
-        "--sim "
+        "no port: set COMPORT (e.g. export COMPORT=/dev/ttyUSB0; `i20 ports` lists them) or pass --port, or --sim "
         "to try the built-in simulator");
+  }
   if (const auto baud = env("BAUDRATE"); !baud.empty()) {
+    std::size_t used = 0;
+    unsigned long rate = 0;
     try {
-      std::size_t used = 0;
-      const unsigned long rate = std::stoul(baud, &used);
-      if (used != baud.size() || rate == 0) throw std::invalid_argument(baud);
-      o.baud = static_cast<unsigned>(rate);
+      rate = std::stoul(baud, &used);
     } catch (const std::exception&) {
-      throw UsageError("BAUDRATE is '" + baud + "', not a number: setup mode needs BAUDRATE=115200");
+      used = 0;
     }
+    if (used != baud.size() || baud.find_first_not_of("0123456789") != std::string::npos || rate == 0 ||
+        rate > 12000000)
+      throw UsageError("BAUDRATE is '" + baud + "', not a baud rate: setup mode needs BAUDRATE=115200");
+    o.link.baud = static_cast<unsigned>(rate);
   }
 }
 

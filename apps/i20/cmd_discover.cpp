@@ -5,12 +5,11 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 
 #include "context.hpp"
-#include "device/discover.hpp"
+#include "ops/discover.hpp"
 #include "lbp/bytes.hpp"
 
 namespace i20::cli {
@@ -21,6 +20,7 @@ struct DiscoverOptions {
   std::string range = "0x0800-0x27FF";
   bool no_reset = false;
   bool yes = false;
+  bool overwrite = false;
 };
 
 std::pair<std::uint16_t, std::uint32_t> parse_range(const std::string& text) {
@@ -76,12 +76,15 @@ app::Json report_json(const device::DiscoveryReport& r, const std::string& file)
 }
 
 void run_discover(Context& ctx, const DiscoverOptions& o) {
-  device::DiscoveryOptions options;
-  std::tie(options.scan_begin, options.scan_end) = parse_range(o.range);
-  options.reset_first = !o.no_reset;
-  auto& session = ctx.session();
-  if (options.reset_first && !o.yes &&
-      !ctx.confirm("Discovery resets the 8I20 on " + session.link().describe() +
+  ops::DiscoverOptions options;
+  std::tie(options.scan.scan_begin, options.scan.scan_end) = parse_range(o.range);
+  options.scan.reset_first = !o.no_reset;
+  options.output = o.out;
+  options.overwrite = o.overwrite;
+  options.generated_at = now_text();
+  auto& card = ctx.card();
+  if (options.scan.reset_first && !o.yes &&
+      !ctx.confirm("Discovery resets the 8I20 on " + card.endpoint().text +
                    " (so working values equal NV values), then only reads. Go on?")) {
     std::cerr << "i20: discover not confirmed; nothing was sent (pass --yes, or --no-reset right after a "
                  "power-up)\n";
@@ -89,21 +92,18 @@ void run_discover(Context& ctx, const DiscoverOptions& o) {
     return;
   }
   if (isatty(STDERR_FILENO))
-    options.progress = [](std::size_t done, std::size_t total) {
-      std::cerr << "\rscanning RAM: " << (100 * done / total) << "%" << (done == total ? "\n" : "")
-                << std::flush;
+    options.scan.progress = [](std::size_t done, std::size_t total) {
+      std::cerr << "\rscanning RAM: " << (100 * done / total) << "%" << (done == total ? "\n" : "") << std::flush;
     };
-  const auto report = device::discover(session.amp(), options);
-  const std::string file =
-      o.out.empty() ? "i20-map-" + lbp::hex_value(report.swrevision, 4) + ".yaml" : o.out;
-  std::ofstream(file) << report.overlay_yaml(now_text());
+  const auto result = ops::discover(card, ctx.session().db(), options);
+  const std::string file = result.written.string();
   if (ctx.options.json) {
-    ctx.print_json(report_json(report, file));
+    ctx.print_json(report_json(result.report, file));
     return;
   }
-  print_report(report);
-  std::cout << "overlay written to " << file << ": use it with `i20 --params " << file
-            << " ...` or copy it to ~/.config/i20/params.yaml\n";
+  print_report(result.report);
+  std::cout << "overlay written to " << file << " (loaded back and accepted): use it with `i20 "
+            << ctx.target_flags() << " --params " << file << " ...` or copy it to ~/.config/i20/params.yaml\n";
 }
 
 }  // namespace
@@ -122,6 +122,7 @@ void register_discover_command(CLI::App& app, Context& ctx) {
   cmd->add_flag("--no-reset", o->no_reset,
                 "Do not reset first (only right after a power-up with no changes)");
   cmd->add_flag("--yes,-y", o->yes, "Do not ask before the reset");
+  cmd->add_flag("--overwrite", o->overwrite, "Replace the overlay file if it exists");
   cmd->callback([&ctx, o] { run_discover(ctx, *o); });
 }
 

@@ -16,7 +16,9 @@
 #include "faults/register_value.hpp"
 #include "faults_render.hpp"
 #include "lbp/bytes.hpp"
+#include "change_render.hpp"
 #include "live_source.hpp"
+#include "ops/faults.hpp"
 
 namespace i20::cli {
 namespace {
@@ -55,22 +57,22 @@ std::string readings_line(const Readings& r) {
 }
 
 // ------------------------------------------------------------------ faults (live)
-void print_next_step(const F::Report& fault) {
+void print_next_step(const F::Report& fault, const std::string& flags) {
   if (fault.value == 0) {
     std::cout << "\nNo faults latched.\n";
     return;
   }
-  std::cout << "\nNext: fix the causes above, then run `i20 clear-faults` (it reports anything that "
-               "cannot clear yet).\n";
+  std::cout << "\nNext: fix the causes above, then run `i20 " << flags
+            << " clear-faults` (it reports anything that cannot clear yet).\n";
 }
 
+// Register reads on every transport (Ethernet included: the setup-mode passthrough), so a
+// latched fault is reported as it is; SSLBP's normal start would clear it.
 void run_faults(Context& ctx) {
-  // Ethernet targets: SSLBP normal mode, which needs no RAM address.
-  const auto source = make_live_source(ctx);
+  const auto source = make_live_source(ctx, LiveMode::Registers);
   const Readings r = source->read();
   const auto fault = F::fault_report(r.fault, r.faultmask);
   const auto status = F::status_report(r.status);
-  warn_if_unconfirmed(r);
   if (ctx.options.json) {
     auto j = app::Json::object();
     j.set("source", "card").set("target", source->describe()).set("method", source->method());
@@ -85,7 +87,7 @@ void run_faults(Context& ctx) {
   print_fault_report(std::cout, fault, options);
   std::cout << "\n";
   print_status_report(std::cout, status);
-  print_next_step(fault);
+  print_next_step(fault, ctx.target_flags());
 }
 
 // ------------------------------------------------------------------ faults decode
@@ -125,7 +127,7 @@ struct MaskOptions {
   device::WriteOptions write;
 };
 
-void print_mask_state(std::uint16_t faultmask, std::uint16_t fault) {
+void print_mask_state(std::uint16_t faultmask, std::uint16_t fault, const std::string& flags) {
   const auto& table = F::FaultTable::builtin();
   std::cout << "FAULTMASK " << lbp::hex_value(faultmask, 4) << ": ";
   const auto masked_bits = static_cast<std::uint16_t>(~faultmask & table.maskable_bits());
@@ -135,14 +137,16 @@ void print_mask_state(std::uint16_t faultmask, std::uint16_t fault) {
   std::cout << "\n";
   for (const auto& b : table.bits(F::Register::Fault))
     if (b.maskable)
-      std::cout << "  maskable: " << b.slug << " (" << b.name << ", bit " << b.bit << "): `i20 faults mask "
-                << b.slug << " on|off`\n";
+      std::cout << "  maskable: " << b.slug << " (" << b.name << ", bit " << b.bit << "): `i20 " << flags
+                << " faults mask " << b.slug << " on|off`\n";
   std::cout << fault_output_text(F::fault_report(fault, faultmask)) << "\n";
 }
 
 void run_mask_show(Context& ctx) {
-  const Readings r = read_readings(ctx.session().amp());
-  if (!r.faultmask) throw UsageError("the parameter database has no address for FAULTMASK");
+  const Readings r = ops::read_fault_registers(ctx.card());
+  if (!r.faultmask)
+    throw device::SafetyError("FAULTMASK cannot be read as a fact on " + ctx.card().describe() + ": " +
+                              ctx.card().unconfirmed_reason(ctx.card().db().get("FAULTMASK")));
   if (ctx.options.json) {
     auto j = app::Json::object();
     j.set("faultmask", *r.faultmask).set("hex", lbp::hex_value(*r.faultmask, 4));
@@ -151,24 +155,23 @@ void run_mask_show(Context& ctx) {
     ctx.print_json(j);
     return;
   }
-  print_mask_state(*r.faultmask, r.fault);
+  print_mask_state(*r.faultmask, r.fault, ctx.target_flags());
 }
 
-void print_mask_result(const F::BitInfo& bit, bool masked, std::uint16_t before, const Readings& after,
-                       bool written) {
-  if (!written)
+void print_mask_result(const F::BitInfo& bit, bool masked, const ops::MaskResult& m, const Readings& after,
+                       const std::string& flags) {
+  const bool written = m.run.outcome == ops::Outcome::Done;
+  if (m.run.outcome == ops::Outcome::NothingToDo)
     std::cout << bit.name << " (bit " << bit.bit << ") is already " << (masked ? "masked" : "unmasked")
               << "; nothing written\n";
-  else
-    std::cout << "FAULTMASK " << lbp::hex_value(before, 4) << " -> " << lbp::hex_value(*after.faultmask, 4)
-              << ": " << bit.name << " (bit " << bit.bit << ") " << (masked ? "masked" : "unmasked") << "\n";
+  else if (written)
+    std::cout << "FAULTMASK " << lbp::hex_value(m.before, 4) << " -> " << lbp::hex_value(m.wanted, 4) << ": "
+              << bit.name << " (bit " << bit.bit << ") " << (masked ? "masked" : "unmasked") << ", verified\n";
   std::cout << fault_output_text(F::fault_report(after.fault, after.faultmask)) << "\n";
   if (masked)
-    std::cout << "A " << bit.slug
-              << " fault no longer switches the fault output off. Unmask it before running "
-              << "the machine: `i20 faults mask " << bit.slug << " off`\n";
-  if (masked)
-    std::cout << "FAULTMASK is a working (RAM) register with no NV twin: set it again after a reset or power "
+    std::cout << "A " << bit.slug << " fault no longer switches the fault output off. Unmask it before running "
+              << "the machine: `i20 " << flags << " faults mask " << bit.slug << " off`\n"
+              << "FAULTMASK is a working (RAM) register with no NV twin: set it again after a reset or power "
                  "cycle\n";
 }
 
@@ -176,30 +179,29 @@ void run_mask_set(Context& ctx, const MaskOptions& o) {
   const F::BitInfo* bit = nullptr;
   with_fault_errors_mapped([&] { bit = &F::maskable_fault(o.key); });
   const bool masked = o.state == "on";
-  auto& db = ctx.session().db();
-  const auto& param = db.get("FAULTMASK");
   // Refuse before the link opens whatever the rules already know (address, range).
-  device::check_offline(param, F::set_fault_masked(F::kNothingMasked, bit->slug, masked), o.write);
-  auto& amp = ctx.session().amp();
-  const auto before = static_cast<std::uint16_t>(amp.read("FAULTMASK").raw);
-  const auto wanted = F::set_fault_masked(before, bit->slug, masked);
-  const bool write = wanted != before;
-  if (write) {
-    amp.check_write(param, wanted, o.write);
-    amp.write("FAULTMASK", wanted, o.write);
+  device::check_offline(ctx.session().db().get("FAULTMASK"), F::kNothingMasked, o.write);
+  auto& card = ctx.card();
+  ops::MaskResult m;
+  with_fault_errors_mapped([&] { m = ops::set_fault_mask(card, o.key, masked, o.write); });
+  ctx.exit_code = m.run.exit_code();
+  if (!m.run.ok()) {
+    app::render::print_run(std::cout, m.run, card.db(), "command line");
+    std::cerr << "i20: " << app::render::outcome_line(m.run) << "\n";
+    return;
   }
-  const Readings after = read_readings(amp);
+  const Readings after = ops::read_fault_registers(card);
   if (ctx.options.json) {
     auto j = app::Json::object();
     j.set("bit", bit->bit).set("name", bit->name).set("slug", bit->slug).set("masked", masked);
-    j.set("faultmask_before", before)
+    j.set("faultmask_before", m.before)
         .set("faultmask_after", after.faultmask ? app::Json(*after.faultmask) : app::Json());
-    j.set("written", write);
+    j.set("written", m.run.outcome == ops::Outcome::Done).set("outcome", ops::to_string(m.run.outcome));
     j.set("fault", report_json(F::fault_report(after.fault, after.faultmask)));
     ctx.print_json(j);
     return;
   }
-  print_mask_result(*bit, masked, before, after, write);
+  print_mask_result(*bit, masked, m, after, ctx.target_flags());
 }
 
 void run_mask(Context& ctx, const MaskOptions& o) {
@@ -225,14 +227,14 @@ std::string why_remaining(const F::ReportLine& line, const Readings& r) {
   return "set again at once: the card still detects it, so its cause is present now";
 }
 
-void print_remaining(const F::Report& remaining, const Readings& r) {
+void print_remaining(const F::Report& remaining, const Readings& r, const std::string& flags) {
   for (const auto& line : remaining.lines) {
     std::cout << "\nRemains: " << bit_label(line) << (line.masked ? " [masked]" : "") << ": " << line.meaning
               << "\n  why:   " << why_remaining(line, r) << "\n";
     for (std::size_t i = 0; i < line.checks.size(); ++i)
       std::cout << (i ? "         " : "  check: ") << i + 1 << ". " << line.checks[i] << "\n";
   }
-  std::cout << "\nFix the causes, then run `i20 clear-faults` again.\n";
+  std::cout << "\nFix the causes, then run `i20 " << flags << " clear-faults` again.\n";
 }
 
 std::string names_of(const F::Report& report) {
@@ -241,7 +243,7 @@ std::string names_of(const F::Report& report) {
   return out.empty() ? "none" : out;
 }
 
-app::Json clear_json(const device::ClearFaultsResult& res, const F::Report& cleared,
+app::Json clear_json(const ops::ClearResult& res, const F::Report& cleared,
                      const F::Report& remaining, const Readings& r) {
   auto j = app::Json::object();
   j.set("cleared", r.fault == 0)
@@ -265,12 +267,9 @@ app::Json clear_json(const device::ClearFaultsResult& res, const F::Report& clea
 }
 
 void run_clear(Context& ctx, const ClearOptions& o) {
-  auto& db = ctx.session().db();
-  device::check_offline(db.get("CLEARFAULT"), 1, o.write);  // refuse before the link opens
-  auto& amp = ctx.session().amp();
-  const auto res = amp.clear_faults(o.write, std::chrono::milliseconds(o.wait_ms));
-  // Re-read with the measurements so every remaining bit can say why it is still there.
-  const Readings r = read_readings(amp);
+  device::check_offline(ctx.session().db().get("CLEARFAULT"), 1, o.write);  // refuse before the link opens
+  const auto res = ops::clear_faults(ctx.card(), o.write, std::chrono::milliseconds(o.wait_ms));
+  const Readings& r = res.after;
   const auto cleared = F::fault_report(static_cast<std::uint16_t>(res.fault_before & ~r.fault));
   const auto remaining = F::fault_report(r.fault, r.faultmask);
   if (r.fault != 0) ctx.exit_code = app::kFaultsRemain;
@@ -287,7 +286,7 @@ void run_clear(Context& ctx, const ClearOptions& o) {
   if (!cleared.lines.empty()) std::cout << "Cleared: " << names_of(cleared) << "\n";
   std::cout << fault_output_text(remaining) << "\n";
   if (r.fault == 0) return;
-  print_remaining(remaining, r);
+  print_remaining(remaining, r, ctx.target_flags());
   std::cerr << "i20: " << remaining.lines.size()
             << (remaining.lines.size() == 1 ? " fault remains" : " faults remain")
             << " after CLEARFAULT: " << names_of(remaining) << "\n";

@@ -1,14 +1,19 @@
 // i20 info | get | set | dump | reset | ports
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
 
+#include "change_render.hpp"
 #include "context.hpp"
 #include "lbp/bytes.hpp"
 #include "lbp/local.hpp"
 #include "link/ports.hpp"
+#include "ops/apply_run.hpp"
+#include "ops/change.hpp"
+#include "ops/read.hpp"
 #include "params/value.hpp"
 
 namespace i20::cli {
@@ -30,58 +35,82 @@ std::string lbp_status_text(lbp::Byte status) {
   return text;
 }
 
-std::string unconfirmed_note(const device::Value& v) {
-  return v.address_confirmed ? "" : "address unconfirmed for this firmware";
+// The value as a person reads it: engineering units, raw, or hex; "unknown (...)" when it
+// is not a fact on this card.
+std::string shown(const ops::Reading& r, bool raw, bool hex) {
+  if (!r.raw) return ops::unknown_text(r);
+  const auto& p = *r.param;
+  std::string text = hex   ? lbp::hex_value(static_cast<std::uint64_t>(*r.raw) & ((p.width_bits == 32 ? 0xFFFFFFFFull : (1ull << p.width_bits) - 1)),
+                                            static_cast<int>(p.width_bits / 4))
+                     : raw ? std::to_string(*r.raw)
+                           : params::format_engineering(p, *r.raw);
+  if (!r.confirmed) text += "  [read at an unconfirmed address: " + r.reason + "]";
+  return text;
 }
 
-app::Json value_json(const device::Value& v) {
-  const auto& p = *v.param;
+app::Json value_json(const ops::Reading& r) {
+  const auto& p = *r.param;
   auto j = app::Json::object();
-  j.set("name", p.name).set("raw", v.raw);
-  if (p.unit.empty())
-    j.set("value", v.raw);
+  j.set("name", p.name).set("raw", r.raw ? app::Json(*r.raw) : app::Json());
+  if (!r.raw)
+    j.set("value", app::Json());
+  else if (p.unit.empty())
+    j.set("value", *r.raw);
   else
-    j.set("value", static_cast<double>(v.raw) * p.scale);
-  j.set("unit", p.unit).set("text", params::format_engineering(p, v.raw));
+    j.set("value", static_cast<double>(*r.raw) * p.scale);
+  j.set("unit", p.unit).set("text", r.raw ? params::format_engineering(p, *r.raw) : ops::unknown_text(r));
   j.set("space", params::to_string(p.space)).set("address", p.address ? app::Json(*p.address) : app::Json());
-  j.set("address_confirmed", v.address_confirmed)
-      .set("twin", p.twin.empty() ? app::Json() : app::Json(p.twin));
+  j.set("address_confirmed", r.confirmed).set("fact", r.fact());
+  j.set("unknown_reason", r.reason.empty() ? app::Json() : app::Json(r.reason));
+  j.set("twin", p.twin.empty() ? app::Json() : app::Json(p.twin));
   return j;
 }
 
 // ------------------------------------------------------------------ info
 void run_info(Context& ctx) {
-  auto& amp = ctx.session().amp();
-  const auto info = amp.info();
-  const auto& db = ctx.session().db();
+  auto& card = ctx.card();
+  const auto& id = card.identity();
+  const auto& info = id.info;
+  const auto& db = card.db();
   if (ctx.options.json) {
     auto j = app::Json::object();
-    j.set("target", ctx.session().link().describe()).set("card_name", info.card_name);
+    j.set("target", card.endpoint().text).set("card_name", info.card_name);
     j.set("unit_number", *info.unit_number).set("swrevision", *info.swrevision);
     j.set("working_map_confirmed", info.working_map_confirmed).set("lbp_version", info.lbp_version);
     j.set("unit_id", info.unit_id).set("unit_address", info.unit_address).set("lbp_status", info.lbp_status);
     j.set("lbp_status_text", lbp_status_text(info.lbp_status)).set("crc_errors", info.crc_errors);
-    j.set("rpc_pitch", info.rpc_pitch).set("rpc_size", info.rpc_size);
+    j.set("rpc_pitch", info.rpc_pitch).set("rpc_size", info.rpc_size).set("rpc_table", id.rpc_note);
+    auto rpc = app::Json::array();
+    for (const auto& n : id.rpc_confirmed) rpc.push(n);
+    auto left = app::Json::array();
+    for (const auto& m : id.modes_left) left.push(m);
+    j.set("rpc_confirmed", std::move(rpc)).set("modes_left", std::move(left));
     ctx.print_json(j);
     return;
   }
   const bool is_sim = db.simulator_swrevision() == info.swrevision;
+  std::string rpc_names;
+  for (const auto& n : id.rpc_confirmed) rpc_names += (rpc_names.empty() ? "" : " ") + n;
   std::cout
-      << info.card_name << " on " << ctx.session().link().describe() << "\n"
+      << info.card_name << " on " << card.endpoint().text << "\n"
       << "  unit number    " << *info.unit_number << " (" << lbp::hex_value(*info.unit_number, 8) << ")\n"
       << "  firmware       SWREVISION " << lbp::hex_value(*info.swrevision, 4) << " (" << *info.swrevision
       << ")" << (is_sim ? ", the i20sim simulator" : "") << "\n"
       << "  working map    "
       << (info.working_map_confirmed
               ? "confirmed for this firmware: working parameters can be written"
-              : "NOT confirmed for this firmware: NV parameters work; run `i20 discover` for working ones")
+              : "NOT confirmed for this firmware: NV parameters work; run `i20 " + ctx.target_flags() +
+                    " discover` for working ones")
       << "\n"
+      << "  RPC table      " << info.rpc_size << " bytes, pitch " << int(info.rpc_pitch) << "; "
+      << (rpc_names.empty() ? id.rpc_note : "confirms " + rpc_names + " (" + id.rpc_note + ")") << "\n"
       << "  LBP version    " << int(info.lbp_version) << "\n"
       << "  unit ID        " << int(info.unit_id) << "\n"
       << "  LBP status     " << lbp::hex_value(info.lbp_status, 2) << " (" << lbp_status_text(info.lbp_status)
       << ")\n"
-      << "  CRC errors     " << int(info.crc_errors) << "\n"
-      << "  RPC table      " << info.rpc_size << " bytes, pitch " << int(info.rpc_pitch) << "\n";
+      << "  CRC errors     " << int(info.crc_errors) << "\n";
+  for (const auto& m : id.modes_left)
+    std::cout << "  note           the card was left in " << m << " by an earlier session; switched it off\n";
 }
 
 // ------------------------------------------------------------------ get
@@ -89,103 +118,104 @@ struct GetOptions {
   std::vector<std::string> names;
   bool raw = false;
   bool hex = false;
+  bool allow_unverified = false;
 };
 
 void run_get(Context& ctx, const GetOptions& o) {
-  auto& db = ctx.session().db();
-  std::vector<const Param*> list;
-  for (const auto& n : o.names) list.push_back(&db.get(n));  // unknown names fail before the link opens
-  const auto values = ctx.session().amp().read(list);
+  const auto& loaded = ctx.session().db();
+  for (const auto& n : o.names) loaded.get(n);  // unknown names fail before the link opens
+  auto& card = ctx.card();
+  const auto readings = ops::read_values(card, o.names, o.allow_unverified ? ops::Unconfirmed::Read : ops::Unconfirmed::Skip);
+  const bool all_read = std::ranges::all_of(readings, [](const ops::Reading& r) { return r.raw.has_value(); });
   if (ctx.options.json) {
     auto arr = app::Json::array();
-    for (const auto& v : values) arr.push(value_json(v));
+    for (const auto& r : readings) arr.push(value_json(r));
     ctx.print_json(arr);
-    return;
+  } else {
+    for (const auto& r : readings) std::cout << r.param->name << " = " << shown(r, o.raw, o.hex) << "\n";
   }
-  for (const auto& v : values) {
-    std::cout << v.param->name << " = ";
-    if (o.hex)
-      std::cout << lbp::hex_value(v.raw, static_cast<int>(v.param->width_bits / 4));
-    else if (o.raw)
-      std::cout << v.raw;
-    else
-      std::cout << params::format_engineering(*v.param, v.raw);
-    if (!v.address_confirmed) std::cout << "  [" << unconfirmed_note(v) << "]";
-    std::cout << "\n";
-  }
+  if (all_read) return;
+  std::cerr << "i20: refused: not every value could be read as a fact on this card; run `i20 " << ctx.target_flags()
+            << " discover` to confirm the working addresses, or pass --allow-unverified to see the raw words\n";
+  ctx.exit_code = app::kRefused;
 }
 
 // ------------------------------------------------------------------ set
 struct SetOptions {
   std::vector<std::string> assignments;
   device::WriteOptions write;
+  bool dry_run = false;
 };
 
 void run_set(Context& ctx, const SetOptions& o) {
-  auto& db = ctx.session().db();
-  std::vector<device::Assignment> batch;
-  for (const auto& a : o.assignments) {
-    const auto eq = a.find('=');
-    if (eq == std::string::npos || eq == 0 || eq + 1 == a.size())
-      throw UsageError("'" + a + "' is not NAME=VALUE (e.g. NVBRAKEONV=320V or NVMAXCURRENT=750)");
-    const auto& p = db.get(a.substr(0, eq));
-    batch.push_back({&p, params::parse_value(p, a.substr(eq + 1))});
-    device::check_offline(p, batch.back().raw, o.write);  // before the link is even opened
-  }
-  auto& amp = ctx.session().amp();
-  for (const auto& b : batch) amp.check_write(*b.param, b.raw, o.write);  // all before the first write
-  const auto reports = amp.write(batch, o.write);
-  bool reset_needed = false;
-  auto arr = app::Json::array();
-  for (const auto& r : reports) {
-    reset_needed |= r.needs_reset;
-    if (ctx.options.json) {
-      auto j = app::Json::object();
-      j.set("name", r.param->name).set("raw", r.raw).set("text", params::format_engineering(*r.param, r.raw));
-      j.set("verified", r.verified).set("needs_reset", r.needs_reset);
-      arr.push(std::move(j));
-      continue;
-    }
-    std::cout << r.param->name << " = " << params::format_engineering(*r.param, r.raw) << " (" << r.raw << ")"
-              << (r.needs_reset ? " written to EEPROM" : " written") << (r.verified ? ", verified" : "")
-              << "\n";
-  }
-  if (ctx.options.json)
-    ctx.print_json(arr);
-  else if (reset_needed)
-    std::cout << "NV values take effect after the 8I20 is reset: run `i20 reset`\n";
+  const auto& loaded = ctx.session().db();
+  // Bad input and the rules that need no card refuse before the link is even opened.
+  const auto profile = ops::profile_from_assignments(o.assignments, loaded, ops::ValueSyntax::Engineering);
+  ops::precheck(profile, loaded, o.write);
+  auto& card = ctx.card();
+  ops::ApplyJob job;
+  job.profile = &profile;
+  job.db = &card.db();
+  job.write = o.write;
+  job.transaction.dry_run = o.dry_run;
+  job.transaction.cancel = card.cancel();
+  const bool show_progress = !ctx.options.json && profile.settings.size() > 1;
+  const auto run = ops::run_apply_on(card, job, [show_progress](const std::string& what) {
+    if (show_progress && what.rfind("writing", 0) == 0) std::cerr << "i20: " << what << "\n";
+  });
+  ctx.exit_code = run.exit_code();
+  if (ctx.options.json) return ctx.print_json(app::render::run_json(run));
+  app::render::print_run(std::cout, run, card.db(), "command line");
+  if (!run.ok()) std::cerr << "i20: " << app::render::outcome_line(run) << "\n";
 }
 
 // ------------------------------------------------------------------ dump
-void print_dump_table(const std::vector<device::Value>& values) {
+void print_dump_table(const std::vector<ops::Reading>& values) {
   std::cout << std::left << std::setw(16) << "NAME" << std::setw(14) << "VALUE" << std::setw(12) << "RAW"
             << std::setw(16) << "NV TWIN"
             << "NOTE\n";
   for (const auto& v : values) {
     const auto& p = *v.param;
     const std::string twin = p.is_nv() ? "" : p.twin;
-    std::cout << std::left << std::setw(16) << p.name << std::setw(14) << params::format_engineering(p, v.raw)
-              << std::setw(12) << v.raw << std::setw(16) << (twin.empty() ? "-" : twin) << unconfirmed_note(v)
-              << "\n";
+    std::cout << std::left << std::setw(16) << p.name << std::setw(14)
+              << (v.raw ? params::format_engineering(p, *v.raw) : "unknown") << std::setw(12)
+              << (v.raw ? std::to_string(*v.raw) : "-") << std::setw(16) << (twin.empty() ? "-" : twin)
+              << (v.fact() ? "" : v.reason) << "\n";
   }
 }
 
-void print_dump_yaml(const std::vector<device::Value>& values) {
+void print_dump_yaml(const std::vector<ops::Reading>& values) {
   std::cout << "# i20 dump\n";
   for (const auto& v : values) {
     const auto& p = *v.param;
-    std::cout << "- {name: " << p.name << ", raw: " << v.raw << ", value: \""
-              << params::format_engineering(p, v.raw) << "\", space: " << params::to_string(p.space)
-              << ", address_confirmed: " << (v.address_confirmed ? "true" : "false") << "}\n";
+    std::cout << "- {name: " << p.name << ", raw: " << (v.raw ? std::to_string(*v.raw) : "null") << ", value: \""
+              << (v.raw ? params::format_engineering(p, *v.raw) : ops::unknown_text(v)) << "\", space: "
+              << params::to_string(p.space) << ", address_confirmed: " << (v.confirmed ? "true" : "false") << "}\n";
   }
 }
 
-void run_dump(Context& ctx, const std::string& format) {
-  auto& db = ctx.session().db();
-  std::vector<const Param*> list;
-  for (const auto& p : db.all())
-    if (p.address) list.push_back(&p);
-  const auto values = ctx.session().amp().read(list);
+// RFC 4180: fields with commas or quotes are quoted, quotes doubled.
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+void print_dump_csv(const std::vector<ops::Reading>& values) {
+  std::cout << "name,raw,value,unit,space,address,address_confirmed,note\n";
+  for (const auto& v : values) {
+    const auto& p = *v.param;
+    std::cout << p.name << "," << (v.raw ? std::to_string(*v.raw) : "") << ","
+              << csv_field(v.raw ? params::format_engineering(p, *v.raw) : "unknown") << "," << p.unit << ","
+              << params::to_string(p.space) << "," << (p.address ? lbp::hex_value(*p.address, 4) : "") << ","
+              << (v.confirmed ? "true" : "false") << "," << csv_field(v.fact() ? "" : v.reason) << "\n";
+  }
+}
+
+void run_dump(Context& ctx, const std::string& format, bool allow_unverified) {
+  auto& card = ctx.card();
+  const auto values = ops::read_all(card, allow_unverified ? ops::Unconfirmed::Read : ops::Unconfirmed::Skip);
   const std::string f = ctx.options.json ? "json" : format;
   if (f == "json") {
     auto arr = app::Json::array();
@@ -193,6 +223,8 @@ void run_dump(Context& ctx, const std::string& format) {
     ctx.print_json(arr);
   } else if (f == "yaml") {
     print_dump_yaml(values);
+  } else if (f == "csv") {
+    print_dump_csv(values);
   } else {
     print_dump_table(values);
   }
@@ -200,14 +232,14 @@ void run_dump(Context& ctx, const std::string& format) {
 
 // ------------------------------------------------------------------ reset
 void run_reset(Context& ctx, bool yes) {
-  auto& session = ctx.session();
-  const std::string where = session.link().describe();
+  auto& card = ctx.card();
+  const std::string where = card.endpoint().text;
   if (!yes && !ctx.confirm("Reset the 8I20 on " + where + "? NV values become the working values")) {
     std::cerr << "i20: reset not confirmed; nothing was sent (pass --yes in scripts)\n";
     ctx.exit_code = app::kBadInput;
     return;
   }
-  session.amp().reset();
+  card.amp().reset();
   if (ctx.options.json)
     ctx.print_json(app::Json::object().set("reset", true).set("target", where));
   else
@@ -249,26 +281,39 @@ void register_param_commands(CLI::App& app, Context& ctx) {
   get->add_option("NAME", get_options->names, "Parameter names")->required();
   auto* raw = get->add_flag("--raw", get_options->raw, "Raw integers as on the wire");
   get->add_flag("--hex", get_options->hex, "Raw values in hexadecimal")->excludes(raw);
+  get->add_flag("--allow-unverified", get_options->allow_unverified,
+                "Also read working parameters whose address is not confirmed for this firmware (shown as such)");
+  get->footer("Exit 0 when every value was read as a fact; 3 when one is unknown on this card (address not "
+              "confirmed for its firmware).");
   get->callback([&ctx, get_options] { run_get(ctx, *get_options); });
 
   auto set_options = std::make_shared<SetOptions>();
   auto* set = app.add_subcommand(
       "set",
       "Write parameters: NAME=VALUE with units (NVBRAKEONV=320V, NVMAXCURRENT=7.5A) or raw integers "
-      "(NVMAXCURRENT=750). Every value is checked before the first write; NV writes are verified and take "
-      "effect "
-      "after a reset");
+      "(NVMAXCURRENT=750), as one transaction: every value is checked against its range and the manual's rules "
+      "using the card's other values, cells that already hold their value are skipped, the rest are written in "
+      "an order that keeps the thresholds consistent, read back, and restored if anything fails. NV writes take "
+      "effect after a reset");
+  set->footer("Exit 0 written and verified (or nothing to do), 1 card not reached, 2 bad input, 3 refused by a "
+              "rule (nothing written), 4 rolled back or state uncertain (cells named), 130 Ctrl-C.");
   set->add_option("ASSIGNMENT", set_options->assignments, "NAME=VALUE pairs")->required();
   set->add_flag("--allow-unverified", set_options->write.allow_unverified,
                 "Write working (RAM) addresses the database does not confirm for this firmware");
-  set->add_flag("--force", set_options->write.force, "Write guarded parameters (NVBAUDRATE, setpoints)");
+  set->add_flag("--force", set_options->write.force,
+                "Write guarded parameters (NVBAUDRATE, setpoints), and BUSOVERV/BRAKEONV at or below the bus "
+                "voltage the card measures now");
+  set->add_flag("--dry-run", set_options->dry_run, "Read, check and plan; write nothing");
   set->callback([&ctx, set_options] { run_set(ctx, *set_options); });
 
   auto format = std::make_shared<std::string>("table");
+  auto dump_unverified = std::make_shared<bool>(false);
   auto* dump = app.add_subcommand("dump", "Read every parameter in one pipelined pass");
-  dump->add_option("--format", *format, "table, json or yaml")
-      ->check(CLI::IsMember({"table", "json", "yaml"}));
-  dump->callback([&ctx, format] { run_dump(ctx, *format); });
+  dump->add_option("--format", *format, "table, csv, json or yaml")
+      ->check(CLI::IsMember({"table", "csv", "json", "yaml"}));
+  dump->add_flag("--allow-unverified", *dump_unverified,
+                 "Also read working parameters whose address is not confirmed for this firmware (marked)");
+  dump->callback([&ctx, format, dump_unverified] { run_dump(ctx, *format, *dump_unverified); });
 
   auto yes = std::make_shared<bool>(false);
   auto* reset = app.add_subcommand("reset", "Reset the 8I20 so NV values become live (asks first)");

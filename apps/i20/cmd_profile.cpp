@@ -8,52 +8,43 @@
 #include <fstream>
 #include <iostream>
 
-#include "amp_card_access.hpp"
-#include "apply_run.hpp"
+#include "change_render.hpp"
 #include "cmd_profile_export.hpp"
 #include "cmd_tune.hpp"
 #include "context.hpp"
-#include "fleet.hpp"
+#include "fleet_progress.hpp"
 #include "interrupt.hpp"
+#include "ops/apply_run.hpp"
+#include "ops/change.hpp"
+#include "ops/fleet.hpp"
+#include "ops/read.hpp"
+#include "profile/backup.hpp"
 #include "profile/diff.hpp"
 #include "profile/loader.hpp"
 #include "profile/save.hpp"
 #include "profile/validate.hpp"
 #include "profile/writer.hpp"
 #include "profile_lookup.hpp"
-#include "profile_render.hpp"
-#include "target_spec.hpp"
 
 namespace i20::cli {
 namespace {
 
 using profile::Profile;
 
-// Working names of the parameters the manual's cross-parameter rules compare (as apply()
-// reads them): validate with a card judges a profile against the card's own values.
-constexpr std::array<const char*, 9> kRuleParams{
-    "BRAKEONV", "BRAKEOFFV", "BUSOVERV", "BUSUNDERV", "MAXCURRENT", "KQP", "KDP", "KQI", "KDI"};
+namespace render = app::render;
 
 bool has_card(const Context& ctx, const std::vector<std::string>& targets) {
-  return !targets.empty() || ctx.options.sim || !ctx.options.port.empty() || !ctx.options.eth.empty();
+  return !targets.empty() || ctx.options.has_target();
 }
 
 // The one card validate/diff/save read (read-only: Ctrl-C may stop them anywhere).
-std::unique_ptr<Connection> open_card(Context& ctx, const std::vector<std::string>& targets,
-                                      const params::ParamDb& db) {
-  const auto specs = resolve_targets(targets, ctx.options);
-  if (specs.size() != 1) throw UsageError("this command reads one card: give a single --target");
-  return connect(specs.front(), db, &app::install_interrupt_handler());
-}
-
-AmpCardAccess card_access(Connection& c, const std::string& where) {
-  CardAccessOptions options;
-  options.where = where;
-  return AmpCardAccess(*c.amp, options);
-}
-
-std::string target_text(Context& ctx, const std::vector<std::string>& targets) {
-  return resolve_targets(targets, ctx.options).front().text;
+std::unique_ptr<ops::Card> open_card(Context& ctx, const std::vector<std::string>& targets,
+                                     const params::ParamDb& db) {
+  const auto endpoints = ops::resolve_endpoints(targets, ops::endpoint_from(ctx.options.target));
+  if (endpoints.size() != 1) throw UsageError("this command reads one card: give a single --target");
+  ops::OpenOptions open;
+  open.link = ctx.options.link;
+  return ops::Card::open(endpoints.front(), db, open, ops::Cancel(app::install_interrupt_handler()));
 }
 
 struct Loaded {
@@ -92,43 +83,28 @@ struct ValidateOptions {
   bool force = false;
 };
 
-// One read per name, keeping what answers (one unreadable cell fails a whole batch).
-profile::RawValues read_each(AmpCardAccess& card, const std::vector<std::string>& names) {
-  profile::RawValues values;
-  for (const auto& name : names) {
-    try {
-      values.merge(card.read({name}));
-    } catch (const std::exception&) {
-    }
-  }
-  return values;
-}
-
-// Best effort, as apply() does it: a value that cannot be read is judged by its default.
-// Working cells only where this firmware's map is confirmed: anything else would be a guess.
-profile::RawValues read_for_rules(AmpCardAccess& card, const params::ParamDb& db, const Profile& p) {
-  std::vector<std::string> names;
+// What the rules compare, as read from the card: only facts (a working cell whose address
+// is not confirmed for this firmware is judged by its default, as without a card).
+profile::RawValues read_for_rules(ops::Card& card, const Profile& p) {
+  std::vector<const params::Param*> params;
   const auto add = [&](const std::string& name) {
-    const params::Param* param = db.find(name);
-    if (param && param->address && db.address_confirmed(*param) &&
-        std::find(names.begin(), names.end(), param->name) == names.end())
-      names.push_back(param->name);
+    const params::Param* param = card.db().find(name);
+    if (param && std::find(params.begin(), params.end(), param) == params.end()) params.push_back(param);
   };
   for (const auto& s : p.settings) add(s.name);
-  for (const char* base : kRuleParams)
-    if (const params::Param* param = db.find(base)) {
+  for (const auto& base : ops::rule_parameters())
+    if (const params::Param* param = card.db().find(base)) {
       add(param->name);
       add(param->twin);
     }
-  try {
-    return card.read(names);
-  } catch (const std::exception&) {
-    return read_each(card, names);
-  }
+  profile::RawValues values;
+  for (const auto& r : ops::read_values(card, params))
+    if (r.fact()) values[r.param->name] = *r.raw;
+  return values;
 }
 
 // One file: findings printed as they are found (text), its entry returned (JSON).
-app::Json validate_file(Context& ctx, const params::ParamDb& db, AmpCardAccess* card, const std::string& file,
+app::Json validate_file(Context& ctx, const params::ParamDb& db, ops::Card* card, const std::string& file,
                         bool force, bool& valid) {
   auto j = app::Json::object();
   j.set("file", file);
@@ -142,8 +118,8 @@ app::Json validate_file(Context& ctx, const params::ParamDb& db, AmpCardAccess* 
     return j.set("valid", false).set("findings", render::load_error_json(*loaded.error));
   }
   profile::RawValues values;
-  if (card) values = read_for_rules(*card, db, *loaded.profile);
-  const auto findings = profile::validate(*loaded.profile, db, {card ? &values : nullptr, force});
+  if (card) values = read_for_rules(*card, *loaded.profile);
+  const auto findings = profile::validate(*loaded.profile, db, {card ? &values : nullptr, force, std::nullopt});
   valid = !profile::has_errors(findings);
   if (!ctx.options.json) {
     render::print_findings(std::cout, findings, file);
@@ -155,24 +131,20 @@ app::Json validate_file(Context& ctx, const params::ParamDb& db, AmpCardAccess* 
 
 void run_validate(Context& ctx, const ValidateOptions& o) {
   const auto db_base = app::load_database(ctx.options);
-  std::unique_ptr<Connection> card;
-  std::optional<AmpCardAccess> access;
-  if (has_card(ctx, o.targets)) {
-    card = open_card(ctx, o.targets, db_base);
-    access.emplace(card_access(*card, target_text(ctx, o.targets)));
-  }
-  const params::ParamDb& db = card ? card->db : db_base;
+  std::unique_ptr<ops::Card> card;
+  if (has_card(ctx, o.targets)) card = open_card(ctx, o.targets, db_base);
+  const params::ParamDb& db = card ? card->db() : db_base;
   auto files = app::Json::array();
   bool all_valid = true;
   for (const auto& file : o.files) {
     bool valid = true;
-    files.push(validate_file(ctx, db, access ? &*access : nullptr, file, o.force, valid));
+    files.push(validate_file(ctx, db, card.get(), file, o.force, valid));
     all_valid = all_valid && valid;
   }
   if (!all_valid) ctx.exit_code = app::kBadInput;
   if (!ctx.options.json) return;
   auto j = app::Json::object();
-  j.set("valid", all_valid).set("card", access ? app::Json(access->describe()) : app::Json());
+  j.set("valid", all_valid).set("card", card ? app::Json(card->describe()) : app::Json());
   ctx.print_json(j.set("files", files));
 }
 
@@ -182,7 +154,8 @@ struct DiffOptions {
   std::vector<std::string> targets;
 };
 
-void print_diff_summary(const std::vector<profile::DiffRow>& rows, const std::string& file) {
+void print_diff_summary(const std::vector<profile::DiffRow>& rows, const std::string& file,
+                        const std::string& flags) {
   const auto differ = std::ranges::count_if(rows, [](const auto& r) { return !r.equal; });
   const auto nv = std::ranges::count_if(rows, [](const auto& r) { return !r.equal && r.nv; });
   if (differ == 0) {
@@ -191,7 +164,7 @@ void print_diff_summary(const std::vector<profile::DiffRow>& rows, const std::st
   }
   std::cout << differ << " of " << rows.size() << " values differ"
             << (nv ? " (" + std::to_string(nv) + " in the EEPROM: they take effect after a reset)" : "")
-            << "; `i20 profile apply " << file << "` writes only those.\n";
+            << "; `i20 " << flags << " profile apply " << file << "` writes only those.\n";
 }
 
 void run_diff(Context& ctx, const DiffOptions& o) {
@@ -205,18 +178,20 @@ void run_diff(Context& ctx, const DiffOptions& o) {
     return report_invalid(ctx, o.file, e);
   }
   const auto card = open_card(ctx, o.targets, db_base);
-  auto access = card_access(*card, target_text(ctx, o.targets));
-  const auto rows = profile::diff(*profile, card->db, access.read(names));
+  profile::RawValues values;
+  for (const auto& r : ops::read_values(*card, names))
+    if (r.fact()) values[r.param->name] = *r.raw;
+  const auto rows = profile::diff(*profile, card->db(), values);
   if (ctx.options.json) {
     const auto differ = std::ranges::count_if(rows, [](const auto& r) { return !r.equal; });
     auto j = app::Json::object();
-    j.set("file", o.file).set("profile", profile->name).set("card", access.describe());
+    j.set("file", o.file).set("profile", profile->name).set("card", card->describe());
     ctx.print_json(j.set("differ", differ).set("rows", render::diff_json(rows)));
     return;
   }
-  std::cout << profile->name << " (" << o.file << ") against " << access.describe() << ":\n";
+  std::cout << profile->name << " (" << o.file << ") against " << card->describe() << ":\n";
   render::print_diff(std::cout, rows);
-  print_diff_summary(rows, o.file);
+  print_diff_summary(rows, o.file, card->endpoint().flags());
 }
 
 // ------------------------------------------------------------------ apply
@@ -224,7 +199,7 @@ struct ApplyCliOptions {
   std::string file;
   std::vector<std::string> targets;
   std::string to;  // retarget: nv | working | both
-  std::string backup_dir = ".";
+  std::string backup_dir;  // empty: $XDG_STATE_HOME/i20/backups
   bool dry_run = false;
   bool force = false;
   bool allow_unverified = false;
@@ -232,47 +207,61 @@ struct ApplyCliOptions {
   bool yes = false;
 };
 
-std::string names_of(const std::vector<TargetSpec>& targets) {
+std::string names_of(const std::vector<ops::Endpoint>& targets) {
   std::string text;
   for (const auto& t : targets) text += (text.empty() ? "" : ", ") + t.text;
   return text;
 }
 
 // A reset makes the new EEPROM values live at once: asked before anything is sent.
-bool reset_confirmed(Context& ctx, const ApplyCliOptions& o, const std::vector<TargetSpec>& targets) {
+bool reset_confirmed(Context& ctx, const ApplyCliOptions& o, const std::vector<ops::Endpoint>& targets) {
   if (!o.reset || o.dry_run || o.yes) return true;
   if (ctx.confirm("Reset the 8I20 on " + names_of(targets) +
-                  " after a verified apply? The new EEPROM values become live at once"))
+                  " after a verified apply (or when a reset is pending)? The new EEPROM values become live at once"))
     return true;
   std::cerr << "i20: reset not confirmed; nothing was sent (pass --yes in scripts)\n";
   ctx.exit_code = app::kBadInput;
   return false;
 }
 
-void print_single(Context& ctx, const Profile& profile, const std::string& file, const TargetRun& run,
-                  const params::ParamDb& db) {
-  if (ctx.options.json) {
-    auto j = render::run_json(run);
-    j.set("profile", profile.name).set("file", file);
-    ctx.print_json(j);
-    return;
-  }
-  std::cout << "Profile " << profile.name << " (" << file << ") -> " << run.target << "\n";
-  render::print_run(std::cout, run, db, file);
-}
-
-void print_many(Context& ctx, const Profile& profile, const std::string& file,
-                const std::vector<TargetRun>& runs, const params::ParamDb& db) {
+void print_many(Context& ctx, const Profile& profile, const std::string& file, const std::vector<ops::TargetRun>& runs,
+                const params::ParamDb& db) {
   if (ctx.options.json) {
     auto arr = app::Json::array();
     for (const auto& run : runs) arr.push(render::run_json(run));
     auto j = app::Json::object();
-    j.set("profile", profile.name).set("file", file).set("exit_code", fleet_exit_code(runs));
+    j.set("profile", profile.name).set("file", file).set("exit_code", ops::exit_code(ops::fleet_outcome(runs)));
     ctx.print_json(j.set("targets", std::move(arr)));
     return;
   }
   std::cout << "Profile " << profile.name << " (" << file << ") -> " << runs.size() << " targets\n";
   render::print_fleet(std::cout, runs, db, file);
+}
+
+// One card: the plan as soon as it is known, each write as it happens, then the report.
+void apply_single(Context& ctx, const Profile& profile, const std::string& file, ops::ApplyJob job,
+                  const ops::Endpoint& target) {
+  const bool text = !ctx.options.json;
+  if (text) std::cout << "Profile " << profile.name << " (" << file << ") -> " << target.text << "\n" << std::flush;
+  bool plan_shown = false;
+  job.transaction.on_plan = [&](const profile::Plan& plan) {
+    if (!text || plan.empty()) return;
+    render::print_plan(std::cout, plan);
+    std::cout << std::flush;
+    plan_shown = true;
+  };
+  const auto run = ops::run_apply(target, job, [text](const std::string& what) {
+    if (text && (what.rfind("writing", 0) == 0 || what.rfind("restoring", 0) == 0 || what == "resetting"))
+      std::cout << "  " << what << "\n" << std::flush;
+  });
+  ctx.exit_code = run.exit_code();
+  if (!text) {
+    auto j = render::run_json(run);
+    j.set("profile", profile.name).set("file", file);
+    return ctx.print_json(j);
+  }
+  render::print_run(std::cout, run, *job.db, file, plan_shown);
+  if (!run.ok()) std::cerr << "i20: " << render::outcome_line(run) << "\n";
 }
 
 void run_apply_command(Context& ctx, const ApplyCliOptions& o) {
@@ -286,23 +275,27 @@ void run_apply_command(Context& ctx, const ApplyCliOptions& o) {
       return report_invalid(ctx, o.file, e);
     }
   }
-  const auto targets = resolve_targets(o.targets, ctx.options);
-  if (!reset_confirmed(ctx, o, targets)) return;
-  ApplyJob job;
+  const auto targets = ops::resolve_endpoints(o.targets, ops::endpoint_from(ctx.options.target));
+  ops::ApplyJob job;
   job.profile = &*profile;
   job.db = &db;
-  job.apply = {o.dry_run, o.force, o.reset, o.backup_dir, std::chrono::system_clock::now()};
-  job.card.write = {o.allow_unverified, o.force};
-  if (targets.size() == 1) {
-    const auto run = run_apply(targets.front(), job);
-    print_single(ctx, *profile, o.file, run, db);
-    ctx.exit_code = run.exit_code;
-    return;
-  }
-  const bool progress = !ctx.options.json && isatty(STDERR_FILENO);
-  const auto runs = run_fleet(targets, job, {progress});
+  job.write = {o.allow_unverified, o.force};
+  ops::precheck(*profile, db, job.write);  // the rules that need no card: nothing is sent when they refuse
+  if (!reset_confirmed(ctx, o, targets)) return;
+  job.transaction.dry_run = o.dry_run;
+  job.transaction.force = o.force;
+  job.transaction.reset = o.reset;
+  job.transaction.backup_dir =
+      o.backup_dir.empty() ? profile::default_backup_dir() : std::filesystem::path(o.backup_dir);
+  job.transaction.when = std::chrono::system_clock::now();
+  job.transaction.cancel = ops::Cancel(app::install_interrupt_handler());
+  job.open.link = ctx.options.link;
+  if (targets.size() == 1) return apply_single(ctx, *profile, o.file, job, targets.front());
+  FleetProgress progress(targets, !ctx.options.json && isatty(STDERR_FILENO));
+  const auto runs = ops::run_fleet(targets, job, progress.activity());
+  progress.stop();
   print_many(ctx, *profile, o.file, runs, db);
-  ctx.exit_code = fleet_exit_code(runs);
+  ctx.exit_code = ops::exit_code(ops::fleet_outcome(runs));
 }
 
 // ------------------------------------------------------------------ save
@@ -347,14 +340,13 @@ void run_save(Context& ctx, const SaveCliOptions& o) {
   const auto db_base = app::load_database(ctx.options);
   check_save_request(o, db_base);
   const auto card = open_card(ctx, o.targets, db_base);
-  auto access = card_access(*card, target_text(ctx, o.targets));
   profile::SaveOptions save;
   save.name = !o.name.empty() ? o.name
               : o.file == "-" ? "saved"
                               : std::filesystem::path(o.file).stem().string();
   save.notes = "Saved with `i20 profile save`. Apply this file to write these values back.";
-  const Profile saved = profile::save(access, card->db, o.names, save);
-  const std::string yaml = saved_yaml(saved, card->db, o.file);
+  const Profile saved = ops::save_profile(*card, o.names, save);
+  const std::string yaml = saved_yaml(saved, card->db(), o.file);
   if (o.file == "-") {
     std::cout << yaml;
     return;
@@ -362,12 +354,13 @@ void run_save(Context& ctx, const SaveCliOptions& o) {
   write_new_file(o.file, yaml, o.overwrite);
   if (ctx.options.json) {
     auto j = app::Json::object();
-    j.set("file", o.file).set("card", access.describe()).set("values", saved.settings.size());
+    j.set("file", o.file).set("card", card->describe()).set("values", saved.settings.size());
     return ctx.print_json(j);
   }
-  std::cout << "Saved " << saved.settings.size() << " values of " << access.describe() << " to " << o.file
-            << "\nCompare a card with it: `i20 profile diff " << o.file
-            << "`; write it back: `i20 profile apply " << o.file << "`\n";
+  const std::string flags = card->endpoint().flags();
+  std::cout << "Saved " << saved.settings.size() << " values of " << card->describe() << " to " << o.file
+            << "\nCompare a card with it: `i20 " << flags << " profile diff " << o.file
+            << "`; write it back: `i20 " << flags << " profile apply " << o.file << "`\n";
 }
 
 // ------------------------------------------------------------------ registration
@@ -376,7 +369,7 @@ CLI::Option* add_target_option(CLI::App* cmd, std::vector<std::string>& targets,
       std::string(many ? "The 8I20s to apply to, repeatable; each in its own thread unless "
                          "they share a line. "
                        : "The 8I20 to read (instead of --port/--sim). ") +
-      "Forms: " + kTargetForms;
+      "Forms: " + ops::kEndpointForms;
   auto* opt = cmd->add_option("--target,-t", targets, help);
   if (!many) opt->expected(1);
   return opt;
@@ -408,18 +401,23 @@ void register_apply(CLI::App& profile, Context& ctx) {
   auto* cmd = profile.add_subcommand(
       "apply",
       "Validate against the card, back up its current values, write only what differs in a safe order, read "
-      "every value back; on any failure restore the backup. Exit 0 applied and verified or nothing to do, 2 "
-      "invalid profile, 3 refused by a safety rule, 4 rolled back (or rollback failed), 1 card not reached");
+      "every value back; on any failure or Ctrl-C restore the old values. Exit 0 applied and verified or nothing "
+      "to do, 1 card not reached, 2 profile cannot be read, 3 refused by a rule (nothing written), 4 rolled back "
+      "or state uncertain (cells named), 130 interrupted");
   cmd->add_option("FILE", o->file, "Profile file (YAML), or the name of a shipped profile")->required()->transform(profile_file());
   add_target_option(cmd, o->targets, true);
   cmd->add_flag("--dry-run,-n", o->dry_run, "Read the card and print the plan; write nothing");
-  cmd->add_option("--backup-dir", o->backup_dir, "Where the backup of the card's values goes (default: .)");
+  cmd->add_option("--backup-dir", o->backup_dir,
+                  "Where the backup of the card's values goes (default: $XDG_STATE_HOME/i20/backups, i.e. "
+                  "~/.local/state/i20/backups)");
   cmd->add_option("--to", o->to, "Aim every entry at the EEPROM (nv), the working values (working) or both")
       ->check(CLI::IsMember({"nv", "working", "both"}));
   cmd->add_flag("--reset", o->reset,
-                "Reset the card after a verified apply so the EEPROM values are live at once (asks first)");
+                "Reset the card after a verified apply, or when an earlier EEPROM write is still not live, so the "
+                "EEPROM values are live at once (asks first)");
   cmd->add_flag("--yes,-y", o->yes, "Do not ask before --reset");
-  cmd->add_flag("--force", o->force, "Allow guarded parameters (NVBAUDRATE)");
+  cmd->add_flag("--force", o->force,
+                "Allow guarded parameters (NVBAUDRATE), and BUSOVERV/BRAKEONV at or below the measured bus");
   cmd->add_flag("--allow-unverified", o->allow_unverified,
                 "Write working (RAM) addresses the database does not confirm for this firmware");
   cmd->callback([&ctx, o] { run_apply_command(ctx, *o); });

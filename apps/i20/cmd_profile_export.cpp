@@ -17,7 +17,7 @@
 #include "profile/loader.hpp"
 #include "profile/validate.hpp"
 #include "profile_lookup.hpp"
-#include "profile_render.hpp"
+#include "change_render.hpp"
 
 namespace i20::cli {
 namespace {
@@ -37,13 +37,15 @@ std::optional<profile::Profile> valid_profile(Context& ctx, const params::ParamD
                                               bool force) {
   try {
     auto p = profile::load_profile_file(file, db);
-    const auto findings = profile::validate(p, db, {nullptr, force});
+    profile::ValidationContext offline;  // no card: the rules judge by the database's defaults
+    offline.force = force;
+    const auto findings = profile::validate(p, db, offline);
     if (!profile::has_errors(findings)) return p;
-    render::print_findings(std::cerr, findings, file);
-    std::cerr << "i20: error: " << file << " is not valid (" << render::findings_summary(findings)
+    app::render::print_findings(std::cerr, findings, file);
+    std::cerr << "i20: error: " << file << " is not valid (" << app::render::findings_summary(findings)
               << "); nothing exported\n";
   } catch (const profile::ProfileError& e) {
-    render::print_load_error(std::cerr, e, file);
+    app::render::print_load_error(std::cerr, e, file);
   }
   ctx.exit_code = app::kBadInput;
   return std::nullopt;

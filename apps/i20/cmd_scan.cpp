@@ -63,12 +63,12 @@ void print_scan(const eth::ScanResult& r) {
 }
 
 void run_scan(Context& ctx) {
-  if (ctx.options.eth.empty())
+  if (ctx.options.target.eth.empty())
     throw UsageError("scan needs the Ethernet card's address: i20 scan --eth 192.168.1.121");
-  const auto address = eth::is_eth_url(ctx.options.eth) ? eth::parse_target(ctx.options.eth).card
-                                                        : eth::parse_host_port(ctx.options.eth);
+  const auto address = eth::is_eth_url(ctx.options.target.eth) ? eth::parse_target(ctx.options.target.eth).card
+                                                        : eth::parse_host_port(ctx.options.target.eth);
   eth::ScanOptions options;
-  options.udp.timeout = std::chrono::milliseconds(ctx.options.timeout_ms);
+  options.udp.timeout = std::chrono::milliseconds(ctx.options.link.timeout_ms);
   const auto result = eth::scan(address, options);
   if (ctx.options.json)
     ctx.print_json(scan_json(result));

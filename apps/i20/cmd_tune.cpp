@@ -20,10 +20,12 @@
 #include "profile/tuning_profile.hpp"
 #include "profile/validate.hpp"
 #include "profile/writer.hpp"
-#include "profile_render.hpp"
+#include "change_render.hpp"
 
 namespace i20::cli {
 namespace {
+
+namespace render = app::render;
 
 using profile::Quantity;
 

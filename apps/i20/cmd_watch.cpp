@@ -59,7 +59,8 @@ enum class Kind {
   Output,
   Lost,
   Reconnected,
-  Restarted
+  Restarted,
+  Mode,  // the source changed (Ethernet: from register reads to SSLBP normal mode)
 };
 
 const char* kind_name(Kind k) {
@@ -73,6 +74,7 @@ const char* kind_name(Kind k) {
     case Kind::Lost: return "lost";
     case Kind::Reconnected: return "reconnected";
     case Kind::Restarted: return "restarted";
+    case Kind::Mode: return "mode";
   }
   return "";
 }
@@ -476,12 +478,15 @@ void AnsiView::draw() const {
 // ------------------------------------------------------------------ the loop
 class Watcher {
  public:
+  // The first look is always a register read, so latched faults are shown as they are;
+  // on Ethernet (unless --registers) the watch then goes on in SSLBP normal mode.
   Watcher(Context& ctx, const WatchOptions& o, View& view, CsvLog* log)
-      : o_(o),
+      : ctx_(ctx),
+        o_(o),
         view_(view),
         log_(log),
         interval_(o.interval_ms),
-        source_(make_live_source(ctx, o.registers)) {}
+        source_(make_live_source(ctx, LiveMode::Registers)) {}
 
   void run();
 
@@ -496,6 +501,9 @@ class Watcher {
   double elapsed() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
   std::string target() { return source_->describe(); }
 
+  void switch_to_normal_mode(std::vector<Event>& events);
+
+  Context& ctx_;
   const WatchOptions& o_;
   View& view_;
   CsvLog* log_;
@@ -598,15 +606,30 @@ void Watcher::sample_once() {
   }
 }
 
+// SSLBP's normal start clears faults and enables the current loop (manual, 8I20 DEVICE
+// SPECIFIC SETUP): only after the latched faults were reported, and saying so.
+void Watcher::switch_to_normal_mode(std::vector<Event>& events) {
+  if (o_.registers || !is_eth_target(ctx_.options)) return;
+  source_->reconnect();  // close the setup-mode passthrough before the port is re-moded
+  source_ = make_live_source(ctx_, LiveMode::NormalModeOnEthernet);
+  events.push_back({WallClock::now(),
+                    Kind::Mode,
+                    "switching to SSLBP normal mode for the live view: its start CLEARS the latched faults "
+                    "above and enables the current loop (QSETPOINT stays 0); use --registers to keep reading "
+                    "registers",
+                    {},
+                    {}});
+}
+
 void Watcher::run() {
   start_ = Clock::now();
   const Readings first = read();  // a card that cannot be read at all is an error, not a wait
   where_ = target();
-  warn_if_unconfirmed(first);
   view_.start(where_, o_);
   std::vector<Event> initial;
   for (const auto& b : F::decode_fault(first.fault).bits)
     initial.push_back(bit_event(WallClock::now(), Kind::FaultSet, b));
+  switch_to_normal_mode(initial);
   record(first, std::move(initial));
   auto next = start_ + interval_;
   while (!done()) {
@@ -618,6 +641,7 @@ void Watcher::run() {
   }
   summary_.elapsed_s = elapsed();
   view_.finish(summary_);
+  if (app::interrupted()) ctx_.exit_code = app::kInterrupted;  // after leaving the card as it was
 }
 
 // ------------------------------------------------------------------ registration
@@ -657,8 +681,9 @@ void register_watch_command(CLI::App& app, Context& ctx) {
                   "One line per sample, no screen redraw (automatic when stdout is no terminal)");
   watch->add_flag(
       "--registers", o->registers,
-      "Ethernet targets: read registers through the setup-mode passthrough instead of SSLBP normal "
-      "mode (normal mode is the default there: it needs no RAM address and feeds the watchdog)");
+      "Ethernet targets: keep reading registers through the setup-mode passthrough instead of switching to "
+      "SSLBP normal mode after the first look (normal mode feeds the watchdog, but its start clears latched "
+      "faults)");
   watch->add_option("--log", o->log, "Also write a CSV time series (one row per sample, gaps marked)")
       ->type_name("FILE.csv");
   watch->callback([&ctx, o] { run_watch(ctx, *o); });

@@ -5,9 +5,19 @@
 #include <iostream>
 #include <string>
 
+#include "legacy_env.hpp"
 #include "link/pipelined_link.hpp"
 
 namespace i20::cli {
+
+app::Session& Context::session() {
+  if (!session_) {
+    auto o = options;
+    app::apply_legacy_environment(o, false);
+    session_ = std::make_unique<app::Session>(std::move(o));
+  }
+  return *session_;
+}
 
 void Context::print_json(const app::Json& json) const {
   std::cout << json.dump() << "\n";

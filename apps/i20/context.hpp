@@ -18,10 +18,11 @@ struct Context {
   app::GlobalOptions options;
   int exit_code = app::kOk;
 
-  app::Session& session() {
-    if (!session_) session_ = std::make_unique<app::Session>(options);
-    return *session_;
-  }
+  // Opened on first use, with COMPORT/BAUDRATE/PROTOCOL read like wpd and rpd do.
+  app::Session& session();
+  ops::Card& card() { return session().card(); }
+  // The options that name the target, for advice lines ("--port /dev/ttyUSB0").
+  std::string target_flags() { return session().endpoint().flags(); }
   // Prints JSON documents the same way everywhere.
   void print_json(const app::Json& json) const;
   // Asks "question [y/N]" on the terminal; false without a terminal (use --yes there).

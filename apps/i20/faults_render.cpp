@@ -4,7 +4,6 @@
 #include <iostream>
 #include <vector>
 
-#include "device/amp.hpp"
 #include "faults/fault_table.hpp"
 #include "lbp/bytes.hpp"
 
@@ -85,32 +84,6 @@ CauseNow bus_max_cause(const Readings& r) {
   return gone("BUSV is " + volts(*r.busv_v) + ", below the fixed 400 V limit");
 }
 
-std::optional<double> scaled(const device::Value& v) {
-  return static_cast<double>(v.raw) * v.param->scale;
-}
-
-void store(Readings& r, const device::Value& v) {
-  const std::string& n = v.param->name;
-  const auto raw16 = static_cast<std::uint16_t>(v.raw);
-  if (n == "FAULT") {
-    r.fault = raw16;
-    r.confirmed = r.confirmed && v.address_confirmed;
-  } else if (n == "STATUS") {
-    r.status = raw16;
-    r.confirmed = r.confirmed && v.address_confirmed;
-  } else if (n == "FAULTMASK") {
-    r.faultmask = raw16;
-  } else if (n == "BUSV") {
-    r.busv_v = scaled(v);
-  } else if (n == "TEMPERATURE") {
-    r.temperature_c = scaled(v);
-  } else if (n == "BUSUNDERV") {
-    r.busunderv_v = scaled(v);
-  } else if (n == "BUSOVERV") {
-    r.busoverv_v = scaled(v);
-  }
-}
-
 void print_list(std::ostream& out, const char* heading, const std::vector<std::string>& items,
                 bool numbered) {
   if (items.empty()) return;
@@ -173,23 +146,6 @@ app::Json cause_json(const CauseNow& c) {
 }
 
 }  // namespace
-
-Readings read_readings(device::Amp8i20& amp) {
-  auto& db = amp.db();
-  std::vector<const params::Param*> list{&db.get("FAULT"), &db.get("STATUS")};
-  for (const char* name : {"FAULTMASK", "BUSV", "TEMPERATURE", "BUSUNDERV", "BUSOVERV"})
-    if (const auto* p = db.find(name); p && p->address) list.push_back(p);
-  Readings r;
-  for (const auto& v : amp.read(list)) store(r, v);
-  return r;
-}
-
-void warn_if_unconfirmed(const Readings& r) {
-  if (r.confirmed) return;
-  std::cerr
-      << "i20: warning: the FAULT/STATUS addresses are not confirmed for this card's firmware, so these "
-         "values may not be FAULT and STATUS at all; run `i20 discover` to confirm them\n";
-}
 
 CauseNow cause_now(unsigned fault_bit, const Readings& r) {
   switch (fault_bit) {
@@ -280,7 +236,7 @@ app::Json readings_json(const Readings& r) {
   j.set("busv_v", optional_number(r.busv_v)).set("temperature_c", optional_number(r.temperature_c));
   j.set("busunderv_v", optional_number(r.busunderv_v)).set("busoverv_v", optional_number(r.busoverv_v));
   j.set("brake_on", brake_on(r));
-  j.set("addresses_confirmed", r.confirmed);
+  j.set("addresses_confirmed", true);  // FAULT/STATUS are only ever read from confirmed addresses
   return j;
 }
 

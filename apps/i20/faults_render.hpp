@@ -10,13 +10,10 @@
 
 #include "faults/report.hpp"
 #include "json.hpp"
+#include "ops/faults.hpp"
 
 namespace CLI {
 class App;
-}
-
-namespace i20::device {
-class Amp8i20;
 }
 
 namespace i20::cli {
@@ -26,27 +23,8 @@ struct Context;
 // `i20 watch` lives in cmd_watch.cpp; register_fault_commands() registers it.
 void register_watch_command(CLI::App& app, Context& ctx);
 
-// One pass over the registers that explain a fault. Optional members are empty when the
-// parameter database has no address for them (an overlay may remove one).
-struct Readings {
-  std::uint16_t fault = 0;
-  std::uint16_t status = 0;
-  std::optional<std::uint16_t> faultmask;
-  std::optional<double> busv_v;
-  std::optional<double> temperature_c;
-  std::optional<double> busunderv_v;
-  std::optional<double> busoverv_v;
-  // FAULT and STATUS come from addresses confirmed for this card's firmware. When false
-  // the values may not be FAULT/STATUS at all, and the user must be told.
-  bool confirmed = true;
-};
-
-// FAULT and STATUS are required; the rest are read when the database places them.
-Readings read_readings(device::Amp8i20& amp);
-
-// One line on stderr when FAULT/STATUS come from unconfirmed addresses (they may be
-// some other register on this firmware, and a person must not act on them blindly).
-void warn_if_unconfirmed(const Readings& r);
+// One pass over the registers that explain a fault (lib/ops reads them, honestly).
+using Readings = ops::FaultReadings;
 
 // What the live readings say about a FAULT bit's cause right now.
 struct CauseNow {

@@ -9,8 +9,8 @@ namespace {
 class RegisterSource final : public LiveSource {
  public:
   explicit RegisterSource(Context& ctx) : ctx_(ctx) {}
-  Readings read() override { return read_readings(ctx_.session().amp()); }
-  std::string describe() override { return ctx_.session().link().describe(); }
+  Readings read() override { return ops::read_fault_registers(ctx_.card()); }
+  std::string describe() override { return ctx_.session().endpoint().text; }
   void reconnect() override { ctx_.session().reconnect(); }
   std::string method() const override { return "register reads"; }
 
@@ -32,7 +32,6 @@ class NormalModeSource final : public LiveSource {
     r.status = ch->status;
     r.busv_v = ch->bus_volts();
     r.temperature_c = ch->temperature_celsius();
-    r.confirmed = true;  // INTERFACE0/1 carry these by definition: no RAM address involved
     return r;
   }
   std::string describe() override { return target_.describe() + " (SSLBP normal mode)"; }
@@ -44,22 +43,16 @@ class NormalModeSource final : public LiveSource {
   std::unique_ptr<eth::NormalModeSession> session_;
 };
 
-eth::EthTarget eth_target(const app::GlobalOptions& o) {
-  if (!o.eth.empty())
-    return eth::is_eth_url(o.eth) ? eth::parse_target(o.eth)
-                                  : eth::make_target(o.eth, o.channel, o.sserial_port);
-  return eth::parse_target(o.port);
-}
-
 }  // namespace
 
 bool is_eth_target(const app::GlobalOptions& o) {
-  return !o.eth.empty() || eth::is_eth_url(o.port);
+  const auto e = ops::endpoint_from(o.target);
+  return e && e->is_eth();
 }
 
-std::unique_ptr<LiveSource> make_live_source(Context& ctx, bool registers_only) {
-  if (!registers_only && is_eth_target(ctx.options))
-    return std::make_unique<NormalModeSource>(eth_target(ctx.options));
+std::unique_ptr<LiveSource> make_live_source(Context& ctx, LiveMode mode) {
+  if (mode == LiveMode::NormalModeOnEthernet && is_eth_target(ctx.options))
+    return std::make_unique<NormalModeSource>(eth::parse_target(ctx.session().endpoint().eth_url));
   return std::make_unique<RegisterSource>(ctx);
 }
 

@@ -1,8 +1,10 @@
 // Where live FAULT/STATUS/BUSV/TEMPERATURE come from, for `watch` and `faults`:
-//  - a card reached by register reads (serial port, simulator, Ethernet passthrough);
-//  - an Ethernet target: SSLBP normal mode, whose DOIT cycles carry bus voltage,
-//    temperature, FAULT and STATUS in INTERFACE0/1 (8I20 manual) without knowing any
-//    RAM address, and keep the 8I20's 40 ms watchdog fed while we watch.
+//  - a card reached by register reads (serial port, simulator, Ethernet passthrough), at
+//    addresses confirmed for its firmware (the card's RPC table names them on any card);
+//  - for `watch` on an Ethernet target only, after a first register read: SSLBP normal
+//    mode, whose DOIT cycles carry bus voltage, temperature, FAULT and STATUS in
+//    INTERFACE0/1 (8I20 manual) and keep the 8I20's 40 ms watchdog fed. Its start clears
+//    faults and enables the current loop (manual, 8I20 DEVICE SPECIFIC SETUP).
 #pragma once
 
 #include <memory>
@@ -26,8 +28,12 @@ class LiveSource {
   virtual std::string method() const = 0;
 };
 
-// Normal mode for Ethernet targets unless `registers_only`; register reads otherwise.
-std::unique_ptr<LiveSource> make_live_source(Context& ctx, bool registers_only = false);
+enum class LiveMode {
+  Registers,             // register reads on every transport (read-only: latched faults stay)
+  NormalModeOnEthernet,  // Ethernet targets: SSLBP normal mode (its start clears faults)
+};
+
+std::unique_ptr<LiveSource> make_live_source(Context& ctx, LiveMode mode);
 
 // True when the global options name an Ethernet target (--eth or an eth:// --port).
 bool is_eth_target(const app::GlobalOptions& options);

@@ -4,9 +4,29 @@
 
 #include "context.hpp"
 #include "interrupt.hpp"
+#include "params/closest.hpp"
 #include "version/build_info.hpp"
 
 using namespace i20;
+
+namespace {
+
+// "unknown command 'inof': did you mean info?" when the first unexpected word looks like a
+// mistyped subcommand; empty otherwise (CLI11's own message then).
+std::string unknown_command(const CLI::App& app, const CLI::ExtrasError& e) {
+  const std::string what = e.what();
+  const auto colon = what.find(": ");
+  if (colon == std::string::npos) return {};
+  std::string word = what.substr(colon + 2);
+  word = word.substr(0, word.find_first_of(" ,"));
+  if (word.empty() || word.front() == '-' || word.find_first_of("/.:=") != std::string::npos) return {};
+  std::vector<i20::params::Candidate> names;
+  for (const auto* sub : app.get_subcommands({})) names.push_back({sub->get_name(), {sub->get_name()}});
+  const auto near = i20::params::closest(word, names, 1);
+  return "unknown command '" + word + "'" + (near.empty() ? "; `i20 --help` lists them" : ": did you mean " + near.front() + "?");
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -31,6 +51,12 @@ int main(int argc, char** argv) {
   app::install_interrupt_handler();
   try {
     app.parse(argc, argv);
+  } catch (const CLI::ExtrasError& e) {
+    if (const auto hint = unknown_command(app, e); !hint.empty()) {
+      std::cerr << "i20: error: " << hint << "\n";
+      return app::kBadInput;
+    }
+    return app.exit(e) == 0 ? app::kOk : app::kBadInput;
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? app::kOk : app::kBadInput;
   } catch (...) {

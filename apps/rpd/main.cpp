@@ -1,13 +1,17 @@
 // rpd: read one 8I20 parameter by name, a drop-in for Mesa's RPD.
 //   rpd BUSV        -> 32000      (10 mV units: 320 V)
 //   rpd FAULT H     -> 0102       (hexadecimal word)
+//
+// Only facts are printed: a working parameter whose address is not confirmed for the card's
+// firmware is not read (exit 3) unless --allow-unverified asks for the raw word anyway.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
 
 #include "errors.hpp"
+#include "interrupt.hpp"
 #include "legacy_env.hpp"
-#include "params/value.hpp"
+#include "ops/read.hpp"
 #include "session.hpp"
 #include "version/build_info.hpp"
 
@@ -18,12 +22,18 @@ int main(int argc, char** argv) {
       "rpd: read an 8I20 parameter by its symbolic name (drop-in for Mesa's RPD).\n"
       "Prints the raw value in decimal, or in hexadecimal when H follows the name.\n"
       "The port comes from COMPORT (and BAUDRATE, PROTOCOL=LBP) like RPD, or --port.\n"
+      "Exit status: 0 read, 1 card not reached, 2 bad input, 3 not read: the address is not\n"
+      "confirmed for this card's firmware (run `i20 discover`), 130 Ctrl-C.\n"
       "Examples:\n  COMPORT=/dev/ttyUSB0 rpd BUSV\n  rpd --sim FAULT H"};
   cli.set_version_flag("--version", "rpd " + std::string(build::kVersion), "Print the version and exit");
   app::GlobalOptions options;
   std::string name, hex;
+  bool allow_unverified = false;
   cli.add_option("NAME", name, "Parameter name, e.g. BUSV, NVMAXCURRENT, FAULT")->required();
   cli.add_option("H", hex, "H to print hexadecimal")->check(CLI::IsMember({"H", "h"}));
+  cli.add_flag("--allow-unverified", allow_unverified,
+               "Read a working (RAM) address the database does not confirm for this firmware; the value may "
+               "belong to another parameter");
   app::add_target_options(cli, options);
   app::add_database_options(cli, options);
   try {
@@ -31,20 +41,28 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return cli.exit(e) == 0 ? 0 : app::kBadInput;
   }
+  app::install_interrupt_handler();
   try {
-    app::apply_legacy_environment(options);
+    app::apply_legacy_environment(options, true);
     app::Session session(options);
-    const auto& param = session.db().get(name);
-    const auto value = session.amp().read(param.name);
-    if (!value.address_confirmed)
-      std::cerr << "rpd: warning: the address of " << param.name
-                << " is not confirmed for this 8I20's firmware; the value may belong to another parameter\n";
+    const auto& param = session.db().get(name);  // unknown names fail before the link opens
+    auto& card = session.card();
+    const auto policy = allow_unverified ? ops::Unconfirmed::Read : ops::Unconfirmed::Skip;
+    const auto reading = ops::read_values(card, std::vector<std::string>{param.name}, policy).front();
+    if (!reading.raw) {
+      std::cerr << "rpd: refused: " << reading.param->name << " is " << ops::unknown_text(reading)
+                << "; run `i20 " << card.endpoint().flags() << " discover`, or pass --allow-unverified\n";
+      return app::kRefused;
+    }
+    if (!reading.confirmed)
+      std::cerr << "rpd: warning: " << reading.param->name << " read at an address " << reading.reason
+                << "; the value may belong to another parameter\n";
+    const auto& p = *reading.param;
     if (hex.empty()) {
-      std::cout << value.raw << "\n";
+      std::cout << *reading.raw << "\n";
     } else {
-      const auto mask = param.width_bits == 32 ? 0xFFFFFFFFull : (1ull << param.width_bits) - 1;
-      std::printf("%0*llX\n", static_cast<int>(param.width_bits / 4),
-                  static_cast<unsigned long long>(value.raw) & mask);
+      const auto mask = p.width_bits == 32 ? 0xFFFFFFFFull : (1ull << p.width_bits) - 1;
+      std::printf("%0*llX\n", static_cast<int>(p.width_bits / 4), static_cast<unsigned long long>(*reading.raw) & mask);
     }
     return app::kOk;
   } catch (...) {

@@ -2,11 +2,18 @@
 //   wpd NVMAXCURRENT 2500   -> EEPROM full-scale current 25 A (after a reset)
 //   wpd BRAKEONV 30000      -> working brake-on voltage 300 V, live
 //   wpd FAULT 0             -> clears faults (through CLEARFAULT, as the card requires)
+//
+// A one-cell write transaction (lib/ops): validated against the card's other values and the
+// manual's rules, skipped when the card already holds it, verified, rolled back on failure.
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "change_render.hpp"
 #include "errors.hpp"
+#include "interrupt.hpp"
 #include "legacy_env.hpp"
+#include "ops/change.hpp"
+#include "ops/faults.hpp"
 #include "params/value.hpp"
 #include "session.hpp"
 #include "version/build_info.hpp"
@@ -16,14 +23,41 @@ using namespace i20;
 namespace {
 
 int clear_faults(app::Session& session, const device::WriteOptions& write) {
-  const auto result = session.amp().clear_faults(write);
-  std::cout << "FAULT cleared through CLEARFAULT: was 0x" << std::hex << result.fault_before << ", now 0x"
-            << result.fault_after << std::dec << "\n";
-  if (result.fault_after != 0) {
-    std::cerr << "wpd: faults remain because their cause is still present; run `i20 faults` for details\n";
-    return app::kFaultsRemain;
+  const auto result = ops::clear_faults(session.card(), write, std::chrono::milliseconds(1000));
+  std::cout << "FAULT cleared through CLEARFAULT: was " << lbp::hex_value(result.fault_before, 4) << ", now "
+            << lbp::hex_value(result.after.fault, 4) << "\n";
+  if (!result.faults_remain()) return app::kOk;
+  std::cerr << "wpd: faults remain because their cause is still present; run `i20 "
+            << session.endpoint().flags() << " faults` for details\n";
+  return app::kFaultsRemain;
+}
+
+// One line on success, like WPD; the full report when anything else happened.
+int report(const ops::TargetRun& run, const params::ParamDb& db) {
+  const auto& r = *run.result;
+  if (run.outcome == ops::Outcome::Done || run.outcome == ops::Outcome::NothingToDo) {
+    const auto& row = r.plan.steps.empty() ? r.plan.unchanged.front() : r.plan.steps.front();
+    const auto& p = db.get(row.cell);
+    std::cout << p.name << " = " << row.profile_raw;
+    if (!p.unit.empty()) std::cout << " (" << row.profile_text << ")";
+    std::cout << (r.plan.steps.empty() ? " already; nothing written" : " written and verified");
+    if (p.is_nv() && (!r.plan.steps.empty() || !run.not_live.empty()))
+      std::cout << " in EEPROM; takes effect after the 8I20 is reset (i20 " << run.target.flags() << " reset)";
+    std::cout << "\n";
+    for (const auto& event : r.events) std::cout << "note: " << event << "\n";
+    return run.exit_code();
   }
-  return app::kOk;
+  std::ostream& out = run.outcome == ops::Outcome::Refused || run.outcome == ops::Outcome::BadInput ||
+                              run.outcome == ops::Outcome::Failed
+                          ? std::cerr
+                          : std::cout;
+  if (&out == &std::cerr) {
+    out << "wpd: " << (run.outcome == ops::Outcome::Failed ? "error" : "refused") << ": " << r.reason << "\n";
+    return run.exit_code();
+  }
+  app::render::print_run(out, run, db, "command line");
+  std::cerr << "wpd: " << app::render::outcome_line(run) << "\n";
+  return run.exit_code();
 }
 
 }  // namespace
@@ -32,9 +66,12 @@ int main(int argc, char** argv) {
   CLI::App cli{
       "wpd: write an 8I20 parameter by its symbolic name (drop-in for Mesa's WPD).\n"
       "VALUE is a raw integer in the parameter's units (10 mV, 10 mA, ...), decimal or 0x hex.\n"
-      "NV (EEPROM) parameters take effect after the 8I20 is reset. Values outside the\n"
-      "database's range are refused before anything is sent.\n"
+      "NV (EEPROM) parameters take effect after the 8I20 is reset. Every value is checked\n"
+      "against its range and the manual's rules (BRAKEOFFV below BRAKEONV, ...) using the\n"
+      "card's other values before anything is written, then verified by read-back.\n"
       "The port comes from COMPORT (and BAUDRATE, PROTOCOL=LBP) like WPD, or --port.\n"
+      "Exit status: 0 written and verified, 1 card not reached, 2 bad input, 3 refused,\n"
+      "4 card state uncertain or rolled back, 5 faults remain (WPD FAULT 0), 130 Ctrl-C.\n"
       "Examples:\n  wpd NVMAXCURRENT 2500     (25 A)\n  wpd NVBRAKEONV 19000      (190 V)\n"
       "  wpd --sim BRAKEONV 30000  (300 V, live)"};
   cli.set_version_flag("--version", "wpd " + std::string(build::kVersion), "Print the version and exit");
@@ -45,7 +82,9 @@ int main(int argc, char** argv) {
   cli.add_option("VALUE", value_text, "Raw integer value")->required();
   cli.add_flag("--allow-unverified", write.allow_unverified,
                "Write a working (RAM) address the database does not confirm for this firmware");
-  cli.add_flag("--force", write.force, "Write a guarded parameter (NVBAUDRATE, setpoints); read why first");
+  cli.add_flag("--force", write.force,
+               "Write a guarded parameter (NVBAUDRATE, setpoints), or a threshold at or below the measured bus "
+               "voltage; read why first");
   app::add_target_options(cli, options);
   app::add_database_options(cli, options);
   try {
@@ -53,22 +92,25 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return cli.exit(e) == 0 ? 0 : app::kBadInput;
   }
+  app::install_interrupt_handler();
   try {
-    app::apply_legacy_environment(options);
+    app::apply_legacy_environment(options, true);
     app::Session session(options);
-    const auto& param = session.db().get(name);
+    const auto& db = session.db();
+    const auto& param = db.get(name);
     const auto raw = params::parse_raw(param, value_text);
     // The manual's "WPD FAULT 0 would clear the FAULT parameter": FAULT itself is not
     // writable, the card clears faults through CLEARFAULT.
     if (param.name == "FAULT" && raw == 0) return clear_faults(session, write);
-    device::check_offline(param, raw, write);  // before the link is even opened
-    const auto report = session.amp().write(param.name, raw, write);
-    std::cout << param.name << " = " << raw;
-    if (!param.unit.empty()) std::cout << " (" << params::format_engineering(param, raw) << ")";
-    std::cout << (report.verified ? " written and verified" : " written");
-    if (report.needs_reset) std::cout << " in EEPROM; takes effect after the 8I20 is reset (i20 reset)";
-    std::cout << "\n";
-    return app::kOk;
+    const auto profile = ops::profile_from_value(name, value_text, db, ops::ValueSyntax::Raw);
+    ops::precheck(profile, db, write);  // before the link is even opened
+    auto& card = session.card();
+    ops::ApplyJob job;
+    job.profile = &profile;
+    job.db = &card.db();
+    job.write = write;
+    job.transaction.cancel = card.cancel();
+    return report(ops::run_apply_on(card, job), card.db());
   } catch (...) {
     return app::report_current_exception("wpd");
   }

@@ -5,6 +5,7 @@
 
 #include "device/errors.hpp"
 #include "device/mode_guard.hpp"
+#include "lbp/bytes.hpp"
 #include "lbp/local.hpp"
 #include "params/value.hpp"
 
@@ -50,12 +51,11 @@ std::vector<lbp::Command> chunked_reads(std::uint16_t address, std::size_t count
   return commands;
 }
 
-// The card's answer to 0xCC must still be EEPROM access, or it reset under us.
+// The card's answer to 0xCC must be EEPROM access, or it did not enter the mode (or reset).
 void require_nv_mode(const lbp::Bytes& reply, const std::string& what) {
   if (reply.at(0) != static_cast<lbp::Byte>(lbp::local::NvAccess::Eeprom))
-    throw VerifyError(
-        "the 8I20 left NV access mode during " + what +
-        " (it reset?): the EEPROM cell is unverified; check its logic power and run the command again");
+    throw Error("the 8I20 did not confirm NV access mode " + what +
+                ": nothing was written to the EEPROM; check its logic power and run the command again");
 }
 
 void verify(const Param& p, std::int64_t wanted, lbp::ByteView readback) {
@@ -67,7 +67,7 @@ void verify(const Param& p, std::int64_t wanted, lbp::ByteView readback) {
 
 }  // namespace
 
-Amp8i20::Amp8i20(link::Link& link, params::ParamDb& db, const std::atomic<bool>* cancel)
+Amp8i20::Amp8i20(link::Link& link, const params::ParamDb& db, const std::atomic<bool>* cancel)
     : link_(link), db_(db), cancel_(cancel) {}
 
 void Amp8i20::throw_if_cancelled() const {
@@ -77,10 +77,17 @@ void Amp8i20::throw_if_cancelled() const {
 
 std::uint16_t Amp8i20::identify() {
   const auto& revision = db_.get("SWREVISION");
-  const auto rev =
-      static_cast<std::uint16_t>(params::raw_from_bytes(revision, link_.execute_one(read_command(revision))));
-  db_.select_firmware(rev);
-  return rev;
+  return static_cast<std::uint16_t>(params::raw_from_bytes(revision, link_.execute_one(read_command(revision))));
+}
+
+bool working_map_confirmed(const params::ParamDb& db) {
+  bool any = false;
+  for (const auto& p : db.all()) {
+    if (p.is_nv() || !p.writable() || !p.address) continue;
+    if (!db.address_confirmed(p)) return false;
+    any = true;
+  }
+  return any;
 }
 
 CardInfo Amp8i20::info() {
@@ -93,6 +100,7 @@ CardInfo Amp8i20::info() {
       lbp::local_read(L::kGetCrcErrorCount), lbp::local_read(L::kGetRpcPitch),
       lbp::local_read(L::kGetRpcSizeLow),    lbp::local_read(L::kGetRpcSizeHigh),
       read_command(db_.get("SWREVISION")),   read_command(db_.get("UNITNUMBER")),
+      lbp::local_read(L::kGetNvAccess),      lbp::local_read(L::kGetRpcMemAccess),
   };
   const auto r = link_.execute(batch);
   CardInfo info;
@@ -106,9 +114,26 @@ CardInfo Amp8i20::info() {
   info.rpc_size = static_cast<std::uint16_t>(r[10].at(0) | (r[11].at(0) << 8));
   info.swrevision = static_cast<std::uint16_t>(lbp::read_le(r[12]));
   info.unit_number = static_cast<std::uint32_t>(lbp::read_le(r[13]));
-  db_.select_firmware(*info.swrevision);
-  info.working_map_confirmed = db_.address_confirmed(db_.get("FAULT"));
+  info.nv_access = static_cast<L::NvAccess>(r[14].at(0));
+  info.rpcmem = r[15].at(0) != 0;
+  info.working_map_confirmed = working_map_confirmed(db_);
   return info;
+}
+
+std::vector<std::string> Amp8i20::leave_modes() {
+  namespace L = lbp::local;
+  const std::vector<lbp::Command> batch{lbp::local_read(L::kGetNvAccess), lbp::local_read(L::kGetRpcMemAccess),
+                                        lbp::set_nv_access(L::NvAccess::Ram), lbp::local_write(L::kSetRpcMemAccess, 0),
+                                        lbp::local_read(L::kGetNvAccess), lbp::local_read(L::kGetRpcMemAccess)};
+  const auto r = link_.execute(batch);
+  std::vector<std::string> left;
+  if (r[0].at(0) != static_cast<lbp::Byte>(L::NvAccess::Ram)) left.push_back("NV access mode");
+  if (r[1].at(0) != 0) left.push_back("RPC memory access");
+  if (r[4].at(0) != static_cast<lbp::Byte>(L::NvAccess::Ram) || r[5].at(0) != 0)
+    throw CardStateError("the 8I20 on " + link_.describe() +
+                         " stays in NV or RPC memory access mode after being told to leave it: reset it "
+                         "(i20 reset) or cycle its logic power");
+  return left;
 }
 
 Value Amp8i20::read(std::string_view name) {
@@ -121,10 +146,7 @@ std::vector<Value> Amp8i20::read(std::span<const Param* const> params) {
   // One exchange for everything: every exchange costs a reply turnaround, which on a USB
   // adapter is a latency-timer tick. Order: SWREVISION (when the card is not identified
   // yet), the RAM reads, then the NV reads between entering and leaving NV mode.
-  const Param& revision = db_.get("SWREVISION");
-  const bool identify_too = !db_.firmware();
   std::vector<lbp::Command> commands;
-  if (identify_too) commands.push_back(read_command(revision));
   std::vector<std::size_t> reply_of(params.size());
   for (std::size_t i = 0; i < params.size(); ++i)
     if (!params[i]->is_nv()) {
@@ -155,8 +177,6 @@ std::vector<Value> Amp8i20::read(std::span<const Param* const> params) {
           "the 8I20 on " + link_.describe() +
           " left NV access mode during the read (it reset?): NV values not shown; read again");
   }
-  if (identify_too)
-    db_.select_firmware(static_cast<std::uint16_t>(params::raw_from_bytes(revision, replies[0])));
 
   std::vector<Value> out;
   for (std::size_t i = 0; i < params.size(); ++i)
@@ -182,12 +202,11 @@ void check_offline(const Param& p, std::int64_t raw, const WriteOptions& options
 
 void Amp8i20::check_write(const Param& p, std::int64_t raw, const WriteOptions& options) {
   check_offline(p, raw, options);
-  if (!db_.firmware()) identify();  // confirmation depends on the card's revision
   if (!options.allow_unverified && !db_.address_confirmed(p)) {
     const auto rev = db_.firmware();
     throw SafetyError(
         "refusing to write " + p.name + ": its address is not confirmed for this 8I20's firmware" +
-        (rev ? " (SWREVISION " + std::to_string(*rev) + ")" : std::string()) + " [" + p.provenance.source +
+        (rev ? " (SWREVISION " + lbp::hex_value(*rev, 4) + ")" : std::string()) + " [" + p.provenance.source +
         "]; run `i20 discover` or pass --allow-unverified if you know better");
   }
 }
@@ -228,30 +247,58 @@ std::vector<WriteReport> Amp8i20::write_ram(std::span<const Assignment> batch) {
   return reports;
 }
 
+// The EEPROM sequence. A reset (power glitch, watchdog) drops NV access mode, and a data
+// write that arrives after it lands in working memory at the EEPROM address, where a
+// read-back "verifies" it. So: the mode is confirmed in a reply before the first data write
+// (never pipelined behind the request), each cell's write travels with its read-back and a
+// mode check, and the next cell is sent only once that check said EEPROM. The last cell's
+// exchange also leaves NV mode, so a one-cell write is two exchanges.
 std::vector<WriteReport> Amp8i20::write_nv(std::span<const Assignment> batch) {
   if (batch.empty()) return {};
-  const auto leave = lbp::set_nv_access(lbp::local::NvAccess::Ram);
+  namespace L = lbp::local;
+  const auto leave = lbp::set_nv_access(L::NvAccess::Ram);
+  const auto mode = lbp::local_read(L::kGetNvAccess);
   ModeGuard guard(link_, leave, "NV (EEPROM) access mode");
-  link_.execute_one(lbp::set_nv_access(lbp::local::NvAccess::Eeprom));
+  const std::vector<lbp::Command> enter{lbp::set_nv_access(L::NvAccess::Eeprom), mode};
+  require_nv_mode(link_.execute(enter)[1], "before " + batch.front().param->name + " was to be written");
   std::vector<WriteReport> reports;
-  for (const auto& a : batch) {
-    // One cell at a time: a barrier write, then its read-back, then the next. A
-    // cancellation between cells leaves the earlier cells written and verified.
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    // A cancellation between cells leaves the earlier cells written and verified.
     throw_if_cancelled();
-    // A reset (power glitch, watchdog) drops NV access mode: a write after it lands in
-    // RAM and a read-back from RAM would "verify" it. So the mode is read before the
-    // write and after the read-back; both must still say EEPROM.
-    const auto mode = lbp::local_read(lbp::local::kGetNvAccess);
-    const std::vector<lbp::Command> commands{mode, write_command(*a.param, a.raw), read_command(*a.param),
-                                             mode};
+    const auto& a = batch[i];
+    std::vector<lbp::Command> commands{write_command(*a.param, a.raw), read_command(*a.param), mode};
+    const bool last = i + 1 == batch.size();
+    if (last) commands.insert(commands.end(), {leave, mode});
     const auto replies = link_.execute(commands);
-    require_nv_mode(replies[0], a.param->name);
-    require_nv_mode(replies[3], a.param->name);
-    verify(*a.param, a.raw, replies[2]);
+    if (last) guard.disarm();
+    check_nv_cell(a, replies);
     reports.push_back({a.param, a.raw, true, true});
+    if (last && replies[4].at(0) != static_cast<lbp::Byte>(L::NvAccess::Ram))
+      throw CardStateError("the 8I20 on " + link_.describe() +
+                           " did not leave NV access mode after the EEPROM write (it was verified): reset it "
+                           "(i20 reset) or cycle its logic power");
   }
-  guard.leave();
   return reports;
+}
+
+void Amp8i20::check_nv_cell(const Assignment& a, const std::vector<lbp::Bytes>& replies) {
+  if (replies[2].at(0) == static_cast<lbp::Byte>(lbp::local::NvAccess::Eeprom))
+    return verify(*a.param, a.raw, replies[1]);
+  // The card reset around this cell. Did the write land in working memory? Reading RAM at
+  // the EEPROM address is a plain read; the card is in normal access mode now anyway.
+  bool stray = false;
+  try {
+    stray = params::raw_from_bytes(*a.param, link_.execute_one(read_command(*a.param))) == a.raw;
+  } catch (const link::LinkError&) {
+    stray = true;  // cannot tell: assume the worst
+  }
+  throw NvModeLost("the 8I20 on " + link_.describe() + " reset while " + a.param->name +
+                       " was being written (NV access mode was gone right after it): the EEPROM cell is "
+                       "unverified" +
+                       (stray ? " and the write may have reached working memory at " +
+                                    lbp::hex_value(address_of(*a.param), 4)
+                              : std::string()),
+                   a.param->name, address_of(*a.param), stray);
 }
 
 void Amp8i20::reset(std::chrono::milliseconds wait) {
@@ -298,6 +345,7 @@ ClearFaultsResult Amp8i20::clear_faults(const WriteOptions& options, std::chrono
 }
 
 lbp::Bytes Amp8i20::read_memory(Space space, std::uint16_t address, std::size_t count) {
+  throw_if_cancelled();
   auto commands = chunked_reads(address, count, link_.max_data_bytes());
   std::optional<ModeGuard> guard;
   if (space == Space::Eeprom) {
@@ -317,6 +365,7 @@ lbp::Bytes Amp8i20::read_memory(Space space, std::uint16_t address, std::size_t 
 }
 
 lbp::Bytes Amp8i20::read_rpc_table() {
+  throw_if_cancelled();
   namespace L = lbp::local;
   const std::vector<lbp::Command> sizes{lbp::local_read(L::kGetRpcSizeLow),
                                         lbp::local_read(L::kGetRpcSizeHigh)};

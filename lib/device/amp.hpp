@@ -19,6 +19,7 @@
 #include <string_view>
 #include <vector>
 
+#include "lbp/local.hpp"
 #include "link/link.hpp"
 #include "params/param_db.hpp"
 
@@ -26,6 +27,8 @@ namespace i20::device {
 
 struct CardInfo {
   std::string card_name;  // "8I20"
+  lbp::local::NvAccess nv_access = lbp::local::NvAccess::Ram;  // as found (0xCC)
+  bool rpcmem = false;                                          // RPC memory access as found (0xCA)
   lbp::Byte unit_address = 0;
   lbp::Byte unit_id = 0;
   lbp::Byte lbp_version = 0;
@@ -35,7 +38,9 @@ struct CardInfo {
   std::uint16_t rpc_size = 0;
   std::optional<std::uint16_t> swrevision;
   std::optional<std::uint32_t> unit_number;
-  bool working_map_confirmed = false;  // the database's RAM map is confirmed for this revision
+  // Every writable working parameter's address is confirmed for this revision (judged by
+  // the database the client was given: resolve it for the card first).
+  bool working_map_confirmed = false;
 };
 
 struct Value {
@@ -68,19 +73,49 @@ struct ClearFaultsResult {
   std::chrono::milliseconds took{0};
 };
 
+// Every writable working parameter's address is confirmed in this (resolved) database.
+bool working_map_confirmed(const params::ParamDb& db);
+
 // The rules that need no card: writable, address known, range, guard. Apps call it
 // before they even open the link, so a refused value sends nothing at all.
 void check_offline(const params::Param& param, std::int64_t raw, const WriteOptions& options);
 
+// The card reset while an EEPROM cell was being written: NV access mode was gone when the
+// card was asked right after the cell. The write may have reached the EEPROM, nowhere (the
+// card was deaf), or working memory at the EEPROM address (the card was already back in
+// normal access mode). `stray_ram_value` says whether working memory at that address now
+// holds exactly the value written (strong evidence of the last case).
+class NvModeLost : public Error {
+ public:
+  NvModeLost(const std::string& message, std::string cell, std::uint16_t address, bool stray_ram_value)
+      : Error(message, ErrorKind::Uncertain),
+        cell_(std::move(cell)),
+        address_(address),
+        stray_ram_value_(stray_ram_value) {}
+  const std::string& cell() const { return cell_; }
+  std::uint16_t address() const { return address_; }
+  bool stray_ram_value() const { return stray_ram_value_; }
+
+ private:
+  std::string cell_;
+  std::uint16_t address_;
+  bool stray_ram_value_;
+};
+
 class Amp8i20 {
  public:
-  // `cancel`, when given, is polled between exchanges (set it from a SIGINT handler).
-  Amp8i20(link::Link& link, params::ParamDb& db, const std::atomic<bool>* cancel = nullptr);
+  // `db` is the database resolved for this card (ParamDb::for_firmware, plus the card's own
+  // evidence); the client never changes it. `cancel`, when given, is polled between
+  // exchanges (set it from a SIGINT handler).
+  Amp8i20(link::Link& link, const params::ParamDb& db, const std::atomic<bool>* cancel = nullptr);
 
-  // Reads SWREVISION and selects the database's map for it. Returns the revision. Reads
-  // and checked writes identify the card by themselves when this was not called.
+  // Reads SWREVISION (a public address on every firmware).
   std::uint16_t identify();
+  // Name, unit, firmware, LBP state and the two modes (NV access, RPC memory) in one exchange.
   CardInfo info();
+  // Takes the card out of NV access and RPC memory access mode and confirms it (a previous
+  // session may have died inside them). Returns what was switched off, for messages.
+  std::vector<std::string> leave_modes();
 
   Value read(std::string_view name);
   // One pipelined exchange: RAM reads, then NV reads inside NV access mode.
@@ -90,7 +125,10 @@ class Amp8i20 {
   // address is confirmed for this card's firmware). Sends nothing.
   void check_write(const params::Param& param, std::int64_t raw, const WriteOptions& options);
   WriteReport write(std::string_view name, std::int64_t raw, const WriteOptions& options);
-  // Checks every assignment before the first byte is sent, then writes in order.
+  // Checks every assignment before the first byte is sent, then writes: RAM cells (each
+  // written and read back), then EEPROM cells in one NV session. An EEPROM data write is
+  // sent only after the card has confirmed NV access mode in a reply, and the mode is
+  // confirmed again after each cell (NvModeLost when it is gone).
   std::vector<WriteReport> write(std::span<const Assignment> assignments, const WriteOptions& options);
 
   // 0xFE 0x5A, then waits until the card answers again (NV values become live).
@@ -106,15 +144,17 @@ class Amp8i20 {
   lbp::Bytes read_rpc_table();
 
   link::Link& link() { return link_; }
-  params::ParamDb& db() { return db_; }
+  const params::ParamDb& db() const { return db_; }
+  void set_cancel(const std::atomic<bool>* cancel) { cancel_ = cancel; }
 
  private:
   void throw_if_cancelled() const;
   std::vector<WriteReport> write_ram(std::span<const Assignment> batch);
   std::vector<WriteReport> write_nv(std::span<const Assignment> batch);
+  void check_nv_cell(const Assignment& a, const std::vector<lbp::Bytes>& replies);
 
   link::Link& link_;
-  params::ParamDb& db_;
+  const params::ParamDb& db_;
   const std::atomic<bool>* cancel_;
 };
 

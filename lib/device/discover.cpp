@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <span>
 #include <sstream>
 
 #include "lbp/bytes.hpp"
@@ -43,8 +44,12 @@ std::optional<std::uint16_t> word_address(const std::vector<std::uint16_t>& byte
   return bytes[2 * word];
 }
 
+}  // namespace
+
 // The RPC that does SSLBP's whole cycle: 4 stream bytes in, 8 reply bytes out.
-std::map<std::string, std::uint16_t> decode_cycle_rpc(const lbp::Bytes& table, std::string& note) {
+RpcEvidence decode_rpc_evidence(const lbp::Bytes& table) {
+  RpcEvidence evidence;
+  auto& note = evidence.note;
   for (unsigned n = 0; n < lbp::kRpcCount && n * lbp::local::kRpcPitch < table.size(); ++n) {
     lbp::RpcList list;
     try {
@@ -61,11 +66,14 @@ std::map<std::string, std::uint16_t> decode_cycle_rpc(const lbp::Bytes& table, s
     for (std::size_t w = 0; w < 4; ++w)
       if (auto a = word_address(bytes->reply, w)) found[kReplyWords[w]] = *a;
     note = "RPC " + std::to_string(n) + " (4 bytes in, 8 out: SSLBP's normal-mode cycle)";
-    return found;
+    evidence.addresses = std::move(found);
+    return evidence;
   }
   note = "no RPC with SSLBP's cycle shape (4 bytes in, 8 out) in the table";
-  return {};
+  return evidence;
 }
+
+namespace {
 
 bool overlaps(std::uint32_t a, std::size_t a_len, std::uint32_t b, std::size_t b_len) {
   return a < b + b_len && b < a + a_len;
@@ -126,6 +134,36 @@ Finding value_finding(const Param& working, const Param& nv, std::int64_t nv_raw
   return f;
 }
 
+// Two working parameters whose NV values are equal (KQP = KDP = 50 by default) hold the same
+// bytes after a reset: a scan cannot tell which address is which, even when only one copy
+// lies inside the scanned range. Neither is a finding then.
+void mark_twins_ambiguous(std::span<Finding> findings, const std::vector<const Param*>& working,
+                          const std::vector<Value>& nv_values) {
+  for (std::size_t i = 0; i < findings.size(); ++i) {
+    std::vector<std::string> equals;
+    std::vector<std::uint16_t> candidates;
+    for (std::size_t j = 0; j < findings.size(); ++j) {
+      if (working[j]->bytes() != working[i]->bytes() || nv_values[j].raw != nv_values[i].raw) continue;
+      if (j != i) equals.push_back(working[j]->name);
+      if (findings[j].address) candidates.push_back(*findings[j].address);
+      candidates.insert(candidates.end(), findings[j].candidates.begin(), findings[j].candidates.end());
+    }
+    if (equals.empty() || findings[i].outcome == Outcome::NotFound) continue;
+    std::ranges::sort(candidates);
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    auto& f = findings[i];
+    std::string others;
+    for (const auto& name : equals) others += (others.empty() ? "" : ", ") + name;
+    f.outcome = Outcome::Ambiguous;
+    f.method.reset();
+    f.address.reset();
+    f.candidates = std::move(candidates);
+    f.detail = nv_values[i].param->name + " = " + std::to_string(nv_values[i].raw) + " equals the NV value of " +
+               others + ": the scan cannot tell them apart; make the NV values differ (write one, reset) and run "
+               "discover again";
+  }
+}
+
 }  // namespace
 
 const char* to_string(Outcome outcome) {
@@ -152,8 +190,7 @@ DiscoveryReport discover(Amp8i20& amp, const DiscoveryOptions& o) {
   report.unit_number = *info.unit_number;
 
   // 1. The RPC table.
-  std::string rpc_note;
-  const auto from_rpc = decode_cycle_rpc(amp.read_rpc_table(), rpc_note);
+  const auto [from_rpc, rpc_note] = decode_rpc_evidence(amp.read_rpc_table());
   std::vector<std::pair<std::uint16_t, std::size_t>> taken;
   for (const auto* fixed : {"SWREVISION", "UNITNUMBER"})
     taken.emplace_back(*db.get(fixed).address, db.get(fixed).bytes());
@@ -180,8 +217,10 @@ DiscoveryReport discover(Amp8i20& amp, const DiscoveryOptions& o) {
     }
   const auto nv_values = amp.read(nv_params);
   const auto ram = scan(amp, o);
+  const std::size_t first_value_finding = report.findings.size();
   for (std::size_t i = 0; i < nv_params.size(); ++i)
     report.findings.push_back(value_finding(*working[i], *nv_params[i], nv_values[i].raw, ram, o, taken));
+  mark_twins_ambiguous(std::span(report.findings).subspan(first_value_finding), working, nv_values);
 
   // 3. What neither method can reach without writing.
   for (const auto& p : db.all()) {

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -58,6 +59,15 @@ struct DiscoveryReport {
   // the rest as comments.
   std::string overlay_yaml(const std::string& generated_at) const;
 };
+
+// Addresses the card's pre-loaded RPC table names: the RPC with SSLBP's normal-mode cycle
+// shape (4 stream bytes in: ANGLE, QSETPOINT; 8 reply bytes out: TEMPERATURE, BUSV, STATUS,
+// FAULT). Pure: decodes a table already read. `note` says which RPC, or why none.
+struct RpcEvidence {
+  std::map<std::string, std::uint16_t> addresses;
+  std::string note;
+};
+RpcEvidence decode_rpc_evidence(const lbp::Bytes& table);
 
 // Runs discovery on the connected card. Sends only reads, local commands, the RPC
 // memory access flag (always cleared again) and, when reset_first, the 0xFE 0x5A reset.

@@ -2,7 +2,10 @@
 
 #include <fcntl.h>
 #include <linux/serial.h>
+#include <sys/file.h>
 #include <sys/ioctl.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -11,7 +14,10 @@
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/write.hpp>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 #include <system_error>
 
 #include "link/link.hpp"
@@ -60,6 +66,29 @@ std::string tty_name(const std::string& path) {
   return relative.empty() || *relative.begin() == ".." ? device.filename().string() : relative.string();
 }
 
+// Who holds the flock on this open file, from /proc/locks ("1: FLOCK  ADVISORY  WRITE 1234
+// 00:19:5 0 EOF": the pid, then the device as hex major:minor and the inode).
+std::string lock_holder(int fd) {
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) return {};
+  std::ifstream locks("/proc/locks");
+  std::string line;
+  while (std::getline(locks, line)) {
+    std::istringstream in(line);
+    std::string id, kind, advisory, mode, where;
+    long pid = 0;
+    if (!(in >> id >> kind >> advisory >> mode >> pid >> where) || kind != "FLOCK") continue;
+    unsigned major_no = 0, minor_no = 0;
+    unsigned long long inode = 0;
+    if (std::sscanf(where.c_str(), "%x:%x:%llu", &major_no, &minor_no, &inode) != 3) continue;
+    if (inode != st.st_ino || major_no != major(st.st_dev) || minor_no != minor(st.st_dev)) continue;
+    std::string name;
+    std::ifstream(("/proc/" + std::to_string(pid) + "/comm").c_str()) >> name;
+    return "PID " + std::to_string(pid) + (name.empty() ? "" : " (" + name + ")");
+  }
+  return {};
+}
+
 }  // namespace
 
 struct SerialStream::Impl {
@@ -73,6 +102,7 @@ struct SerialStream::Impl {
   int fd() { return port.native_handle(); }
   void open();
   void configure();
+  void lock();
   void request_exclusive();
   void request_low_latency();
   void run_until_done(const bool& op_done, const bool& timer_done, Clock::time_point deadline);
@@ -101,6 +131,19 @@ void SerialStream::Impl::configure() {
   set(base::flow_control(base::flow_control::none), "no flow control");
   // asio's open() made the line raw already; drop whatever arrived before we were ready.
   ::tcflush(fd(), TCIOFLUSH);
+}
+
+// One program per 8I20: an advisory lock every i20 process takes, root included (TIOCEXCL
+// below does not stop root), so two tools never interleave their commands on one line.
+void SerialStream::Impl::lock() {
+  if (::flock(fd(), LOCK_EX | LOCK_NB) == 0) return;
+  if (errno != EWOULDBLOCK) {
+    notes.push_back("advisory lock not available on " + path + ": " + errno_text(errno));
+    return;
+  }
+  const std::string holder = lock_holder(fd());
+  throw LinkError(path + " is in use by " + (holder.empty() ? "another program" : holder) +
+                  ": only one program may talk to the 8I20 at a time; wait for it to finish, or stop it");
 }
 
 void SerialStream::Impl::request_exclusive() {
@@ -158,6 +201,7 @@ SerialStream::SerialStream(const std::string& path, Options options) : impl_(std
   impl_->path = path;
   impl_->options = std::move(options);
   impl_->open();
+  impl_->lock();  // before touching the line settings another program may be using
   impl_->configure();
   impl_->request_exclusive();
   impl_->request_low_latency();

@@ -263,16 +263,50 @@ void ParamDb::apply_overlay_string(std::string_view yaml, const std::string& sou
   merge(yaml, source_name, /*is_base=*/false);
 }
 
-void ParamDb::select_firmware(std::uint16_t swrevision) {
-  firmware_ = swrevision;
-  std::vector<PendingOverlay> waiting;
-  for (auto& overlay : pending_) {
+ParamDb ParamDb::for_firmware(std::uint16_t swrevision) const {
+  ParamDb db = *this;
+  db.firmware_ = swrevision;
+  db.pending_.clear();
+  for (const auto& overlay : pending_) {
     if (overlay.swrevision == swrevision)
-      merge(overlay.yaml, overlay.source, false);
+      db.merge(overlay.yaml, overlay.source, false);
     else
-      waiting.push_back(std::move(overlay));
+      db.pending_.push_back(overlay);
   }
-  pending_ = std::move(waiting);
+  return db;
+}
+
+ParamDb ParamDb::with_evidence(const std::vector<Evidence>& evidence) const {
+  ParamDb db = *this;
+  for (const auto& e : evidence) {
+    Param* p = nullptr;
+    for (auto& q : db.params_)
+      if (q.name == upper(e.name)) p = &q;
+    if (!p) continue;
+    p->address = e.address;
+    p->provenance.source = e.source;
+    p->provenance.confirmed_on_all = false;
+    p->provenance.confirmed_on.clear();
+    if (db.firmware_) p->provenance.confirmed_on.push_back(*db.firmware_);
+    p->origin = e.source;
+  }
+  // A guessed address the card contradicts is no address at all.
+  for (auto& q : db.params_) {
+    if (!q.address || db.address_confirmed(q)) continue;
+    for (const auto& e : evidence) {
+      const Param* named = db.find(e.name);
+      if (!named || named->space != q.space || &q == named) continue;
+      const auto q_end = std::size_t{*q.address} + q.bytes();
+      const auto e_end = std::size_t{e.address} + named->bytes();
+      if (*q.address < e_end && e.address < q_end) {
+        q.address.reset();
+        q.provenance.source += "; dropped: the card's RPC table puts " + named->name + " there";
+        break;
+      }
+    }
+  }
+  db.check_consistency("card evidence");
+  return db;
 }
 
 void ParamDb::merge(std::string_view yaml, const std::string& source, bool is_base) {

@@ -44,9 +44,19 @@ class ParamDb {
   void apply_overlay_file(const std::filesystem::path& path);
   void apply_overlay_string(std::string_view yaml, const std::string& source_name);
 
-  // Applies the overlays waiting for this revision and makes it the one that
-  // address_confirmed() is judged against.
-  void select_firmware(std::uint16_t swrevision);
+  // The database as it applies to a card reporting this revision: the overlays waiting
+  // for it merged in, and address_confirmed() judged against it. A new value: this one
+  // stays as loaded, so any number of cards can be resolved from one database.
+  ParamDb for_firmware(std::uint16_t swrevision) const;
+  // Addresses the card itself names (its pre-loaded RPC table, decoded read-only), taken
+  // as confirmed for this database's firmware. A parameter whose unconfirmed address
+  // overlaps one of them loses that address (it was a guess the card contradicts).
+  struct Evidence {
+    std::string name;
+    std::uint16_t address = 0;
+    std::string source;  // "the card's pre-loaded RPC table (RPC 0)"
+  };
+  ParamDb with_evidence(const std::vector<Evidence>& evidence) const;
   std::optional<std::uint16_t> firmware() const { return firmware_; }
   bool address_confirmed(const Param& param) const { return param.address_confirmed(firmware_); }
 

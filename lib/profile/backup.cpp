@@ -1,5 +1,7 @@
 #include "profile/backup.hpp"
 
+#include <cstdlib>
+
 #include <unistd.h>
 
 #include <cctype>
@@ -81,6 +83,14 @@ std::filesystem::path write_backup(const Profile& backup, const params::ParamDb&
     throw BackupError("cannot close backup " + path.string() + ": " + std::strerror(errno));
   check_reloads(backup, db, path);
   return path;
+}
+
+std::filesystem::path default_backup_dir() {
+  if (const char* state = std::getenv("XDG_STATE_HOME"); state && *state)
+    return std::filesystem::path(state) / "i20" / "backups";
+  if (const char* home = std::getenv("HOME"); home && *home)
+    return std::filesystem::path(home) / ".local" / "state" / "i20" / "backups";
+  return "i20-backups";
 }
 
 }  // namespace i20::profile

@@ -19,4 +19,8 @@ std::filesystem::path write_backup(const Profile& backup, const params::ParamDb&
                                    const std::filesystem::path& dir, const std::string& label,
                                    std::chrono::system_clock::time_point when);
 
+// Where backups go unless the user says otherwise: $XDG_STATE_HOME/i20/backups, else
+// ~/.local/state/i20/backups (the XDG base directory rules), else ./i20-backups.
+std::filesystem::path default_backup_dir();
+
 }  // namespace i20::profile

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "params/param_db.hpp"
-#include "profile/card_access.hpp"
+#include "profile/raw_values.hpp"
 #include "profile/profile.hpp"
 
 namespace i20::profile {

@@ -5,6 +5,8 @@
 #include <string_view>
 #include <tuple>
 
+#include "params/value.hpp"
+
 namespace i20::profile {
 namespace {
 
@@ -71,6 +73,40 @@ std::vector<DiffRow> safe_order(std::vector<DiffRow> steps, const params::ParamD
   std::vector<DiffRow> out;
   for (auto& k : keyed) out.push_back(std::move(k.row));
   return out;
+}
+
+std::string unsafe_step(const Plan& plan, const params::ParamDb& db, const RawValues& card) {
+  constexpr std::pair<std::string_view, std::string_view> kPairs[] = {{"BRAKEOFFV", "BRAKEONV"},
+                                                                      {"BUSUNDERV", "BUSOVERV"}};
+  struct Pair {
+    std::string low, high;
+  };
+  std::vector<Pair> pairs;
+  for (const auto& [low, high] : kPairs) {
+    const params::Param* lo = db.find(low);
+    const params::Param* hi = db.find(high);
+    if (!lo || !hi) continue;
+    pairs.push_back({lo->name, hi->name});
+    if (!lo->twin.empty() && !hi->twin.empty()) pairs.push_back({lo->twin, hi->twin});
+  }
+  const auto in_order = [](const RawValues& state, const Pair& p) {
+    const auto lo = state.find(p.low);
+    const auto hi = state.find(p.high);
+    return lo == state.end() || hi == state.end() || lo->second < hi->second;
+  };
+  RawValues state = card;
+  for (const auto& step : plan.steps) {
+    state[step.cell] = step.profile_raw;
+    for (const auto& p : pairs) {
+      if (in_order(state, p) || !in_order(card, p)) continue;
+      const auto text = [&](const std::string& cell) {
+        return cell + " " + params::format_engineering(db.get(cell), state.at(cell));
+      };
+      return "after writing " + step.cell + " = " + step.profile_text + ": " + text(p.low) + " is not below " +
+             text(p.high);
+    }
+  }
+  return {};
 }
 
 Plan make_plan(const Profile& profile, const params::ParamDb& db, const RawValues& card) {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "params/param_db.hpp"
-#include "profile/card_access.hpp"
+#include "profile/raw_values.hpp"
 #include "profile/diff.hpp"
 #include "profile/profile.hpp"
 
@@ -33,5 +33,12 @@ Plan make_plan(const Profile& profile, const params::ParamDb& db, const RawValue
 //    manual's 360/340 -> 190/170 writes BRAKEOFFV before BRAKEONV);
 //  - loop gains that decrease before gains that increase; everything else in profile order.
 std::vector<DiffRow> safe_order(std::vector<DiffRow> steps, const params::ParamDb& db);
+
+// Walks the plan's steps from the card's values and names the first state, if any, in which
+// a threshold pair is out of order (BRAKEOFFV not below BRAKEONV, BUSUNDERV not below
+// BUSOVERV, in either space), as "after writing NVBRAKEONV = 190.00 V: NVBRAKEOFFV 340.00 V
+// is not below NVBRAKEONV 190.00 V". Pairs already out of order on the card are not the
+// plan's doing and are not reported. An empty result: every step is safe.
+std::string unsafe_step(const Plan& plan, const params::ParamDb& db, const RawValues& card);
 
 }  // namespace i20::profile

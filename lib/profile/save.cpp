@@ -6,10 +6,8 @@
 #include "profile/timestamp.hpp"
 
 namespace i20::profile {
-namespace {
 
-// Database spelling, read-only names refused, duplicates dropped, order kept.
-std::vector<std::string> canonical(const std::vector<std::string>& names, const params::ParamDb& db) {
+std::vector<std::string> canonical_save_names(const std::vector<std::string>& names, const params::ParamDb& db) {
   std::vector<std::string> out;
   std::set<std::string> seen;
   for (const auto& name : names) {
@@ -21,8 +19,6 @@ std::vector<std::string> canonical(const std::vector<std::string>& names, const 
   }
   return out;
 }
-
-}  // namespace
 
 std::vector<std::string> default_save_names(const params::ParamDb& db) {
   std::vector<std::string> names;
@@ -40,7 +36,7 @@ Profile profile_from_values(const RawValues& values, const std::vector<std::stri
   profile.notes = options.notes;
   profile.comments = {"Read from " + card, "on " + iso8601_utc(options.when) + ".",
                       "Values are in engineering units; applying this file writes them back."};
-  for (const auto& name : canonical(names, db)) {
+  for (const auto& name : canonical_save_names(names, db)) {
     const auto it = values.find(name);
     if (it == values.end()) throw ProfileError("", name, "missing", "no value was read for it");
     profile.settings.push_back({name, it->second, std::nullopt, 0});
@@ -48,11 +44,5 @@ Profile profile_from_values(const RawValues& values, const std::vector<std::stri
   return profile;
 }
 
-Profile save(CardAccess& card, const params::ParamDb& db, const std::vector<std::string>& names,
-             const SaveOptions& options) {
-  const auto wanted = canonical(names.empty() ? default_save_names(db) : names, db);
-  const RawValues values = card.read(wanted);
-  return profile_from_values(values, wanted, db, card.describe(), options);
-}
 
 }  // namespace i20::profile

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "params/param_db.hpp"
-#include "profile/card_access.hpp"
+#include "profile/raw_values.hpp"
 #include "profile/profile.hpp"
 
 namespace i20::profile {
@@ -22,15 +22,13 @@ struct SaveOptions {
 // the power-up setup of the drive.
 std::vector<std::string> default_save_names(const params::ParamDb& db);
 
+// Database spelling, read-only names refused (ProfileError), duplicates dropped, order kept.
+std::vector<std::string> canonical_save_names(const std::vector<std::string>& names, const params::ParamDb& db);
+
 // A profile holding `values` for `names` (each in its own space: NV names -> nv), with
 // provenance comments naming `card` and the time. Throws ProfileError for a read-only or
 // missing name, UnknownParameter for a name not in the database.
 Profile profile_from_values(const RawValues& values, const std::vector<std::string>& names,
                             const params::ParamDb& db, const std::string& card, const SaveOptions& options);
-
-// Reads `names` (default_save_names() if empty) from the card into a profile. Card errors
-// propagate as thrown by CardAccess::read.
-Profile save(CardAccess& card, const params::ParamDb& db, const std::vector<std::string>& names,
-             const SaveOptions& options = {});
 
 }  // namespace i20::profile

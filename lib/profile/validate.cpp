@@ -17,6 +17,7 @@ using params::Space;
 // Limits the manual states (sections MOTOR POWER, MOTOR BRAKE, MAXCURRENT, SPECIFICATIONS).
 constexpr double kFixedBrakeOnV = 385.0;    // fixed brake-on that protects the module
 constexpr double kCardMaxCurrentA = 30.0;   // MAXCURRENT: 30 A RMS card rating
+constexpr std::int64_t kMaxBaudIndex = 11;  // OPERATE MODE BAUD RATE: the table's last index
 constexpr double kCardMaxBusV = 400.0;      // motor supply 35..400 V; fixed 400 V fault
 constexpr double kBrakeHysteresisV = 20.0;  // "BRAKEOFFV be set 20V lower than BRAKEON"
 constexpr double kBrakeHysteresisToleranceV = 5.0;
@@ -41,6 +42,18 @@ class Checker {
           std::vector<Finding>& out)
       : profile_(profile), db_(db), context_(context), out_(out) {}
 
+  // Only what needs no card values: each value on its own.
+  void run_values() {
+    try {
+      entry_rules();
+      card_limits();
+    } catch (const ProfileError& e) {
+      out_.push_back({Severity::Error, e.key(), e.rule(), e.reason(), e.where()});
+    } catch (const params::UnknownParameter& e) {
+      out_.push_back({Severity::Error, "", "unknown-parameter", e.what(), profile_.source});
+    }
+  }
+
   void run() {
     std::optional<EffectiveValues> ev;
     try {
@@ -54,6 +67,7 @@ class Checker {
     }
     ev_ = &*ev;
     entry_rules();
+    card_limits();
     supply_limit();
     for (const Space space : {Space::Eeprom, Space::Ram})
       if (ev_->touches(space)) space_rules(space);
@@ -82,6 +96,45 @@ class Checker {
     }
   }
 
+  // Limits of the card itself, judged whatever range a database overlay gives: an overlay
+  // can place a parameter, not make the hardware stronger.
+  void card_limits() {
+    for (const auto& s : profile_.settings)
+      for (const auto& cell : cells_of(profile_, s, db_)) {
+        const params::Param& p = db_.get(cell);
+        const std::string base = p.is_nv() && !p.twin.empty() ? p.twin : p.name;
+        const double engineering = static_cast<double>(s.raw) * p.scale;
+        const std::string text = cell + " " + params::format_engineering(p, s.raw);
+        if ((base == "BAUDRATE" || p.name == "NVBAUDRATE") && (s.raw < 0 || s.raw > kMaxBaudIndex))
+          add(Severity::Error, cell, "baud-index",
+              cell + " " + std::to_string(s.raw) + " is not an index of the manual's baud rate table (0..11)",
+              &s);
+        if (base == "MAXCURRENT" && engineering > kCardMaxCurrentA + 1e-9)
+          add(Severity::Error, cell, "maxcurrent-card", text + " (profile) is above the 8I20's 30 A RMS rating",
+              &s);
+        if (base == "BRAKEONV" && engineering > kFixedBrakeOnV + 1e-9)
+          add(Severity::Error, cell, "brake-on-limit",
+              text + " (profile) is above the fixed 385 V brake-on that protects the 8I20 module", &s);
+      }
+  }
+
+  // Thresholds against the bus the card measures right now.
+  void measured_bus_rules() {
+    if (!context_.measured_bus_v) return;
+    const double bus = *context_.measured_bus_v;
+    const Severity severity = context_.force ? Severity::Warning : Severity::Error;
+    const std::string now = "the " + volts(bus) + " the card measures on its bus now";
+    const std::string forced = context_.force ? " (forced)" : " (pass --force if the supply will change first)";
+    const std::string when = space_ == Space::Eeprom ? " once it is live (after a reset)" : " at once";
+    if (const auto over = value("BUSOVERV"); over && touched({over}) && over->engineering() <= bus)
+      add(severity, *over, "bus-measured-overvoltage",
+          over->describe() + " is at or below " + now + ": the drive would fault" + when + forced);
+    if (const auto on = value("BRAKEONV"); on && touched({on}) && on->engineering() <= bus)
+      add(severity, *on, "bus-measured-brake",
+          on->describe() + " is at or below " + now + ": the brake resistor would switch on" + when +
+              " and take the supply's power" + forced);
+  }
+
   void supply_limit() {
     const auto bus = profile_.supply.bus_voltage_v;
     if (bus && *bus > kCardMaxBusV)
@@ -98,14 +151,12 @@ class Checker {
     gain_match("KQP", "KDP", "kp-match");
     gain_match("KQI", "KDI", "ki-match");
     supply_rules();
+    measured_bus_rules();
   }
 
   void brake_rules() {
     const auto on = value("BRAKEONV");
     const auto off = value("BRAKEOFFV");
-    if (on && touched({on}) && on->engineering() > kFixedBrakeOnV + 1e-9)
-      add(Severity::Error, *on, "brake-on-limit",
-          on->describe() + " is above the fixed 385 V brake-on that protects the 8I20 module");
     if (!on || !off || !touched({on, off})) return;
     if (off->raw >= on->raw) {
       add(Severity::Error, pick({off, on}), "brake-order",
@@ -136,8 +187,6 @@ class Checker {
   void current_rules() {
     const auto max = value("MAXCURRENT");
     if (!max) return;
-    if (touched({max}) && max->engineering() > kCardMaxCurrentA + 1e-9)
-      add(Severity::Error, *max, "maxcurrent-card", max->describe() + " is above the 8I20's 30 A RMS rating");
     // The motor's ratings come from the profile, so they are judged whenever it touches this space.
     const MotorInfo& m = profile_.motor;
     const double amps_set = max->engineering();
@@ -229,6 +278,13 @@ class Checker {
 };
 
 }  // namespace
+
+std::vector<Finding> validate_values(const Profile& profile, const params::ParamDb& db, bool force) {
+  std::vector<Finding> findings;
+  const ValidationContext context{nullptr, force, std::nullopt};
+  Checker(profile, db, context, findings).run_values();
+  return findings;
+}
 
 std::vector<Finding> validate(const Profile& profile, const params::ParamDb& db,
                               const ValidationContext& context) {

@@ -113,7 +113,7 @@ TEST(ProfileExportCli, ExportOfASavedCardCarriesTheCardsEepromWords) {
   SimProcess sim;
   TempDir dir;
   const std::string saved = (dir / "axis.yaml").string();
-  ASSERT_EQ(i20_on(sim.port(), {"set", "NVBRAKEONV=190V", "NVBRAKEOFFV=170V", "NVKQI=123456"}).exit_code, 0);
+  ASSERT_EQ(i20_on(sim.port(), {"set", "NVBRAKEONV=375V", "NVBRAKEOFFV=355V", "NVKQI=123456", "NVKDI=123456"}).exit_code, 0);
   ASSERT_EQ(i20_on(sim.port(), {"profile", "save", saved}).exit_code, 0);
   const auto r = run("i20", {"profile", "export", saved, "--hal", "--device", "hm2_7i96s.0.8i20.0.2"});
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -1,6 +1,6 @@
 // Apply against a fake card with injected failures: every run ends applied-and-verified,
 // rolled-back-and-verified, or with an exact account of each cell; never silently wrong.
-#include "profile/apply.hpp"
+#include "ops/transaction.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +14,12 @@
 #include "test_util.hpp"
 
 using namespace i20::profile;
+using namespace i20::ops;
+using namespace i20::ops::testing;
 using namespace i20::profile::testing;
+using i20::ops::CellState;
+using i20::ops::CellStatus;
+using i20::ops::Outcome;
 namespace fs = std::filesystem;
 
 namespace {
@@ -43,15 +48,15 @@ class ProfileApply : public ::testing::Test {
     return out;
   }
 
-  ApplyResult run(const std::string& yaml) { return apply(load(yaml), db(), card_, options_); }
+  TransactionResult run(const std::string& yaml) { return run_transaction(load(yaml), db(), card_, options_); }
 
   fs::path dir_;
-  ApplyOptions options_;
+  TransactionOptions options_;
   FakeCard card_{db()};
   const RawValues original_ = card_.values;
 };
 
-bool all_status(const ApplyResult& r, CellStatus status) {
+bool all_status(const TransactionResult& r, CellStatus status) {
   return std::ranges::all_of(r.cells, [&](const CellState& c) { return c.status == status; });
 }
 
@@ -59,8 +64,8 @@ bool all_status(const ApplyResult& r, CellStatus status) {
 
 TEST_F(ProfileApply, AppliesVerifiesAndTheSecondTimeWritesNothing) {
   auto r = run(kLine120);
-  ASSERT_EQ(r.outcome, Outcome::Applied) << r.reason;
-  EXPECT_STREQ(to_string(r.outcome), "applied-and-verified");
+  ASSERT_EQ(r.outcome, Outcome::Done) << r.reason;
+  EXPECT_STREQ(to_string(r.outcome), "done");
   EXPECT_EQ(r.card, "fake 8I20 unit 0x00C0FFEE");
   EXPECT_EQ(card_.values["NVBRAKEONV"], 19000);
   EXPECT_EQ(card_.values["NVBRAKEOFFV"], 17000);
@@ -112,7 +117,7 @@ TEST_F(ProfileApply, UnreadableContextFallsBackToDefaults) {
   // KDP is only needed to judge kp-match; without it the default (50) is used.
   card_.fail_reads_of = {"NVKDP"};
   const auto r = run(with_params("  NVKQP: 60\n"));
-  EXPECT_EQ(r.outcome, Outcome::Applied) << r.reason;
+  EXPECT_EQ(r.outcome, Outcome::Done) << r.reason;
   EXPECT_TRUE(has_rule(r.findings, "kp-match", Severity::Warning));
 }
 
@@ -120,16 +125,16 @@ TEST_F(ProfileApply, ValidatesAgainstTheCardsCurrentValues) {
   // The card already has a 170 V brake-off, so setting only the brake-on to 190 V is fine;
   // against the database default (340 V) it would be refused.
   card_.values["NVBRAKEOFFV"] = 17000;
-  EXPECT_EQ(run(with_params("  NVBRAKEONV: 190 V\n")).outcome, Outcome::Applied);
+  EXPECT_EQ(run(with_params("  NVBRAKEONV: 190 V\n")).outcome, Outcome::Done);
   FakeCard fresh(db());
-  EXPECT_EQ(apply(load(with_params("  NVBRAKEONV: 190 V\n")), db(), fresh, options_).outcome,
+  EXPECT_EQ(run_transaction(load(with_params("  NVBRAKEONV: 190 V\n")), db(), fresh, options_).outcome,
             Outcome::Refused);
 }
 
 TEST_F(ProfileApply, WarningsDoNotStopTheApply) {
   const auto r = run(with_params("  NVKQP: 60\n"));
   EXPECT_TRUE(has_rule(r.findings, "kp-match", Severity::Warning));
-  EXPECT_EQ(r.outcome, Outcome::Applied);
+  EXPECT_EQ(r.outcome, Outcome::Done);
 }
 
 TEST_F(ProfileApply, BackupIsWrittenBeforeTheFirstWriteAndRestoresTheCard) {
@@ -144,7 +149,7 @@ TEST_F(ProfileApply, BackupIsWrittenBeforeTheFirstWriteAndRestoresTheCard) {
     checked = true;
   };
   const auto r = run(kLine120);
-  ASSERT_EQ(r.outcome, Outcome::Applied);
+  ASSERT_EQ(r.outcome, Outcome::Done);
   EXPECT_TRUE(checked);
   EXPECT_EQ(r.backup.filename().string(), "i20-backup-20231114-221320-test.yaml");
   const std::string text = [&] {
@@ -157,15 +162,15 @@ TEST_F(ProfileApply, BackupIsWrittenBeforeTheFirstWriteAndRestoresTheCard) {
 
   // Re-applying the backup restores the card exactly.
   card_.before_write = nullptr;
-  const auto restored = apply(load_profile_file(r.backup, db()), db(), card_, options_);
-  EXPECT_EQ(restored.outcome, Outcome::Applied) << restored.reason;
+  const auto restored = run_transaction(load_profile_file(r.backup, db()), db(), card_, options_);
+  EXPECT_EQ(restored.outcome, Outcome::Done) << restored.reason;
   EXPECT_EQ(card_.values, original_);
 }
 
 TEST_F(ProfileApply, BackupsNeverOverwriteEachOther) {
-  ASSERT_EQ(run(kLine120).outcome, Outcome::Applied);
+  ASSERT_EQ(run(kLine120).outcome, Outcome::Done);
   const auto second = run(with_params("  NVKQP: 50\n  NVKDP: 50\n  NVMAXCURRENT: 8 A\n"));  // same second
-  ASSERT_EQ(second.outcome, Outcome::Applied);
+  ASSERT_EQ(second.outcome, Outcome::Done);
   EXPECT_EQ(backups().size(), 2u);
   EXPECT_EQ(second.backup.filename().string(), "i20-backup-20231114-221320-test-2.yaml");
 }
@@ -183,7 +188,7 @@ TEST_F(ProfileApply, DeviceRefusalStopsBeforeAnyWrite) {
 TEST_F(ProfileApply, NoBackupNoWrite) {
   options_.backup_dir = "/proc/i20-cannot-create-this";
   const auto r = run(kLine120);
-  EXPECT_EQ(r.outcome, Outcome::Refused);
+  EXPECT_EQ(r.outcome, Outcome::Failed);  // exit 1: nothing was written
   EXPECT_NE(r.reason.find("backup"), std::string::npos) << r.reason;
   EXPECT_EQ(card_.write_calls, 0);
 }
@@ -191,7 +196,7 @@ TEST_F(ProfileApply, NoBackupNoWrite) {
 TEST_F(ProfileApply, UnreadableCardIsRefusedWithoutWriting) {
   card_.fail_reads_of = {"NVBUSOVERV"};
   const auto r = run(kLine120);
-  EXPECT_EQ(r.outcome, Outcome::Refused);
+  EXPECT_EQ(r.outcome, Outcome::Failed);  // exit 1: nothing was written
   EXPECT_NE(r.reason.find("NVBUSOVERV"), std::string::npos) << r.reason;
   EXPECT_EQ(card_.write_calls, 0);
 }
@@ -200,7 +205,7 @@ TEST_F(ProfileApply, WriteFailingOnTheThirdParameterRollsBack) {
   card_.fail_write_calls = {3};
   const auto r = run(kLine120);
   ASSERT_EQ(r.outcome, Outcome::RolledBack) << r.reason;
-  EXPECT_STREQ(to_string(r.outcome), "rolled-back-and-verified");
+  EXPECT_STREQ(to_string(r.outcome), "rolled-back");
   EXPECT_NE(r.reason.find("NVBRAKEONV"), std::string::npos) << r.reason;
   EXPECT_EQ(card_.values, original_);
   // Three cells touched (the failed one's state was unknown until read), all verified original.
@@ -241,8 +246,8 @@ TEST_F(ProfileApply, FailedRollbackReportsEveryCell) {
   // Third write fails; restoring the first written cell (NVMAXCURRENT) fails as well.
   card_.fail_write_calls = {3, 5};
   const auto r = run(kLine120);
-  ASSERT_EQ(r.outcome, Outcome::RollbackFailed) << r.reason;
-  EXPECT_STREQ(to_string(r.outcome), "rollback-failed");
+  ASSERT_EQ(r.outcome, Outcome::Uncertain) << r.reason;
+  EXPECT_STREQ(to_string(r.outcome), "uncertain");
   ASSERT_EQ(r.cells.size(), 3u);
   EXPECT_EQ(r.cells[0].cell, "NVMAXCURRENT");
   EXPECT_EQ(r.cells[0].status, CellStatus::Intended);
@@ -267,7 +272,7 @@ TEST_F(ProfileApply, CellsThatCannotBeReadAreReportedUnknown) {
     }
   };
   const auto r = run(kLine120);
-  ASSERT_EQ(r.outcome, Outcome::RollbackFailed) << r.reason;
+  ASSERT_EQ(r.outcome, Outcome::Uncertain) << r.reason;
   const auto unknown = std::ranges::find(r.cells, std::string("NVBRAKEONV"), &CellState::cell);
   ASSERT_NE(unknown, r.cells.end());
   EXPECT_EQ(unknown->status, CellStatus::Unknown);
@@ -293,7 +298,7 @@ TEST_F(ProfileApply, EveryFailurePointEndsRolledBack) {
       card.fail_write_calls = {fail_at};
       card.failed_write_lands = lands;
       const RawValues before = card.values;
-      const auto r = apply(load(yaml), db(), card, options_);
+      const auto r = run_transaction(load(yaml), db(), card, options_);
       ASSERT_EQ(r.outcome, Outcome::RolledBack) << "fail at " << fail_at << ": " << r.reason;
       EXPECT_EQ(card.values, before) << "fail at " << fail_at;
       EXPECT_EQ(r.cells.size(), static_cast<std::size_t>(fail_at));
@@ -304,7 +309,7 @@ TEST_F(ProfileApply, EveryFailurePointEndsRolledBack) {
 TEST_F(ProfileApply, ResetAfterVerifiedEepromWrites) {
   options_.reset = true;
   const auto r = run(kLine120);
-  ASSERT_EQ(r.outcome, Outcome::Applied) << r.reason;
+  ASSERT_EQ(r.outcome, Outcome::Done) << r.reason;
   EXPECT_TRUE(r.reset_done);
   EXPECT_FALSE(r.reset_needed);
   EXPECT_EQ(card_.resets, 1);
@@ -315,7 +320,7 @@ TEST_F(ProfileApply, FailedResetLeavesVerifiedValuesAndSaysSo) {
   options_.reset = true;
   card_.fail_reset = true;
   const auto r = run(kLine120);
-  EXPECT_EQ(r.outcome, Outcome::Applied);
+  EXPECT_EQ(r.outcome, Outcome::Uncertain);  // the values are verified, but not live as asked
   EXPECT_FALSE(r.reset_done);
   EXPECT_TRUE(r.reset_needed);
   EXPECT_NE(r.reset_error.find("did not come back"), std::string::npos);
@@ -328,11 +333,11 @@ TEST_F(ProfileApply, ResetIsRefusedWhenItWouldDiscardWorkingValues) {
   EXPECT_TRUE(has_rule(r.findings, "reset-discards-working", Severity::Error));
   EXPECT_EQ(card_.write_calls, 0);
   r = run(with_params("  NVKQP: {value: 60, target: both}\n  NVKDP: {value: 60, target: both}\n"));
-  EXPECT_EQ(r.outcome, Outcome::Applied) << r.reason;
+  EXPECT_EQ(r.outcome, Outcome::Done) << r.reason;
 }
 
 TEST_F(ProfileApply, WorkingOnlyProfileNeedsNoReset) {
   const auto r = run(with_params("  KQP: 60\n  KDP: 60\n"));
-  ASSERT_EQ(r.outcome, Outcome::Applied);
+  ASSERT_EQ(r.outcome, Outcome::Done);
   EXPECT_FALSE(r.reset_needed);
 }

@@ -1,7 +1,6 @@
-#include "profile/apply.hpp"
+#include "ops/transaction.hpp"
 
 #include <algorithm>
-#include <array>
 #include <exception>
 
 #include "params/value.hpp"
@@ -10,43 +9,46 @@
 #include "profile/save.hpp"
 #include "profile/validate.hpp"
 
-namespace i20::profile {
+namespace i20::ops {
 namespace {
 
-// Working names of the parameters the cross-parameter rules look at.
-constexpr std::array<const char*, 9> kRuleParams{
-    "BRAKEONV", "BRAKEOFFV", "BUSOVERV", "BUSUNDERV", "MAXCURRENT", "KQP", "KDP", "KQI", "KDI"};
+using profile::DiffRow;
+using profile::Severity;
 
 struct ReadOne {
   std::optional<std::int64_t> value;
   std::string error;
 };
 
-class Applier {
+class Transaction {
  public:
-  Applier(const Profile& profile, const params::ParamDb& db, CardAccess& card, const ApplyOptions& options,
-          ApplyResult& result)
+  Transaction(const profile::Profile& profile, const params::ParamDb& db, CardAccess& card,
+              const TransactionOptions& options, TransactionResult& result)
       : profile_(profile), db_(db), card_(card), options_(options), result_(result) {}
 
   void run() {
     result_.card = describe_card();
     try {
-      writes_ = cell_writes(profile_, db_);
+      writes_ = profile::cell_writes(profile_, db_);
     } catch (const Error& e) {
-      return refuse(e.what());
+      return stop(Outcome::BadInput, e.what());
     }
+    if (interrupted_before("reading the card")) return;
     if (!read_card()) return;
-    result_.plan = make_plan(profile_, db_, snapshot_);  // shown even when refused
-    if (!check()) return;
+    result_.plan = profile::make_plan(profile_, db_, snapshot_);  // shown even when refused
+    if (!check() || !order_is_safe()) return;
+    if (options_.on_plan) options_.on_plan(result_.plan);
     if (options_.dry_run) return finish(Outcome::DryRun);
-    if (result_.plan.empty()) return finish(Outcome::NothingToDo);
+    if (result_.plan.empty()) return nothing_to_do();
     if (!device_accepts() || !backup()) return;
+    if (interrupted_before("writing")) return;
     auto [touched, failure] = write_plan();
-    if (failure.empty()) failure = verify();
-    if (!failure.empty()) return roll_back(touched, failure);
-    finish(Outcome::Applied);
+    if (failure.empty() && !result_.interrupted) failure = verify();
+    if (result_.interrupted || !failure.empty()) return roll_back(touched, failure);
+    finish(Outcome::Done);
     result_.reset_needed = result_.plan.reset_needed;
     if (options_.reset && result_.plan.reset_needed) reset_card();
+    copy_events();
   }
 
  private:
@@ -59,55 +61,87 @@ class Applier {
     }
   }
 
+  bool interrupted_before(const std::string& what) {
+    if (!options_.cancel.requested()) return false;
+    result_.interrupted = true;
+    stop(Outcome::Interrupted, "interrupted (Ctrl-C) before " + what + ": nothing was written");
+    return true;
+  }
+
   bool read_card() {
     std::vector<std::string> names;
     for (const auto& w : writes_) names.push_back(w.cell);
     try {
       snapshot_ = card_.read(names);
     } catch (const std::exception& e) {
-      refuse(std::string("cannot read the card's current values: ") + e.what());
+      stop(Outcome::Failed, std::string("cannot read the card's current values, so nothing was written: ") +
+                                e.what());
       return false;
     }
     for (const auto& name : names)
       if (!snapshot_.contains(name)) {
-        refuse("the card did not return a value for " + name);
+        stop(Outcome::Refused, name + " cannot be read as a fact on this card (its address is not confirmed for "
+                                      "its firmware), so it is not written");
         return false;
       }
     read_context();
     return true;
   }
 
-  // The other values the rules compare against. Not required: a cell that cannot be read
-  // is judged by its database default instead, as validate() does without a card.
+  // The other values the rules compare against, and the measured bus. Not required: a
+  // cell that cannot be read is judged by its database default, as validate() does
+  // without a card.
   void read_context() {
     std::vector<std::string> names;
-    for (const char* base : kRuleParams) {
+    for (const auto& base : rule_parameters()) {
       const params::Param* p = db_.find(base);
       if (!p) continue;
       for (const auto& cell : {p->name, p->twin})
         if (!cell.empty() && db_.find(cell) && !snapshot_.contains(cell)) names.push_back(cell);
     }
+    if (db_.find("BUSV")) names.push_back("BUSV");
     try {
-      for (const auto& [name, raw] : card_.read(names)) snapshot_[name] = raw;
-      return;
+      for (const auto& [name, raw] : card_.read(names)) context_[name] = raw;
     } catch (const std::exception&) {
       // One unreadable cell fails the batch: take the others one by one.
+      for (const auto& name : names)
+        if (const auto one = read_one(name); one.value) context_[name] = *one.value;
     }
-    for (const auto& name : names) {
-      const auto one = read_one(name);
-      if (one.value) snapshot_[name] = *one.value;
-    }
+    for (const auto& [name, raw] : context_)
+      if (name != "BUSV") snapshot_.try_emplace(name, raw);
   }
 
   bool check() {
-    const ValidationContext context{&snapshot_, options_.force};
-    result_.findings = validate(profile_, db_, context);
+    profile::ValidationContext context{&snapshot_, options_.force, std::nullopt};
+    if (const auto bus = context_.find("BUSV"); bus != context_.end())
+      context.measured_bus_v = static_cast<double>(bus->second) * db_.get("BUSV").scale;
+    result_.findings = profile::validate(profile_, db_, context);
     if (options_.reset) reset_conflicts();
-    if (has_errors(result_.findings)) {
-      refuse("the profile has errors; nothing was written");
+    if (profile::has_errors(result_.findings)) {
+      stop(Outcome::Refused, first_error() + "; nothing was written");
       return false;
     }
     return true;
+  }
+
+  std::string first_error() const {
+    std::size_t errors = 0;
+    const profile::Finding* first = nullptr;
+    for (const auto& f : result_.findings)
+      if (f.severity == Severity::Error && errors++ == 0) first = &f;
+    std::string text = first->key.empty() ? first->message : first->key + ": " + first->message;
+    text += " [" + first->rule + "]";
+    if (errors > 1) text += " (and " + std::to_string(errors - 1) + " more)";
+    return text;
+  }
+
+  // Belt and braces over the plan's ordering: every intermediate state must keep the
+  // threshold pairs in order, or nothing is written.
+  bool order_is_safe() {
+    const std::string unsafe = profile::unsafe_step(result_.plan, db_, snapshot_);
+    if (unsafe.empty()) return true;
+    stop(Outcome::Refused, "no safe write order: " + unsafe + "; nothing was written");
+    return false;
   }
 
   // A reset loads every working parameter from the EEPROM, so a working value that the
@@ -128,14 +162,32 @@ class Applier {
     }
   }
 
+  // Nothing differs, but a reset may still be pending: NV cells whose working twin holds
+  // something else are not live yet.
+  void nothing_to_do() {
+    finish(Outcome::NothingToDo);
+    if (!options_.reset) return;
+    for (const auto& row : result_.plan.unchanged) {
+      const params::Param& p = db_.get(row.cell);
+      if (!p.is_nv() || p.twin.empty()) continue;
+      const auto live = read_one(p.twin);
+      if (live.value && *live.value != row.profile_raw) {
+        result_.reset_needed = true;
+        break;
+      }
+    }
+    if (result_.reset_needed) reset_card();
+    copy_events();
+  }
+
   // The device layer's own rules, asked for every write before the first one is sent.
   bool device_accepts() {
     for (const auto& step : result_.plan.steps) {
       try {
         card_.check_write(step.cell, step.profile_raw);
       } catch (const std::exception& e) {
-        refuse("the card would refuse " + step.cell + " = " + step.profile_text + ": " + e.what() +
-               "; nothing was written");
+        stop(Outcome::Refused, "the card would refuse " + step.cell + " = " + step.profile_text + ": " + e.what() +
+                                   "; nothing was written");
         return false;
       }
     }
@@ -143,18 +195,19 @@ class Applier {
   }
 
   bool backup() {
+    if (!options_.backup_dir) return true;
     std::vector<std::string> names;
     for (const auto& w : writes_) names.push_back(w.cell);
-    SaveOptions save;
+    profile::SaveOptions save;
     save.name = "backup before " + profile_.name;
-    save.notes =
-        "The card's values before applying " + profile_.source + ". Apply this file to restore them.";
+    save.notes = "The card's values before applying " + profile_.source + ". Apply this file to restore them.";
     save.when = options_.when;
     try {
-      const Profile before = profile_from_values(snapshot_, names, db_, result_.card, save);
-      result_.backup = write_backup(before, db_, options_.backup_dir, profile_.name, options_.when);
+      const auto before = profile::profile_from_values(snapshot_, names, db_, result_.card, save);
+      const std::string label = options_.backup_label.empty() ? profile_.name : options_.backup_label;
+      result_.backup = profile::write_backup(before, db_, *options_.backup_dir, label, options_.when);
     } catch (const std::exception& e) {
-      refuse(std::string("cannot write the backup, so nothing was written: ") + e.what());
+      stop(Outcome::Failed, std::string("cannot write the backup, so nothing was written: ") + e.what());
       return false;
     }
     return true;
@@ -171,6 +224,11 @@ class Applier {
   Progress write_plan() {
     const auto& steps = result_.plan.steps;
     for (std::size_t i = 0; i < steps.size(); ++i) {
+      // Ctrl-C between writes: stop here and restore what was written.
+      if (i > 0 && options_.cancel.requested()) {
+        result_.interrupted = true;
+        return {i, {}};
+      }
       const WriteRecord record = write_one(steps[i].cell, steps[i].profile_raw);
       result_.writes.push_back(record);
       if (!record.ok) return {i + 1, "writing " + record.cell + " failed: " + record.error};
@@ -192,8 +250,8 @@ class Applier {
       const auto it = now.find(step.cell);
       if (it == now.end() || it->second != step.profile_raw)
         mismatches += (mismatches.empty() ? "" : ", ") + step.cell + " reads " +
-                      (it == now.end() ? std::string("nothing") : text(step.cell, it->second)) +
-                      " instead of " + step.profile_text;
+                      (it == now.end() ? std::string("nothing") : text(step.cell, it->second)) + " instead of " +
+                      step.profile_text;
     }
     if (!mismatches.empty()) return "verify failed: " + mismatches;
     for (const auto& step : result_.plan.steps)
@@ -203,9 +261,12 @@ class Applier {
 
   // --- restoring
   // Undo in reverse order: the reverse of a safe path is a safe path. A cell that still
-  // holds its original value is not written again (EEPROM wear).
+  // holds its original value is not written again (EEPROM wear). Ctrl-C does not stop it.
   void roll_back(std::size_t touched, const std::string& failure) {
-    result_.reason = failure;
+    result_.reason = result_.interrupted && failure.empty()
+                         ? "interrupted (Ctrl-C) after " + std::to_string(touched) + " of " +
+                               std::to_string(result_.plan.steps.size()) + " writes"
+                         : failure;
     const auto& steps = result_.plan.steps;
     for (std::size_t i = touched; i-- > 0;) {
       const auto& step = steps[i];
@@ -222,8 +283,12 @@ class Applier {
       result_.cells.push_back(state_of(steps[i], read_one(steps[i].cell)));
       restored = restored && result_.cells.back().status == CellStatus::Original;
     }
-    result_.outcome = restored ? Outcome::RolledBack : Outcome::RollbackFailed;
-    if (!restored) result_.reason += "; restoring the backup values failed, see the cell states";
+    if (!restored)
+      result_.outcome = Outcome::Uncertain;
+    else
+      result_.outcome = result_.interrupted ? Outcome::Interrupted : Outcome::RolledBack;
+    if (!restored) result_.reason += "; restoring the old values failed, see the cell states";
+    copy_events();
   }
 
   void reset_card() {
@@ -233,16 +298,18 @@ class Applier {
       result_.reset_needed = false;
     } catch (const std::exception& e) {
       result_.reset_error = std::string("reset failed: ") + e.what();
+      result_.outcome = Outcome::Uncertain;
       return;
     }
     // The EEPROM must still hold what was verified (a reset must not have lost it).
     for (const auto& step : result_.plan.steps) {
       if (!step.nv) continue;
       const auto one = read_one(step.cell);
-      if (one.value != step.profile_raw)
-        result_.reset_error += (result_.reset_error.empty() ? "after the reset " : ", ") + step.cell +
-                               " reads " +
+      if (one.value != step.profile_raw) {
+        result_.reset_error += (result_.reset_error.empty() ? "after the reset " : ", ") + step.cell + " reads " +
                                (one.value ? text(step.cell, *one.value) : "unknown (" + one.error + ")");
+        result_.outcome = Outcome::Uncertain;
+      }
     }
   }
 
@@ -262,7 +329,7 @@ class Applier {
     try {
       const RawValues values = card_.read({cell});
       const auto it = values.find(cell);
-      if (it == values.end()) return {std::nullopt, "the card returned no value"};
+      if (it == values.end()) return {std::nullopt, "not readable as a fact on this card"};
       return {it->second, {}};
     } catch (const std::exception& e) {
       return {std::nullopt, e.what()};
@@ -292,33 +359,31 @@ class Applier {
     return params::format_engineering(db_.get(cell), raw);
   }
 
-  void refuse(const std::string& reason) {
-    result_.outcome = Outcome::Refused;
+  void copy_events() { result_.events = card_.events(); }
+
+  void stop(Outcome outcome, const std::string& reason) {
+    result_.outcome = outcome;
     result_.reason = reason;
+    copy_events();
   }
   void finish(Outcome outcome) { result_.outcome = outcome; }
 
-  const Profile& profile_;
+  const profile::Profile& profile_;
   const params::ParamDb& db_;
   CardAccess& card_;
-  const ApplyOptions& options_;
-  ApplyResult& result_;
-  std::vector<CellWrite> writes_;
+  const TransactionOptions& options_;
+  TransactionResult& result_;
+  std::vector<profile::CellWrite> writes_;
   RawValues snapshot_;
+  RawValues context_;
 };
 
 }  // namespace
 
-const char* to_string(Outcome outcome) {
-  switch (outcome) {
-    case Outcome::Refused: return "refused";
-    case Outcome::DryRun: return "dry-run";
-    case Outcome::NothingToDo: return "nothing-to-do";
-    case Outcome::Applied: return "applied-and-verified";
-    case Outcome::RolledBack: return "rolled-back-and-verified";
-    case Outcome::RollbackFailed: return "rollback-failed";
-  }
-  return "?";
+const std::vector<std::string>& rule_parameters() {
+  static const std::vector<std::string> names{"BRAKEONV", "BRAKEOFFV", "BUSOVERV", "BUSUNDERV", "MAXCURRENT",
+                                              "KQP",      "KDP",       "KQI",      "KDI"};
+  return names;
 }
 
 const char* to_string(CellStatus status) {
@@ -331,11 +396,11 @@ const char* to_string(CellStatus status) {
   return "?";
 }
 
-ApplyResult apply(const Profile& profile, const params::ParamDb& db, CardAccess& card,
-                  const ApplyOptions& options) {
-  ApplyResult result;
-  Applier(profile, db, card, options, result).run();
+TransactionResult run_transaction(const profile::Profile& profile, const params::ParamDb& db, CardAccess& card,
+                                  const TransactionOptions& options) {
+  TransactionResult result;
+  Transaction(profile, db, card, options, result).run();
   return result;
 }
 
-}  // namespace i20::profile
+}  // namespace i20::ops

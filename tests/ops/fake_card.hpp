@@ -11,9 +11,9 @@
 
 #include "lbp/error.hpp"
 #include "params/param_db.hpp"
-#include "profile/card_access.hpp"
+#include "ops/card_access.hpp"
 
-namespace i20::profile::testing {
+namespace i20::ops::testing {
 
 class FakeCard : public CardAccess {
  public:
@@ -85,4 +85,4 @@ class FakeCard : public CardAccess {
   const params::ParamDb& db_;
 };
 
-}  // namespace i20::profile::testing
+}  // namespace i20::ops::testing

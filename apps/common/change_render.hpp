@@ -1,5 +1,6 @@
-// Text and JSON for the profile commands: findings, diff and plan tables, the apply
-// report with its one-line final state, and the fleet's result table. Text shows
+// Text and JSON for every command that changes a card (set, wpd, faults mask, profile apply,
+// fleets): findings, diff and plan tables, the report with its one-line final state, and the
+// fleet's result table. Text shows
 // engineering units; JSON carries raw counts as well, for scripts.
 #pragma once
 
@@ -7,15 +8,17 @@
 #include <string>
 #include <vector>
 
-#include "apply_run.hpp"
 #include "json.hpp"
+#include "ops/apply_run.hpp"
 #include "params/param_db.hpp"
 #include "profile/diff.hpp"
 #include "profile/error.hpp"
 #include "profile/finding.hpp"
 #include "profile/plan.hpp"
 
-namespace i20::cli::render {
+namespace i20::app::render {
+
+using ops::TargetRun;
 
 // Columns padded to their widest cell, two spaces apart, no trailing blanks.
 class Table {
@@ -48,7 +51,9 @@ app::Json plan_json(const profile::Plan& plan);
 // The whole report of one apply: plan, writes, the final state in one line, the card
 // state table when a rollback happened, the backup and the reset advice. `source` names
 // the profile file in findings that are not about one entry.
-void print_run(std::ostream& out, const TargetRun& run, const params::ParamDb& db, const std::string& source);
+// `plan_shown`: the plan was printed already, as the transaction made it.
+void print_run(std::ostream& out, const TargetRun& run, const params::ParamDb& db, const std::string& source,
+               bool plan_shown = false);
 // "APPLIED AND VERIFIED: 5 values written, reset needed", "ROLLBACK FAILED: card state below", ...
 std::string outcome_line(const TargetRun& run);
 // "applied-and-verified", ..., or "not-reached".
@@ -59,4 +64,4 @@ app::Json run_json(const TargetRun& run);
 void print_fleet(std::ostream& out, const std::vector<TargetRun>& runs, const params::ParamDb& db,
                  const std::string& source);
 
-}  // namespace i20::cli::render
+}  // namespace i20::app::render

@@ -1,4 +1,4 @@
-#include "profile_render.hpp"
+#include "change_render.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -6,11 +6,12 @@
 
 #include "params/value.hpp"
 
-namespace i20::cli::render {
+namespace i20::app::render {
 namespace {
 
-using profile::CellStatus;
-using profile::Outcome;
+using ops::CellStatus;
+using ops::Outcome;
+using ops::TargetRun;
 
 std::string plural(std::size_t n, const std::string& one, const std::string& many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
@@ -26,7 +27,7 @@ app::Json strings_json(const std::vector<std::string>& items) {
   return arr;
 }
 
-app::Json writes_json(const std::vector<profile::WriteRecord>& records) {
+app::Json writes_json(const std::vector<ops::WriteRecord>& records) {
   auto arr = app::Json::array();
   for (const auto& w : records) {
     auto j = app::Json::object();
@@ -37,13 +38,13 @@ app::Json writes_json(const std::vector<profile::WriteRecord>& records) {
   return arr;
 }
 
-app::Json cells_json(const std::vector<profile::CellState>& cells) {
+app::Json cells_json(const std::vector<ops::CellState>& cells) {
   auto arr = app::Json::array();
   for (const auto& c : cells) {
     auto j = app::Json::object();
     j.set("cell", c.cell).set("original", c.original).set("intended", c.intended);
     j.set("actual", nullable(c.actual)).set("actual_text", c.actual_text);
-    j.set("status", profile::to_string(c.status)).set("error", c.error);
+    j.set("status", ops::to_string(c.status)).set("error", c.error);
     arr.push(std::move(j));
   }
   return arr;
@@ -57,7 +58,7 @@ std::string text_of(const params::ParamDb& db, const std::string& cell, std::int
 // What stopped the apply, for the rollback line: the write that failed, else the verify.
 std::string failure_of(const TargetRun& run) {
   const auto& r = *run.result;
-  if (run.interrupted) return "Ctrl-C";
+  if (r.interrupted) return "Ctrl-C";
   for (const auto& w : r.writes)
     if (!w.ok) return w.cell + " failed";
   return "the read-back verify failed";
@@ -71,7 +72,7 @@ std::string reset_line(const TargetRun& run) {
 }
 
 void print_writes(std::ostream& out, const std::string& title,
-                  const std::vector<profile::WriteRecord>& records) {
+                  const std::vector<ops::WriteRecord>& records) {
   if (records.empty()) return;
   out << title << "\n";
   Table t({"CELL", "VALUE", "RESULT"});
@@ -86,7 +87,7 @@ void print_writes(std::ostream& out, const std::string& title,
 void print_cells(std::ostream& out, const TargetRun& run, const params::ParamDb& db) {
   Table t({"CELL", "BEFORE", "INTENDED", "NOW", "STATE"});
   for (const auto& c : run.result->cells) {
-    std::string state = profile::to_string(c.status);
+    std::string state = ops::to_string(c.status);
     if (c.status == CellStatus::Original) state = "original (restored)";
     if (c.status == CellStatus::Unknown) state = "UNKNOWN: " + c.error;
     if (c.status == CellStatus::Other) state = "OTHER: neither the old nor the new value";
@@ -97,23 +98,22 @@ void print_cells(std::ostream& out, const TargetRun& run, const params::ParamDb&
 
 void print_reset_advice(std::ostream& out, const TargetRun& run) {
   const auto& r = *run.result;
-  const bool applied = r.outcome == Outcome::Applied || r.outcome == Outcome::NothingToDo;
+  const bool applied = r.outcome == Outcome::Done || r.outcome == Outcome::NothingToDo;
   if (!r.reset_error.empty())
     out << "RESET PROBLEM: " << r.reset_error
         << ". The EEPROM values were written and verified before it; check the card's logic power, then "
-        << "`i20 " << run.target_flags << " reset`.\n";
+        << "`i20 " << run.target.flags() << " reset`.\n";
   if (applied && !r.reset_done && (r.reset_needed || !run.not_live.empty())) {
     out << "Reset needed: the EEPROM values take effect at the next reset of the 8I20";
     if (!run.not_live.empty()) out << " (not live yet: " << run.not_live.size() << " of them)";
     // apply --reset resets only after it wrote something: with nothing to do, only `reset` helps.
-    out << ": run `i20 " << run.target_flags << " reset`"
-        << (r.outcome == Outcome::Applied ? " (or apply with --reset next time)" : "") << ".\n";
+    out << ": run `i20 " << run.target.flags() << " reset`.\n";
   }
   if (!run.card_reset.empty())
     out << "WARNING: " << run.card_reset << "; "
-        << (r.outcome == Outcome::Applied ? "the EEPROM holds the verified values: reset the card again"
+        << (r.outcome == Outcome::Done ? "the EEPROM holds the verified values: reset the card again"
                                           : "reset the card once its EEPROM is as you want it")
-        << " (`i20 " << run.target_flags << " reset`) so the working values match the EEPROM.\n";
+        << " (`i20 " << run.target.flags() << " reset`) so the working values match the EEPROM.\n";
 }
 
 // After a failed rollback, what the cell table means and how to get back to a known state.
@@ -129,7 +129,7 @@ void print_rollback_failed(std::ostream& out, const TargetRun& run) {
            "write cut short). ";
   out << "When the card answers again, ";
   if (!r.backup.empty())
-    out << "restore the previous values with `i20 " << run.target_flags << " profile apply "
+    out << "restore the previous values with `i20 " << run.target.flags() << " profile apply "
         << r.backup.string() << "`, or apply the profile again.\n";
   else
     out << "apply the profile again.\n";
@@ -138,11 +138,10 @@ void print_rollback_failed(std::ostream& out, const TargetRun& run) {
 void print_next_steps(std::ostream& out, const TargetRun& run) {
   const auto& r = *run.result;
   if (r.outcome == Outcome::RolledBack)
-    out << (run.interrupted
-                ? "Stopped by Ctrl-C: every value the apply wrote was restored and read back.\n"
-                : "Every value the apply wrote was restored and read back. Fix the cause and apply "
-                  "again.\n");
-  if (r.outcome == Outcome::RollbackFailed) print_rollback_failed(out, run);
+    out << "Every value written was restored and read back. Fix the cause and try again.\n";
+  if (r.outcome == Outcome::Interrupted && !r.writes.empty())
+    out << "Stopped by Ctrl-C: every value written was restored and read back.\n";
+  if (r.outcome == Outcome::Uncertain && !r.cells.empty()) print_rollback_failed(out, run);
   if (run.retries > 0)
     out << "note: " << plural(run.retries, "read or write was", "reads or writes were")
         << " repeated after lost or garbled replies\n";
@@ -252,34 +251,51 @@ app::Json plan_json(const profile::Plan& plan) {
 }
 
 std::string outcome_name(const TargetRun& run) {
-  return run.result ? profile::to_string(run.result->outcome) : "not-reached";
+  return ops::to_string(run.outcome);
 }
 
 std::string outcome_line(const TargetRun& run) {
-  if (!run.result) return "NOT REACHED: " + run.error + "; nothing was written";
+  if (!run.result) {
+    const bool refused = run.outcome == Outcome::Refused || run.outcome == Outcome::BadInput;
+    return std::string(refused ? "REFUSED: " : run.outcome == Outcome::Interrupted ? "INTERRUPTED: " : "NOT REACHED: ") +
+           run.error + "; nothing was written";
+  }
   const auto& r = *run.result;
   const std::size_t steps = r.plan.steps.size();
   const std::size_t total = steps + r.plan.unchanged.size();
-  switch (r.outcome) {
-    case Outcome::Applied:
+  const bool says = r.reason.find("nothing was written") != std::string::npos;
+  const std::string nothing = says ? "" : "; nothing was written";
+  switch (run.outcome) {
+    case Outcome::Done:
       return "APPLIED AND VERIFIED: " + plural(steps, "value", "values") + " written" + reset_line(run);
     case Outcome::NothingToDo:
-      return "NOTHING TO DO: the card already holds all " + plural(total, "value", "values") +
-             "; nothing was written" + reset_line(run);
+      return "NOTHING TO DO: the card already holds " + (total == 1 ? std::string("the value") : "all " +
+             plural(total, "value", "values")) + "; nothing was written" + reset_line(run);
     case Outcome::DryRun:
       return "DRY RUN: " + plural(steps, "value", "values") + " would be written, " +
              std::to_string(total - steps) + " already set; nothing was written";
     case Outcome::RolledBack:
       return "ROLLED BACK AND VERIFIED after " + failure_of(run) + ": the card holds its previous values";
-    case Outcome::RollbackFailed: return "ROLLBACK FAILED after " + failure_of(run) + ": card state below";
-    case Outcome::Refused: break;
+    case Outcome::Interrupted:
+      return r.writes.empty() ? "INTERRUPTED: " + r.reason + nothing
+                              : "INTERRUPTED AND ROLLED BACK: every value written was restored and read back";
+    case Outcome::Uncertain:
+      if (!r.reset_error.empty()) return "APPLIED AND VERIFIED, BUT THE RESET FAILED: " + r.reset_error;
+      return r.cells.empty() ? "CARD STATE UNCERTAIN: " + r.reason
+                             : "ROLLBACK FAILED after " + failure_of(run) + ": card state below";
+    case Outcome::Refused:
+    case Outcome::BadInput:
+      if (profile::has_errors(r.findings)) return "REFUSED by the rule" + std::string(r.findings.size() > 1 ? "s" : "") +
+                                                  " above; nothing was written";
+      return "REFUSED: " + r.reason + nothing;
+    case Outcome::Failed: return "NOT DONE: " + r.reason + nothing;
+    case Outcome::FaultsRemain: break;
   }
-  const bool says = r.reason.find("nothing was written") != std::string::npos;
-  return "REFUSED: " + r.reason + (says ? "" : "; nothing was written");
+  return r.reason;
 }
 
-void print_run(std::ostream& out, const TargetRun& run, const params::ParamDb& db,
-               const std::string& source) {
+void print_run(std::ostream& out, const TargetRun& run, const params::ParamDb& db, const std::string& source,
+               bool plan_shown) {
   if (!run.result) {
     out << outcome_line(run) << "\n";
     return;
@@ -287,8 +303,9 @@ void print_run(std::ostream& out, const TargetRun& run, const params::ParamDb& d
   const auto& r = *run.result;
   out << "Card: " << r.card << "\n";
   print_findings(out, r.findings, source);
-  print_plan(out, r.plan);
-  const bool rolled = r.outcome == Outcome::RolledBack || r.outcome == Outcome::RollbackFailed;
+  const bool refused = run.outcome == Outcome::Refused || run.outcome == Outcome::BadInput;
+  if (!plan_shown && !refused) print_plan(out, r.plan);
+  const bool rolled = !r.rollback.empty() || (r.outcome == Outcome::Uncertain && !r.cells.empty());
   if (rolled) {
     print_writes(out, "Writes:", r.writes);
     print_writes(out, "Restoring the previous values:", r.rollback);
@@ -298,6 +315,7 @@ void print_run(std::ostream& out, const TargetRun& run, const params::ParamDb& d
     out << "  why: " << r.reason << "\n";
     print_cells(out, run, db);
   }
+  for (const auto& event : r.events) out << "NOTE: " << event << "\n";
   if (!r.backup.empty()) out << "Backup of the previous values: " << r.backup.string() << "\n";
   print_reset_advice(out, run);
   print_next_steps(out, run);
@@ -305,8 +323,8 @@ void print_run(std::ostream& out, const TargetRun& run, const params::ParamDb& d
 
 app::Json run_json(const TargetRun& run) {
   auto j = app::Json::object();
-  j.set("target", run.target).set("outcome", outcome_name(run)).set("ok", run_ok(run));
-  j.set("exit_code", run.exit_code).set("summary", outcome_line(run)).set("error", run.error);
+  j.set("target", run.target.text).set("outcome", outcome_name(run)).set("ok", run.ok());
+  j.set("exit_code", run.exit_code()).set("summary", outcome_line(run)).set("error", run.error);
   if (run.result) {
     const auto& r = *run.result;
     j.set("card", r.card).set("reason", r.reason).set("findings", findings_json(r.findings));
@@ -315,9 +333,10 @@ app::Json run_json(const TargetRun& run) {
     j.set("writes", writes_json(r.writes)).set("rollback", writes_json(r.rollback));
     j.set("cells", cells_json(r.cells)).set("reset_needed", r.reset_needed || !run.not_live.empty());
     j.set("reset_done", r.reset_done).set("reset_error", r.reset_error);
+    j.set("events", strings_json(r.events)).set("interrupted", r.interrupted);
   }
   j.set("not_live", strings_json(run.not_live)).set("card_reset", run.card_reset);
-  j.set("refused_by_card", run.refused_by_card).set("interrupted", run.interrupted);
+  j.set("refused_by_card", run.refused_by_card);
   j.set("retries", run.retries).set("seconds", run.seconds);
   return j;
 }
@@ -327,20 +346,20 @@ void print_fleet(std::ostream& out, const std::vector<TargetRun>& runs, const pa
   Table t({"TARGET", "OUTCOME", "WRITES", "BACKUP / REASON"});
   std::size_t ok = 0;
   for (const auto& run : runs) {
-    ok += run_ok(run) ? 1 : 0;
+    ok += run.ok() ? 1 : 0;
     const auto* r = run.result ? &*run.result : nullptr;
     const std::string writes =
         r ? std::to_string(std::ranges::count_if(r->writes, [](const auto& w) { return w.ok; })) : "-";
     std::string note = !r ? run.error : !r->backup.empty() ? r->backup.string() : r->reason;
-    if (r && run_ok(run) && (r->reset_needed || !run.not_live.empty())) note += " (reset needed)";
-    if (r && !run_ok(run) && !r->backup.empty()) note = r->reason + "; backup " + r->backup.string();
-    t.add({run.target, outcome_name(run), writes, note});
+    if (r && run.ok() && (r->reset_needed || !run.not_live.empty())) note += " (reset needed)";
+    if (r && !run.ok() && !r->backup.empty()) note = r->reason + "; backup " + r->backup.string();
+    t.add({run.target.text, outcome_name(run), writes, note});
   }
   t.print(out, "");
   for (const auto& run : runs) {
     // Not reached: the table's reason is the whole story.
-    if (!run.result || (run_ok(run) && run.card_reset.empty())) continue;
-    out << "\n== " << run.target << "\n";
+    if (!run.result || (run.ok() && run.card_reset.empty())) continue;
+    out << "\n== " << run.target.text << "\n";
     print_run(out, run, db, source);
   }
   out << "\n"
@@ -348,4 +367,4 @@ void print_fleet(std::ostream& out, const std::vector<TargetRun>& runs, const pa
       << " applied and verified (or had nothing to do); " << runs.size() - ok << " did not\n";
 }
 
-}  // namespace i20::cli::render
+}  // namespace i20::app::render

@@ -1,0 +1,130 @@
+#include "ops/apply_run.hpp"
+
+#include <chrono>
+#include <exception>
+
+#include "faults/bit_info.hpp"
+#include "lbp/bytes.hpp"
+#include "ops/device_access.hpp"
+#include "ops/read.hpp"
+
+namespace i20::ops {
+namespace {
+
+using faults::kResetCauseBits;
+using faults::kStatusExtr;
+using faults::kStatusSwr;
+using faults::kStatusWdto;
+
+// STATUS, where this card's map confirms it (a wrong address would report resets that
+// never happened).
+std::optional<std::int64_t> sticky_status(Card& c) {
+  try {
+    const auto r = read_values(c, std::vector<std::string>{"STATUS"});
+    if (r.front().fact()) return r.front().raw;
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+
+std::string reset_names(std::int64_t bits) {
+  std::string names;
+  const std::pair<std::int64_t, const char*> all[] = {
+      {kStatusWdto, "WDTO, DSP watchdog"}, {kStatusSwr, "SWR, software reset"}, {kStatusExtr, "EXTR, power-up"}};
+  for (const auto& [bit, name] : all)
+    if (bits & bit) names += (names.empty() ? "" : "; ") + std::string(name);
+  return names;
+}
+
+// A reset in the middle of a transaction reloads every working value from the EEPROM as it
+// was then, half written: neither the old values nor the new ones. Say so.
+void check_card_reset(Card& c, std::optional<std::int64_t> before, TargetRun& run) {
+  if (!before) return;
+  const auto after = sticky_status(c);
+  if (!after) return;
+  std::int64_t fresh = *after & ~*before & kResetCauseBits;
+  // Software resets the tool asked for itself (apply --reset, clearing a stray write).
+  const bool ours = run.result->reset_done || !run.result->events.empty();
+  if (ours) fresh &= ~std::int64_t{kStatusSwr};
+  if (fresh == 0) return;
+  run.card_reset = "the card reset itself during the change (STATUS " + reset_names(fresh) +
+                   "): its working values were reloaded from the EEPROM as it was at that moment";
+}
+
+// NV cells of the profile whose working twin holds something else: not live until a reset.
+void check_live(Card& c, const ApplyJob& job, TargetRun& run) {
+  const auto& r = *run.result;
+  if ((r.outcome != Outcome::Done && r.outcome != Outcome::NothingToDo) || r.reset_done) return;
+  try {
+    std::vector<const params::Param*> cells;
+    for (const auto& w : profile::cell_writes(*job.profile, c.db())) {
+      const params::Param& p = c.db().get(w.cell);
+      const params::Param* twin = p.is_nv() && !p.twin.empty() ? c.db().find(p.twin) : nullptr;
+      if (twin && c.db().address_confirmed(*twin)) cells.insert(cells.end(), {&p, twin});
+    }
+    if (cells.empty()) return;
+    const auto values = read_values(c, cells);
+    for (std::size_t i = 0; i + 1 < values.size(); i += 2)
+      if (values[i].fact() && values[i + 1].fact() && *values[i].raw != *values[i + 1].raw)
+        run.not_live.push_back(values[i].param->name);
+  } catch (const std::exception&) {
+    // Best effort: the advice below the outcome is then the transaction's reset_needed alone.
+  }
+}
+
+}  // namespace
+
+TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity) {
+  TargetRun run;
+  run.target = card.endpoint();
+  const auto start = std::chrono::steady_clock::now();
+  const auto status_before = sticky_status(card);
+  auto options = job.transaction;
+  if (options.backup_label.empty())
+    options.backup_label =
+        job.profile->name + "-unit" + lbp::hex_value(card.identity().info.unit_number.value_or(0), 8).substr(2);
+  {
+    DeviceCardAccess access(card, job.write, activity);
+    run.result = run_transaction(*job.profile, card.db(), access, options);
+    run.refused_by_card = access.refused();
+  }
+  run.outcome = run.result->outcome;
+  if (run.outcome != Outcome::Refused && run.outcome != Outcome::DryRun && run.outcome != Outcome::BadInput &&
+      run.outcome != Outcome::Failed) {
+    if (activity) activity("checking");
+    check_card_reset(card, status_before, run);
+    check_live(card, job, run);
+  }
+  run.retries = card.retries();
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return run;
+}
+
+TargetRun run_apply(const Endpoint& target, const ApplyJob& job, const Activity& activity) {
+  const auto start = std::chrono::steady_clock::now();
+  TargetRun run;
+  try {
+    if (activity) activity("connecting");
+    const auto card = Card::open(target, *job.db, job.open, job.transaction.cancel);
+    run = run_apply_on(*card, job, activity);
+  } catch (const Error& e) {
+    run.target = target;
+    run.error = e.what();
+    run.outcome = outcome_of(e.kind());
+  } catch (const std::exception& e) {
+    run.target = target;
+    run.error = e.what();
+    run.outcome = Outcome::Failed;
+  }
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (activity) activity("done");
+  return run;
+}
+
+Outcome fleet_outcome(const std::vector<TargetRun>& runs) {
+  Outcome worst = Outcome::Done;
+  for (const auto& r : runs) worst = most_serious(worst, r.outcome);
+  return worst;
+}
+
+}  // namespace i20::ops

@@ -1,0 +1,59 @@
+// One profile applied to one card, from opening the link to the final state: what `i20
+// profile apply`, every fleet target, `i20 set`, `wpd` and `faults mask` run.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "device/amp.hpp"
+#include "ops/card.hpp"
+#include "ops/endpoint.hpp"
+#include "ops/outcome.hpp"
+#include "ops/transaction.hpp"
+#include "params/param_db.hpp"
+#include "profile/profile.hpp"
+
+namespace i20::ops {
+
+using Activity = std::function<void(const std::string&)>;
+
+struct ApplyJob {
+  const profile::Profile* profile = nullptr;
+  const params::ParamDb* db = nullptr;  // as loaded: each card resolves its own map from it
+  TransactionOptions transaction;       // dry run, reset, backup directory, Ctrl-C
+  device::WriteOptions write;           // force, allow_unverified
+  OpenOptions open;                     // how links are opened
+};
+
+struct TargetRun {
+  Endpoint target;
+  std::optional<TransactionResult> result;  // nullopt: the card was never reached
+  std::string error;                        // why it was not reached
+  Outcome outcome = Outcome::Failed;
+  // NV cells whose working twin differs from the EEPROM after the run: values that are
+  // not live until the next reset (also after a "nothing to do" run, when an earlier
+  // write was never followed by a reset). Only where the working twin is confirmed.
+  std::vector<std::string> not_live;
+  // The card reset itself while the profile was being applied (STATUS sticky bits), so
+  // its working values were reloaded from the EEPROM as it was at that moment.
+  std::string card_reset;
+  bool refused_by_card = false;  // the device layer's safety rules refused a planned write
+  std::size_t retries = 0;       // reads/writes repeated after lost or garbled replies
+  double seconds = 0;
+
+  int exit_code() const { return ops::exit_code(outcome); }
+  bool ok() const { return exit_code() == kExitOk; }
+};
+
+// Opens the target, runs the transaction, closes it. Never throws: every failure ends in
+// the run's outcome, result or error.
+TargetRun run_apply(const Endpoint& target, const ApplyJob& job, const Activity& activity = {});
+// The same on a card that is already open (the single-target commands).
+TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity = {});
+
+// The fleet's outcome: Done only if every run ended well, else the most serious one.
+Outcome fleet_outcome(const std::vector<TargetRun>& runs);
+
+}  // namespace i20::ops

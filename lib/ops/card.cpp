@@ -1,0 +1,100 @@
+#include "ops/card.hpp"
+
+#include "device/discover.hpp"
+#include "device/errors.hpp"
+#include "lbp/bytes.hpp"
+
+namespace i20::ops {
+namespace {
+
+// Larger than any RPC table the 8I20 has (64 RPCs of 8 bytes): a size beyond it is not an
+// RPC table worth reading.
+constexpr std::size_t kMaxRpcTableBytes = 512;
+
+std::vector<params::ParamDb::Evidence> rpc_evidence(const device::RpcEvidence& decoded, std::string& note) {
+  std::vector<params::ParamDb::Evidence> evidence;
+  for (const auto& [name, address] : decoded.addresses)
+    evidence.push_back({name, address, "the card's pre-loaded RPC table, " + decoded.note});
+  note = decoded.note;
+  return evidence;
+}
+
+// Card names are four ASCII letters; anything else is shown as hex escapes.
+std::string printable(const std::string& name) {
+  std::string out;
+  for (unsigned char c : name)
+    out += (c >= 0x20 && c < 0x7F) ? std::string(1, static_cast<char>(c)) : "\\x" + lbp::hex_value(c, 2).substr(2);
+  return out;
+}
+
+}  // namespace
+
+void Cancel::check(const std::string& what) const {
+  if (requested()) throw device::Cancelled("interrupted (Ctrl-C) while " + what);
+}
+
+Card::Card(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retry, Cancel cancel)
+    : link_(std::move(link)), endpoint_(std::move(endpoint)), retry_(retry), cancel_(cancel) {}
+
+std::unique_ptr<Card> Card::open(const Endpoint& endpoint, const params::ParamDb& loaded,
+                                 const OpenOptions& options, Cancel cancel) {
+  cancel.check("connecting");
+  return attach(open_link(endpoint, loaded, options.link), endpoint, loaded, options.retry, cancel);
+}
+
+std::unique_ptr<Card> Card::attach(std::unique_ptr<link::Link> link, Endpoint endpoint,
+                                   const params::ParamDb& loaded, RetryPolicy retry, Cancel cancel) {
+  std::unique_ptr<Card> card(new Card(std::move(link), std::move(endpoint), retry, cancel));
+  card->identify(loaded);
+  return card;
+}
+
+void Card::identify(const params::ParamDb& loaded) {
+  // The identity reads use only public addresses (SWREVISION, UNITNUMBER).
+  device::Amp8i20 bootstrap(*link_, loaded, cancel_.flag());
+  identity_.info = with_retries([&] { return bootstrap.info(); });
+  const auto& info = identity_.info;
+  if (info.card_name != "8I20")
+    throw UsageError("the card on " + link_->describe() + " answers as '" + printable(info.card_name) +
+                     "', not as an 8I20: this tool only knows the 8I20's parameters");
+  if (info.nv_access != lbp::local::NvAccess::Ram || info.rpcmem)
+    identity_.modes_left = with_retries([&] { return bootstrap.leave_modes(); });
+
+  auto resolved = loaded.for_firmware(*info.swrevision);
+  if (info.rpc_size > 0 && info.rpc_size <= kMaxRpcTableBytes) {
+    device::Amp8i20 reader(*link_, resolved, cancel_.flag());
+    const auto table = with_retries([&] { return reader.read_rpc_table(); });
+    const auto evidence = rpc_evidence(device::decode_rpc_evidence(table), identity_.rpc_note);
+    for (const auto& e : evidence) identity_.rpc_confirmed.push_back(e.name);
+    resolved = resolved.with_evidence(evidence);
+  } else {
+    identity_.rpc_note = "the card reports no RPC table";
+  }
+  db_ = std::make_unique<params::ParamDb>(std::move(resolved));
+  amp_ = std::make_unique<device::Amp8i20>(*link_, *db_, cancel_.flag());
+  identity_.info.working_map_confirmed = device::working_map_confirmed(*db_);
+}
+
+Card::Uninterruptible::Uninterruptible(Card& card) : card_(card) {
+  card_.uninterruptible_ = true;
+  card_.amp().set_cancel(nullptr);
+}
+
+Card::Uninterruptible::~Uninterruptible() {
+  card_.uninterruptible_ = false;
+  card_.amp().set_cancel(card_.cancel_.flag());
+}
+
+std::string Card::describe() const {
+  const auto& info = identity_.info;
+  return info.card_name + " unit " + lbp::hex_value(info.unit_number.value_or(0), 8) + ", SWREVISION " +
+         lbp::hex_value(info.swrevision.value_or(0), 4) + ", on " + endpoint_.text;
+}
+
+std::string Card::unconfirmed_reason(const params::Param& param) const {
+  if (!param.address) return "address not known (" + param.provenance.source + ")";
+  if (db_->address_confirmed(param)) return {};
+  return "address not confirmed for SWREVISION " + lbp::hex_value(swrevision(), 4);
+}
+
+}  // namespace i20::ops

@@ -1,0 +1,106 @@
+// One 8I20, open and identified: the one policy every command starts from.
+//
+// Opening a card (1) opens and locks the link, (2) reads its identity and the two modes a
+// dead session may have left on (NV access, RPC memory) and switches them off, (3) resolves
+// the parameter database for the firmware it reports (overlays for that SWREVISION), and
+// (4) decodes its pre-loaded RPC table, read-only, which names the FAULT, STATUS, BUSV,
+// TEMPERATURE, ANGLE and QSETPOINT addresses on any firmware. Only then is a command built:
+// every address a command uses comes from that resolved map, which is a value the card owns.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "device/amp.hpp"
+#include "link/link.hpp"
+#include "ops/cancel.hpp"
+#include "ops/endpoint.hpp"
+#include "params/param_db.hpp"
+
+namespace i20::ops {
+
+struct Identity {
+  device::CardInfo info;                   // as read when the card was opened
+  std::vector<std::string> modes_left;     // modes found on and switched off ("NV access mode")
+  std::string rpc_note;                    // which RPC named addresses, or why none did
+  std::vector<std::string> rpc_confirmed;  // parameters the RPC table confirmed
+};
+
+struct OpenOptions {
+  LinkSettings link;
+  RetryPolicy retry;
+};
+
+class Card {
+ public:
+  // Opens the endpoint and identifies the card. Throws i20::Error (link errors when the
+  // card does not answer; UsageError for a target that is not an 8I20).
+  static std::unique_ptr<Card> open(const Endpoint& endpoint, const params::ParamDb& loaded,
+                                    const OpenOptions& options, Cancel cancel = {});
+  // The same over a link the caller opened (tests, the simulator with injected faults).
+  static std::unique_ptr<Card> attach(std::unique_ptr<link::Link> link, Endpoint endpoint,
+                                      const params::ParamDb& loaded, RetryPolicy retry = {}, Cancel cancel = {});
+
+  const Identity& identity() const { return identity_; }
+  // The database resolved for this card: every address a command uses comes from here.
+  const params::ParamDb& db() const { return *db_; }
+  device::Amp8i20& amp() { return *amp_; }
+  link::Link& link() { return *link_; }
+  const Endpoint& endpoint() const { return endpoint_; }
+  const Cancel& cancel() const { return cancel_; }
+  const RetryPolicy& retry() const { return retry_; }
+  std::uint16_t swrevision() const { return *identity_.info.swrevision; }
+
+  // "8I20 unit 0x00012345, SWREVISION 0xE120, on /dev/ttyUSB0".
+  std::string describe() const;
+  // Why a value at this parameter's address is not a fact on this card, or "" when it is:
+  // "address not confirmed for SWREVISION 0x1234".
+  std::string unconfirmed_reason(const params::Param& param) const;
+
+  // While one of these lives, Ctrl-C does not stop the card's exchanges: the write
+  // transaction holds one and decides itself when a stop is safe (never inside an EEPROM
+  // sequence or a restore).
+  class Uninterruptible {
+   public:
+    explicit Uninterruptible(Card& card);
+    ~Uninterruptible();
+    Uninterruptible(const Uninterruptible&) = delete;
+    Uninterruptible& operator=(const Uninterruptible&) = delete;
+
+   private:
+    Card& card_;
+  };
+
+  // Runs `step` (reads only: they change nothing), again on a link error, per the retry policy.
+  template <class F>
+  auto with_retries(F&& step) {
+    for (unsigned attempt = 1;; ++attempt) {
+      if (!uninterruptible_) cancel_.check("reading");
+      try {
+        return step();
+      } catch (const link::LinkError&) {
+        if (attempt >= retry_.attempts) throw;
+        ++retries_;
+      }
+    }
+  }
+  std::size_t retries() const { return retries_; }
+  void count_retry() { ++retries_; }
+
+ private:
+  Card(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retry, Cancel cancel);
+  void identify(const params::ParamDb& loaded);
+
+  std::unique_ptr<link::Link> link_;
+  Endpoint endpoint_;
+  RetryPolicy retry_;
+  Cancel cancel_;
+  Identity identity_;
+  std::unique_ptr<params::ParamDb> db_;
+  std::unique_ptr<device::Amp8i20> amp_;
+  std::size_t retries_ = 0;
+  bool uninterruptible_ = false;
+};
+
+}  // namespace i20::ops

@@ -1,0 +1,78 @@
+#include "ops/change.hpp"
+
+#include "device/errors.hpp"
+#include "ops/read.hpp"
+#include "params/value.hpp"
+#include "profile/validate.hpp"
+
+namespace i20::ops {
+namespace {
+
+constexpr const char* kCommandLine = "command line";
+
+profile::Setting setting(const params::Param& p, const std::string& text, ValueSyntax syntax, int position) {
+  profile::Setting s;
+  s.name = p.name;
+  s.raw = syntax == ValueSyntax::Raw ? params::parse_raw(p, text) : params::parse_value(p, text);
+  s.line = position;
+  return s;
+}
+
+profile::Profile small_profile() {
+  profile::Profile profile;
+  profile.source = kCommandLine;
+  profile.name = "command-line";
+  return profile;
+}
+
+}  // namespace
+
+profile::Profile profile_from_assignments(const std::vector<std::string>& assignments, const params::ParamDb& db,
+                                          ValueSyntax syntax) {
+  auto profile = small_profile();
+  int position = 0;
+  for (const auto& a : assignments) {
+    ++position;
+    const auto eq = a.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == a.size())
+      throw UsageError("'" + a + "' is not NAME=VALUE (e.g. NVBRAKEONV=320V or NVMAXCURRENT=750)");
+    const auto& p = db.get(a.substr(0, eq));
+    for (const auto& earlier : profile.settings)
+      if (earlier.name == p.name) throw UsageError(p.name + " is given twice on the command line");
+    profile.settings.push_back(setting(p, a.substr(eq + 1), syntax, position));
+  }
+  if (profile.settings.empty()) throw UsageError("nothing to write: give NAME=VALUE pairs");
+  return profile;
+}
+
+profile::Profile profile_from_value(const std::string& name, const std::string& value, const params::ParamDb& db,
+                                    ValueSyntax syntax) {
+  auto profile = small_profile();
+  profile.settings.push_back(setting(db.get(name), value, syntax, 1));
+  return profile;
+}
+
+void precheck(const profile::Profile& profile, const params::ParamDb& db, const device::WriteOptions& write) {
+  for (const auto& s : profile.settings)
+    for (const auto& cell : profile::cells_of(profile, s, db)) device::check_offline(db.get(cell), s.raw, write);
+  for (const auto& f : profile::validate_values(profile, db, write.force))
+    if (f.severity == profile::Severity::Error)
+      throw device::SafetyError((f.key.empty() ? "" : f.key + ": ") + f.message + " [" + f.rule +
+                                "]; nothing was written");
+}
+
+profile::Profile save_profile(Card& card, const std::vector<std::string>& names,
+                              const profile::SaveOptions& options) {
+  const auto wanted =
+      profile::canonical_save_names(names.empty() ? profile::default_save_names(card.db()) : names, card.db());
+  profile::RawValues values;
+  for (const auto& r : read_values(card, wanted)) {
+    if (!r.fact())
+      throw device::SafetyError(r.param->name + " is " + unknown_text(r) + " on " + card.describe() +
+                                ": not saved as a guess");
+    values[r.param->name] = *r.raw;
+  }
+  return profile::profile_from_values(values, wanted, card.db(), card.describe(), options);
+}
+
+}  // namespace i20::ops

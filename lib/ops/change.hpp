@@ -1,0 +1,40 @@
+// The single-target writes (`i20 set A=1 B=2`, `wpd NAME VALUE`, `faults mask`) as small
+// profiles for the one write transaction, and the checks that run before any link opens.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "device/amp.hpp"
+#include "params/param_db.hpp"
+#include "ops/card.hpp"
+#include "profile/profile.hpp"
+#include "profile/save.hpp"
+
+namespace i20::ops {
+
+enum class ValueSyntax {
+  Engineering,  // "320V", "7.5A", or a raw integer (i20 set)
+  Raw,          // raw integers only, decimal or hex (wpd, like Mesa's WPD)
+};
+
+// "NAME=VALUE" strings (i20 set) into a profile whose entries target the space each name
+// names. Throws UsageError / UnknownParameter / ValueError (bad input, nothing sent).
+profile::Profile profile_from_assignments(const std::vector<std::string>& assignments, const params::ParamDb& db,
+                                          ValueSyntax syntax);
+// One name and value (wpd).
+profile::Profile profile_from_value(const std::string& name, const std::string& value, const params::ParamDb& db,
+                                    ValueSyntax syntax);
+
+// The rules that need no card, for every cell of the profile: read-only, known address,
+// range, guard, the card's fixed limits. Throws SafetyError (exit 3) naming the first
+// broken rule; nothing has been sent when it does.
+void precheck(const profile::Profile& profile, const params::ParamDb& db, const device::WriteOptions& write);
+
+// Reads `names` (profile::default_save_names() if empty) from the card into a profile
+// (`profile save`, `report`). Every value must be a fact on this card: a name whose address
+// is not confirmed for its firmware is refused (SafetyError), not saved as a guess.
+profile::Profile save_profile(Card& card, const std::vector<std::string>& names,
+                              const profile::SaveOptions& options);
+
+}  // namespace i20::ops

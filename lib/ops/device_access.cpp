@@ -1,0 +1,128 @@
+#include "ops/device_access.hpp"
+
+#include "device/errors.hpp"
+#include "lbp/bytes.hpp"
+#include "link/link.hpp"
+#include "ops/read.hpp"
+#include "params/value.hpp"
+
+namespace i20::ops {
+
+// The transaction decides when Ctrl-C stops the work (before the first write, between
+// writes, never inside a rollback), so the card client under it must not throw Cancelled
+// in the middle of an EEPROM sequence or of a restore: its own polling is off meanwhile.
+DeviceCardAccess::DeviceCardAccess(Card& card, device::WriteOptions write, Activity activity)
+    : card_(card), uninterruptible_(card), write_(write), activity_(std::move(activity)) {}
+
+void DeviceCardAccess::note(const std::string& what) {
+  if (activity_) activity_(what);
+}
+
+RawValues DeviceCardAccess::read(const std::vector<std::string>& names) {
+  if (!failed_ && written_ == 0) note("reading");
+  RawValues out;
+  // Reads change nothing on the card, so they are simply asked again when a reply is lost
+  // or the card reset in the middle of an NV read.
+  for (unsigned attempt = 1;; ++attempt) {
+    try {
+      // With --allow-unverified the user vouches for the addresses: their values count.
+      const auto unconfirmed = write_.allow_unverified ? Unconfirmed::Read : Unconfirmed::Skip;
+      for (const auto& r : read_values(card_, names, unconfirmed))
+        if (r.raw) out[r.param->name] = *r.raw;
+      return out;
+    } catch (const device::CardStateError&) {
+      if (attempt >= card_.retry().attempts) throw;
+      card_.count_retry();
+    }
+  }
+}
+
+void DeviceCardAccess::check_write(const std::string& name, std::int64_t raw) {
+  ++planned_;
+  try {
+    card_.amp().check_write(card_.db().get(name), raw, write_);
+  } catch (const device::SafetyError&) {
+    refused_ = true;
+    throw;
+  }
+}
+
+void DeviceCardAccess::write(const std::string& name, std::int64_t raw) {
+  const bool restoring = failed_ || written_ >= planned_;
+  if (restoring)
+    note("restoring " + name);
+  else
+    note("writing " + name + " (" + std::to_string(written_ + 1) + "/" + std::to_string(planned_) + ")");
+  try {
+    write_once(name, raw);
+  } catch (...) {
+    failed_ = true;
+    throw;
+  }
+  if (!restoring) ++written_;
+}
+
+// A lost or garbled reply says nothing about whether the write landed: the card is asked
+// what it holds, and the write repeated (writing the same value again is harmless) until
+// the read-back shows the value or the attempts run out. A read-back that disagrees with
+// a completed exchange (VerifyError) is an answer, not a line fault: it is not retried.
+void DeviceCardAccess::write_once(const std::string& name, std::int64_t raw) {
+  const unsigned attempts = card_.retry().attempts;
+  for (unsigned attempt = 1;; ++attempt) {
+    try {
+      const auto report = card_.amp().write(name, raw, write_);
+      if (!report.verified)
+        throw device::VerifyError(name + " was written but the card cannot read it back to verify it");
+      return;
+    } catch (const device::NvModeLost& lost) {
+      recover_from_mode_loss(lost);
+      if (holds(name, raw)) return;
+      if (attempt >= attempts) throw;
+    } catch (const link::LinkError&) {
+      if (holds(name, raw)) return;
+      if (attempt >= attempts) throw;
+    } catch (const device::CardStateError&) {
+      // Leaving NV mode failed after the write. An NV read-back enters and leaves NV mode
+      // again, so a successful one also proves the card is back in normal access mode.
+      if (holds(name, raw)) return;
+      if (attempt >= attempts) throw;
+    }
+    card_.count_retry();
+  }
+}
+
+// The card reset while an EEPROM cell was written. Its working values were reloaded from
+// the EEPROM as it was then. If working memory at the EEPROM address now holds the value
+// written, the write went there instead: a reset re-initialises that memory, and the card
+// has just reset anyway, so it is reset once more before anything else is sent.
+void DeviceCardAccess::recover_from_mode_loss(const device::NvModeLost& lost) {
+  events_.push_back("the card reset itself while " + lost.cell() +
+                    " was being written: its working values were reloaded from the EEPROM as it was then");
+  if (!lost.stray_ram_value()) return;
+  note("resetting");
+  card_.amp().reset();
+  events_.push_back("working memory at " + lbp::hex_value(lost.address(), 4) + " held the value meant for " +
+                    lost.cell() + "'s EEPROM cell: the tool reset the card to re-initialise it");
+}
+
+bool DeviceCardAccess::holds(const std::string& name, std::int64_t raw) {
+  for (unsigned attempt = 1; attempt <= card_.retry().attempts; ++attempt) {
+    try {
+      const auto unconfirmed = write_.allow_unverified ? Unconfirmed::Read : Unconfirmed::Skip;
+      const auto r = read_values(card_, std::vector<std::string>{name}, unconfirmed);
+      return r.front().raw == raw;
+    } catch (const link::LinkError&) {
+      card_.count_retry();
+    } catch (const device::CardStateError&) {
+      card_.count_retry();
+    }
+  }
+  return false;
+}
+
+void DeviceCardAccess::reset() {
+  note("resetting");
+  card_.amp().reset();
+}
+
+}  // namespace i20::ops

@@ -1,0 +1,45 @@
+#include "ops/discover.hpp"
+
+#include <fstream>
+
+#include "lbp/bytes.hpp"
+#include "lbp/error.hpp"
+
+namespace i20::ops {
+namespace {
+
+// The overlay as every later command will read it: merged into the database as loaded,
+// then resolved for the revision it names.
+void prove_loads(const params::ParamDb& loaded, const std::string& yaml, const std::string& source,
+                 std::uint16_t swrevision) {
+  auto probe = loaded;
+  probe.apply_overlay_string(yaml, source);
+  (void)probe.for_firmware(swrevision);
+}
+
+}  // namespace
+
+DiscoverResult discover(Card& card, const params::ParamDb& loaded, const DiscoverOptions& options) {
+  DiscoverResult result;
+  result.report = device::discover(card.amp(), options.scan);
+  result.written = options.output.empty()
+                       ? std::filesystem::path("i20-map-" + lbp::hex_value(result.report.swrevision, 4) + ".yaml")
+                       : options.output;
+  const std::string file = result.written.string();
+  if (!options.overwrite && std::filesystem::exists(result.written))
+    throw UsageError(file + " exists; pass --overwrite to replace it (or choose another name with -o)");
+  const std::string yaml = result.report.overlay_yaml(options.generated_at);
+  prove_loads(loaded, yaml, file, result.report.swrevision);
+  {
+    std::ofstream out(result.written, std::ios::trunc);
+    out << yaml;
+    out.close();
+    if (!out) throw Error("cannot write " + file);
+  }
+  auto again = loaded;
+  again.apply_overlay_file(result.written);
+  (void)again.for_firmware(result.report.swrevision);
+  return result;
+}
+
+}  // namespace i20::ops

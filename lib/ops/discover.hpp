@@ -1,0 +1,32 @@
+// `i20 discover` as a use case: run the read-only discovery on an open card, then prove the
+// overlay it produced loads (for that SWREVISION) before saying it was written, and prove it
+// again from the file on disk.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "device/discover.hpp"
+#include "ops/card.hpp"
+#include "params/param_db.hpp"
+
+namespace i20::ops {
+
+struct DiscoverOptions {
+  device::DiscoveryOptions scan;
+  std::filesystem::path output;  // empty: i20-map-SWREVISION.yaml in the current directory
+  bool overwrite = false;
+  std::string generated_at;  // time stamp written into the file
+};
+
+struct DiscoverResult {
+  device::DiscoveryReport report;
+  std::filesystem::path written;  // the overlay file, loaded back and accepted
+};
+
+// Throws device::Cancelled on Ctrl-C (between scan chunks), UsageError when the file exists
+// and `overwrite` is not set, ParamFileError when the overlay would not load (nothing is
+// written then).
+DiscoverResult discover(Card& card, const params::ParamDb& loaded, const DiscoverOptions& options);
+
+}  // namespace i20::ops

@@ -1,0 +1,73 @@
+// Where an 8I20 is, in one place: every program parses its target here (--port, --sim,
+// --eth, eth:// URLs, COMn, fleet targets) and opens the link here.
+//
+// Forms:
+//   /dev/ttyUSB0, any other path   a serial RS-422 adapter (setup mode, jumper W6 down)
+//   COM3                           WPD/RPD's name for a serial port: /dev/ttyS2
+//   sim                            a fresh in-process simulator
+//   sim:FILE                       an in-process simulator whose EEPROM lives in FILE
+//   eth://IP[:UDPPORT][/portP][/chN]   an SSERIAL channel of a 7I96S/7I92T
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "link/link.hpp"
+#include "params/param_db.hpp"
+
+namespace i20::ops {
+
+struct Endpoint {
+  enum class Kind { Serial, Sim, Eth };
+  Kind kind = Kind::Sim;
+  std::string text;      // as the user named it, for tables and messages
+  std::string path;      // Serial: the device (COMn mapped); Sim: the EEPROM image file, may be empty
+  std::string eth_url;   // Eth: the canonical eth:// URL
+  std::string line_key;  // endpoints with the same key share one physical line
+
+  // The global options that name this endpoint, for advice lines: "--port /dev/ttyUSB0",
+  // "--sim --sim-eeprom a.eeprom", "--port eth://10.0.0.2/port0/ch1".
+  std::string flags() const;
+  bool is_eth() const { return kind == Kind::Eth; }
+};
+
+// The forms, for help texts and error messages.
+extern const char* const kEndpointForms;
+
+// One target string. `index` makes every plain `sim` its own line. Throws UsageError.
+Endpoint parse_endpoint(const std::string& text, std::size_t index = 0);
+
+// The global flags: exactly one of port, sim, eth (port may be an eth:// URL or COMn).
+struct TargetFlags {
+  std::string port;
+  bool sim = false;
+  std::string sim_eeprom;
+  std::string eth;  // IP[:UDPPORT] or an eth:// URL
+  unsigned channel = 0;
+  unsigned sserial_port = 0;
+};
+// nullopt when the flags name no target.
+std::optional<Endpoint> endpoint_from(const TargetFlags& flags);
+// The endpoint the flags name; UsageError saying how to name one when they name none.
+Endpoint require_endpoint(const TargetFlags& flags);
+// Every `--target`, or the global endpoint when no --target is given. Throws UsageError for
+// a target given twice, for both forms at once, or for none at all.
+std::vector<Endpoint> resolve_endpoints(const std::vector<std::string>& targets,
+                                        const std::optional<Endpoint>& global);
+
+struct LinkSettings {
+  unsigned baud = 115200;     // setup mode is always 115200 (manual)
+  unsigned timeout_ms = 50;   // reply timeout on top of the wire time
+  bool take_over = false;     // Ethernet: stop a port another host (LinuxCNC) is driving
+};
+
+// Opens the link. A serial port is locked for this process (flock, root included). The
+// in-process simulator follows `db`, so overlays that move addresses move them on both
+// sides. Throws i20::Error with advice when it cannot be opened.
+std::unique_ptr<link::Link> open_link(const Endpoint& endpoint, const params::ParamDb& db,
+                                      const LinkSettings& settings);
+
+}  // namespace i20::ops

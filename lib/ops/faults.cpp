@@ -1,0 +1,84 @@
+#include "ops/faults.hpp"
+
+#include "device/errors.hpp"
+#include "faults/fault_mask.hpp"
+#include "ops/change.hpp"
+#include "ops/read.hpp"
+
+namespace i20::ops {
+namespace {
+
+std::optional<double> scaled(const Reading& r) {
+  if (!r.fact()) return std::nullopt;
+  return static_cast<double>(*r.raw) * r.param->scale;
+}
+
+const params::Param& fact_required(Card& card, const char* name) {
+  const params::Param& p = card.db().get(name);
+  if (!p.address || !card.db().address_confirmed(p))
+    throw device::SafetyError(std::string(name) + " cannot be read as a fact on " + card.describe() + ": " +
+                              card.unconfirmed_reason(p) +
+                              ", and the card's RPC table did not name it; `i20 discover` may find it");
+  return p;
+}
+
+}  // namespace
+
+FaultReadings read_fault_registers(Card& card) {
+  const auto& db = card.db();
+  std::vector<const params::Param*> list{&fact_required(card, "FAULT"), &fact_required(card, "STATUS")};
+  for (const char* name : {"FAULTMASK", "BUSV", "TEMPERATURE", "BUSUNDERV", "BUSOVERV"})
+    if (const auto* p = db.find(name)) list.push_back(p);
+  FaultReadings r;
+  for (const auto& v : read_values(card, list)) {
+    if (!v.fact()) continue;
+    const std::string& n = v.param->name;
+    const auto raw16 = static_cast<std::uint16_t>(*v.raw);
+    if (n == "FAULT") r.fault = raw16;
+    if (n == "STATUS") r.status = raw16;
+    if (n == "FAULTMASK") r.faultmask = raw16;
+    if (n == "BUSV") r.busv_v = scaled(v);
+    if (n == "TEMPERATURE") r.temperature_c = scaled(v);
+    if (n == "BUSUNDERV") r.busunderv_v = scaled(v);
+    if (n == "BUSOVERV") r.busoverv_v = scaled(v);
+  }
+  return r;
+}
+
+ClearResult clear_faults(Card& card, const device::WriteOptions& write, std::chrono::milliseconds wait) {
+  card.amp().check_write(card.db().get("CLEARFAULT"), 1, write);
+  fact_required(card, "FAULT");
+  ClearResult result;
+  const auto done = card.amp().clear_faults(write, wait);
+  result.fault_before = done.fault_before;
+  result.took = done.took;
+  // Again with the measurements, so every remaining bit can say why it is still there.
+  result.after = read_fault_registers(card);
+  return result;
+}
+
+MaskResult set_fault_mask(Card& card, const std::string& key, bool masked, const device::WriteOptions& write) {
+  faults::maskable_fault(key);  // unknown or unmaskable: refused before anything is read
+  const auto& param = card.db().get("FAULTMASK");
+  device::check_offline(param, faults::kNothingMasked, write);
+  card.amp().check_write(param, faults::kNothingMasked, write);
+  MaskResult result;
+  const auto unconfirmed = write.allow_unverified ? Unconfirmed::Read : Unconfirmed::Skip;
+  const auto now = read_values(card, std::vector<const params::Param*>{&param}, unconfirmed);
+  if (!now.front().raw)
+    throw device::SafetyError("FAULTMASK cannot be read as a fact on " + card.describe() + ": " +
+                              now.front().reason);
+  result.before = static_cast<std::uint16_t>(*now.front().raw);
+  result.wanted = faults::set_fault_masked(result.before, key, masked);
+  const auto profile =
+      profile_from_value("FAULTMASK", std::to_string(result.wanted), card.db(), ValueSyntax::Raw);
+  ApplyJob job;
+  job.profile = &profile;
+  job.db = &card.db();
+  job.write = write;
+  job.transaction.cancel = card.cancel();
+  result.run = run_apply_on(card, job);
+  return result;
+}
+
+}  // namespace i20::ops

@@ -1,0 +1,22 @@
+// One profile, many cards: every independent line gets its own thread (with its own link,
+// resolved map and card client), so a slow or dead card delays nobody and one target
+// failing never changes what happens on another.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "ops/apply_run.hpp"
+
+namespace i20::ops {
+
+// Told each target's activity ("connecting", "writing NVBRAKEONV (2/5)", the outcome at
+// the end), from the worker threads: it must be thread-safe.
+using FleetActivity = std::function<void(std::size_t index, const std::string& what)>;
+
+// Runs in the order given within a line (targets sharing a line_key), concurrently across
+// lines. Returns one run per target, in the order of `targets`.
+std::vector<TargetRun> run_fleet(const std::vector<Endpoint>& targets, const ApplyJob& job,
+                                 const FleetActivity& activity = {});
+
+}  // namespace i20::ops

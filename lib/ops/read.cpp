@@ -1,0 +1,40 @@
+#include "ops/read.hpp"
+
+namespace i20::ops {
+
+std::vector<Reading> read_values(Card& card, std::span<const params::Param* const> params,
+                                 Unconfirmed unconfirmed) {
+  std::vector<Reading> out;
+  std::vector<const params::Param*> wanted;
+  for (const params::Param* p : params) {
+    Reading r{p, std::nullopt, card.db().address_confirmed(*p) && p->address.has_value(),
+              card.unconfirmed_reason(*p)};
+    if (p->address && (r.confirmed || unconfirmed == Unconfirmed::Read)) wanted.push_back(p);
+    out.push_back(std::move(r));
+  }
+  if (wanted.empty()) return out;
+  const auto values = card.with_retries([&] { return card.amp().read(wanted); });
+  std::size_t next = 0;
+  for (auto& r : out)
+    if (next < wanted.size() && r.param == wanted[next]) r.raw = values[next++].raw;
+  return out;
+}
+
+std::vector<Reading> read_values(Card& card, const std::vector<std::string>& names, Unconfirmed unconfirmed) {
+  std::vector<const params::Param*> params;
+  for (const auto& name : names) params.push_back(&card.db().get(name));
+  return read_values(card, params, unconfirmed);
+}
+
+std::vector<Reading> read_all(Card& card, Unconfirmed unconfirmed) {
+  std::vector<const params::Param*> params;
+  for (const auto& p : card.db().all())
+    if (p.address) params.push_back(&p);
+  return read_values(card, params, unconfirmed);
+}
+
+std::string unknown_text(const Reading& reading) {
+  return "unknown (" + (reading.reason.empty() ? std::string("not read") : reading.reason) + ")";
+}
+
+}  // namespace i20::ops
