@@ -1,38 +1,17 @@
 #include "profile/export.hpp"
 
 #include <algorithm>
-#include <array>
 #include <optional>
 #include <charconv>
 #include <regex>
 #include <sstream>
 
+#include "params/text.hpp"
 #include "params/value.hpp"
 #include "profile/error.hpp"
 
 namespace i20::profile {
 namespace {
-
-// LinuxCNC sserial.h, hm2_8i20_globals (docs/facts.md s2): names and the EEPROM word each
-// one holds. The order is the driver's; setsserial matches the first name contained in its
-// argument, which this order keeps unambiguous (nvkqilo before nvkqil).
-constexpr std::array<Hostmot2Parameter, 15> kHostmot2Nv{{
-    {"nvmaxcurrent", "NVMAXCURRENT", HalPart::Whole},
-    {"nvbusundervmax", "NVBUSUNDERVMAX", HalPart::Whole},
-    {"nvbusundervmin", "NVBUSUNDERV", HalPart::Whole},
-    {"nvbusoverv", "NVBUSOVERV", HalPart::Whole},
-    {"nvbrakeonv", "NVBRAKEONV", HalPart::Whole},
-    {"nvbrakeoffv", "NVBRAKEOFFV", HalPart::Whole},
-    {"nvrembaudrate", "NVBAUDRATE", HalPart::Whole},
-    {"nvkqp", "NVKQP", HalPart::Whole},
-    {"nvkqihi", "NVKQI", HalPart::High16},
-    {"nvkqilo", "NVKQI", HalPart::Low16},
-    {"nvkqil", "NVKQIL", HalPart::Whole},
-    {"nvkdp", "NVKDP", HalPart::Whole},
-    {"nvkdihi", "NVKDI", HalPart::High16},
-    {"nvkdilo", "NVKDI", HalPart::Low16},
-    {"nvkdil", "NVKDIL", HalPart::Whole},
-}};
 
 std::uint32_t part_of(std::int64_t raw, HalPart part) {
   const auto value = static_cast<std::uint32_t>(raw);
@@ -53,22 +32,13 @@ const char* part_text(HalPart part) {
   return "";
 }
 
-// The settings, low half before high half, as the driver stores them (lower address first).
-std::vector<Hostmot2Parameter> in_write_order(std::vector<Hostmot2Parameter> names) {
-  std::stable_sort(names.begin(), names.end(), [](const auto& a, const auto& b) {
-    return (a.part == HalPart::Low16) > (b.part == HalPart::Low16);
-  });
-  return names;
-}
-
 void add_cell(Hostmot2Values& out, const params::Param& param, std::int64_t raw) {
-  const auto names = hostmot2_names_of(param.name);
+  const auto names = hostmot2_names_of(param);
   if (names.empty()) {
     out.skipped.push_back(param.name + ": hostmot2 has no parameter for it; not exported");
     return;
   }
-  for (const auto& n : in_write_order(names))
-    out.settings.push_back({std::string(n.hal_name), part_of(raw, n.part), param.name, raw, n.part});
+  for (const auto& n : names) out.settings.push_back({n.hal_name, part_of(raw, n.part), param.name, raw, n.part});
 }
 
 std::string header(const Profile& profile, const ExportOptions& options, const char* how) {
@@ -112,23 +82,24 @@ std::uint32_t parse_value(const std::string& text, std::size_t line) {
   return value;
 }
 
-const Hostmot2Parameter* by_hal_name(std::string_view name) {
-  for (const auto& p : kHostmot2Nv)
-    if (p.hal_name == name) return &p;
-  return nullptr;
-}
-
 }  // namespace
 
-std::span<const Hostmot2Parameter> hostmot2_nv_parameters() {
-  return kHostmot2Nv;
+std::vector<Hostmot2Parameter> hostmot2_names_of(const params::Param& param) {
+  std::vector<Hostmot2Parameter> names;
+  if (!param.is_nv()) return names;
+  for (const auto& a : param.aliases) names.push_back({params::lower(a.name), param.name, a.part});
+  // The low half first, as the driver stores them (lower address first, little endian).
+  std::stable_sort(names.begin(), names.end(), [](const auto& a, const auto& b) {
+    return (a.part == HalPart::Low16) > (b.part == HalPart::Low16);
+  });
+  return names;
 }
 
-std::vector<Hostmot2Parameter> hostmot2_names_of(std::string_view db_name) {
-  std::vector<Hostmot2Parameter> names;
-  for (const auto& p : kHostmot2Nv)
-    if (p.db_name == db_name) names.push_back(p);
-  return names;
+std::vector<Hostmot2Parameter> hostmot2_nv_parameters(const params::ParamDb& db) {
+  std::vector<Hostmot2Parameter> all;
+  for (const auto& p : db.all())
+    for (auto& n : hostmot2_names_of(p)) all.push_back(std::move(n));
+  return all;
 }
 
 void check_hal_device(std::string_view device) {
@@ -186,7 +157,8 @@ std::string setsserial_text(const Profile& profile, const params::ParamDb& db, c
   return text;
 }
 
-std::map<std::string, std::int64_t> parse_exported(std::string_view text, std::string_view device) {
+std::map<std::string, std::int64_t> parse_exported(std::string_view text, std::string_view device,
+                                                   const params::ParamDb& db) {
   static const std::regex setp(R"(^\s*setp\s+(\S+)\s+(\S+)\s*$)");
   static const std::regex setsserial(R"re(^\s*loadrt\s+setsserial\s+cmd="set\s+(\S+)\s+(\S+)"\s*$)re");
   std::map<std::string, std::int64_t> values;
@@ -200,25 +172,26 @@ std::map<std::string, std::int64_t> parse_exported(std::string_view text, std::s
   for (std::size_t number = 1; std::getline(in, line); ++number) {
     std::smatch m;
     if (!std::regex_match(line, m, setp) && !std::regex_match(line, m, setsserial)) continue;
-    const std::string name = m[1];
-    if (name.rfind(prefix, 0) != 0) continue;
-    const std::string hal_name = name.substr(prefix.size());
-    const Hostmot2Parameter* p = by_hal_name(hal_name);
-    if (!p) bad_line(number, "'" + hal_name + "' is not an 8I20 NV parameter of hostmot2");
+    const std::string full_name = m[1];
+    if (full_name.rfind(prefix, 0) != 0) continue;
+    const std::string hal_name = full_name.substr(prefix.size());
+    const auto named = db.alias(hal_name);
+    if (!named.alias || !named.param->is_nv())
+      bad_line(number, "'" + hal_name + "' is not an 8I20 NV parameter of hostmot2");
     const std::int64_t v = parse_value(m[2], number);
-    const std::string db(p->db_name);
-    switch (p->part) {
-      case HalPart::Whole: values[db] = v; break;
-      case HalPart::Low16: halves[db].low = v; break;
-      case HalPart::High16: halves[db].high = v; break;
+    const std::string& name = named.param->name;
+    switch (named.alias->part) {
+      case HalPart::Whole: values[name] = v; break;
+      case HalPart::Low16: halves[name].low = v; break;
+      case HalPart::High16: halves[name].high = v; break;
     }
   }
-  for (const auto& [db, h] : halves) {
+  for (const auto& [name, h] : halves) {
     if (!h.low || !h.high)
-      throw Error(db + " has only its " + (h.low ? "low" : "high") +
+      throw Error(name + " has only its " + (h.low ? "low" : "high") +
                       " 16-bit half in the text; both halves are needed to know the value",
                   ErrorKind::BadInput);
-    values[db] = *h.low | (*h.high << 16);
+    values[name] = *h.low | (*h.high << 16);
   }
   return values;
 }

@@ -4,12 +4,12 @@
 // hostmot2 names each 8I20 NV parameter itself (nvmaxcurrent, nvbrakeonv, ...) and carries
 // the raw EEPROM word, not engineering units: 19000 is 190 V, 750 is 7.5 A. The 32-bit
 // integral gains NVKQI/NVKDI appear as two 16-bit halves, nvkqilo (low) and nvkqihi (high).
+// The names are the database's aliases (params/8i20.yaml), the one place they are written.
 // Pure: no I/O, nothing printed.
 #pragma once
 
 #include <cstdint>
 #include <map>
-#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,20 +20,20 @@
 namespace i20::profile {
 
 // Which bits of a database parameter one hostmot2 parameter holds.
-enum class HalPart { Whole, Low16, High16 };
+using HalPart = params::Alias::Part;
 
 // One NV parameter as hostmot2 names it (LinuxCNC sserial.h, hm2_8i20_globals).
 struct Hostmot2Parameter {
-  std::string_view hal_name;  // e.g. "nvkqilo"
-  std::string_view db_name;   // e.g. "NVKQI"
-  HalPart part;
+  std::string hal_name;  // e.g. "nvkqilo"
+  std::string db_name;   // e.g. "NVKQI"
+  HalPart part = HalPart::Whole;
 };
 
-// Every NV parameter hostmot2 creates for an 8I20, in the driver's order.
-std::span<const Hostmot2Parameter> hostmot2_nv_parameters();
-
-// The hostmot2 parameters that together hold `db_name` (empty if hostmot2 has none).
-std::vector<Hostmot2Parameter> hostmot2_names_of(std::string_view db_name);
+// The hostmot2 parameters of an EEPROM parameter, the low half before the high one (the
+// order of their addresses); empty when hostmot2 has none (NVDEADZONE) or for RAM ones.
+std::vector<Hostmot2Parameter> hostmot2_names_of(const params::Param& param);
+// Every NV parameter hostmot2 has, in database order.
+std::vector<Hostmot2Parameter> hostmot2_nv_parameters(const params::ParamDb& db);
 
 // "hm2_7i96s.0.8i20.0.0" (board, board number, sserial port, channel), or
 // "hm2_8i20.001f" (hostmot2's use_serial_numbers=1 form). Throws Error (BadInput) for
@@ -75,6 +75,7 @@ std::string setsserial_text(const Profile& profile, const params::ParamDb& db, c
 // 32-bit gain joined again. Lines for another device, comments and other HAL commands are
 // ignored; a half without its partner, an unknown nv name or a malformed number throws
 // Error (BadInput) naming the line.
-std::map<std::string, std::int64_t> parse_exported(std::string_view text, std::string_view device);
+std::map<std::string, std::int64_t> parse_exported(std::string_view text, std::string_view device,
+                                                   const params::ParamDb& db);
 
 }  // namespace i20::profile

@@ -46,14 +46,15 @@ const char* kAllNv = R"(  NVMAXCURRENT: 7.5 A
 }  // namespace
 
 TEST(ProfileExport, HostmotNamesAreTheDriversAndMapToTheNvAddresses) {
-  // sserial.h hm2_8i20_globals: name -> EEPROM address; our database must agree.
+  // sserial.h hm2_8i20_globals: name -> EEPROM address. The names come from the database's
+  // aliases (params/8i20.yaml); this checks them, and their addresses, against the driver.
   const std::map<std::string, std::uint16_t> driver = {
       {"nvmaxcurrent", 2}, {"nvbusundervmax", 36}, {"nvbusundervmin", 34}, {"nvbusoverv", 38},
       {"nvbrakeonv", 40},  {"nvbrakeoffv", 42},    {"nvrembaudrate", 6},   {"nvkqp", 10},
       {"nvkqihi", 14},     {"nvkqilo", 12},        {"nvkqil", 16},         {"nvkdp", 18},
       {"nvkdihi", 22},     {"nvkdilo", 20},        {"nvkdil", 24}};
   std::set<std::string> seen;
-  for (const auto& p : hostmot2_nv_parameters()) {
+  for (const auto& p : hostmot2_nv_parameters(db())) {
     const std::string name(p.hal_name);
     ASSERT_TRUE(driver.count(name)) << name << " is not a hostmot2 8I20 NV parameter";
     seen.insert(name);
@@ -113,9 +114,9 @@ TEST(ProfileExport, RoundTripGivesBackEveryNvValue) {
   std::map<std::string, std::int64_t> expected;
   for (const auto& s : p.settings) expected[s.name] = s.raw;
   for (const auto& text : {hal_text(p, db(), options()), setsserial_text(p, db(), options())})
-    EXPECT_EQ(parse_exported(text, kDevice), expected) << text;
+    EXPECT_EQ(parse_exported(text, kDevice, db()), expected) << text;
   // Another device's lines are not this card's values.
-  EXPECT_TRUE(parse_exported(hal_text(p, db(), options("hm2_7i96s.0.8i20.0.1")), kDevice).empty());
+  EXPECT_TRUE(parse_exported(hal_text(p, db(), options("hm2_7i96s.0.8i20.0.1")), kDevice, db()).empty());
 }
 
 TEST(ProfileExport, WorkingOnlyEntriesAreSkippedAndSaidSo) {
@@ -150,10 +151,10 @@ TEST(ProfileExport, DeviceNamesAreHostmotNamesOnly) {
 }
 
 TEST(ProfileExport, ParsingRefusesWhatItCannotTrust) {
-  EXPECT_THROW(parse_exported("setp hm2_7i96s.0.8i20.0.0.nvkqilo 5\n", kDevice), i20::Error);  // no hi half
-  EXPECT_THROW(parse_exported("setp hm2_7i96s.0.8i20.0.0.nvfoo 5\n", kDevice), i20::Error);
-  EXPECT_THROW(parse_exported("setp hm2_7i96s.0.8i20.0.0.nvkqp 70000\n", kDevice), i20::Error);  // > 16 bit
-  EXPECT_THROW(parse_exported("setp hm2_7i96s.0.8i20.0.0.nvkqp 5x\n", kDevice), i20::Error);
-  const auto values = parse_exported("# comment\nloadrt hostmot2\nsetp hm2_7i96s.0.8i20.0.0.nvkqp 0x32\n", kDevice);
+  EXPECT_THROW(parse_exported("setp hm2_7i96s.0.8i20.0.0.nvkqilo 5\n", kDevice, db()), i20::Error);  // no hi half
+  EXPECT_THROW(parse_exported("setp hm2_7i96s.0.8i20.0.0.nvfoo 5\n", kDevice, db()), i20::Error);
+  EXPECT_THROW(parse_exported("setp hm2_7i96s.0.8i20.0.0.nvkqp 70000\n", kDevice, db()), i20::Error);  // > 16 bit
+  EXPECT_THROW(parse_exported("setp hm2_7i96s.0.8i20.0.0.nvkqp 5x\n", kDevice, db()), i20::Error);
+  const auto values = parse_exported("# comment\nloadrt hostmot2\nsetp hm2_7i96s.0.8i20.0.0.nvkqp 0x32\n", kDevice, db());
   EXPECT_EQ(values, (std::map<std::string, std::int64_t>{{"NVKQP", 50}}));
 }
