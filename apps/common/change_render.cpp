@@ -294,6 +294,12 @@ std::string outcome_line(const TargetRun& run) {
   return r.reason;
 }
 
+std::string error_line(const TargetRun& run) {
+  const bool refused = run.outcome == Outcome::Refused || run.outcome == Outcome::BadInput;
+  if (refused && run.result) return "refused: " + run.result->reason;
+  return outcome_line(run);
+}
+
 void print_run(std::ostream& out, const TargetRun& run, const params::ParamDb& db, const std::string& source,
                bool plan_shown) {
   if (!run.result) {

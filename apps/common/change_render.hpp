@@ -56,6 +56,9 @@ void print_run(std::ostream& out, const TargetRun& run, const params::ParamDb& d
                bool plan_shown = false);
 // "APPLIED AND VERIFIED: 5 values written, reset needed", "ROLLBACK FAILED: card state below", ...
 std::string outcome_line(const TargetRun& run);
+// The one line for stderr when a change did not end well: the first broken rule for a
+// refusal, the outcome line otherwise.
+std::string error_line(const TargetRun& run);
 // "applied-and-verified", ..., or "not-reached".
 std::string outcome_name(const TargetRun& run);
 app::Json run_json(const TargetRun& run);

@@ -26,6 +26,9 @@ void add_target_options(CLI::App& app, GlobalOptions& o) {
       ->check(CLI::Range(0, 3));
   app.add_option("--sim-eeprom", t.sim_eeprom, "EEPROM image file for --sim, so NV values persist between runs")
       ->needs(sim);
+  app.add_option("--sim-control", o.link.sim_control,
+                 "A simulator control line applied before the first command, e.g. \"busv 160\" (a card on a 120 V "
+                 "line) or \"enable off\"; repeatable, for --sim and sim targets. `i20sim --help` lists them");
   app.add_option("--baud", o.link.baud, "Serial baud rate; setup mode is always 115200 (manual)")
       ->needs(port)
       ->check(CLI::Range(1200u, 12000000u));

@@ -187,7 +187,7 @@ void run_mask_set(Context& ctx, const MaskOptions& o) {
   ctx.exit_code = m.run.exit_code();
   if (!m.run.ok()) {
     app::render::print_run(std::cout, m.run, card.db(), "command line");
-    std::cerr << "i20: " << app::render::outcome_line(m.run) << "\n";
+    std::cerr << "i20: " << app::render::error_line(m.run) << "\n";
     return;
   }
   const Readings after = ops::read_fault_registers(card);

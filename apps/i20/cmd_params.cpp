@@ -166,7 +166,7 @@ void run_set(Context& ctx, const SetOptions& o) {
   ctx.exit_code = run.exit_code();
   if (ctx.options.json) return ctx.print_json(app::render::run_json(run));
   app::render::print_run(std::cout, run, card.db(), "command line");
-  if (!run.ok()) std::cerr << "i20: " << app::render::outcome_line(run) << "\n";
+  if (!run.ok()) std::cerr << "i20: " << app::render::error_line(run) << "\n";
 }
 
 // ------------------------------------------------------------------ dump
@@ -232,14 +232,13 @@ void run_dump(Context& ctx, const std::string& format, bool allow_unverified) {
 
 // ------------------------------------------------------------------ reset
 void run_reset(Context& ctx, bool yes) {
-  auto& card = ctx.card();
-  const std::string where = card.endpoint().text;
+  const std::string where = ctx.session().endpoint().text;  // asked before anything is sent
   if (!yes && !ctx.confirm("Reset the 8I20 on " + where + "? NV values become the working values")) {
     std::cerr << "i20: reset not confirmed; nothing was sent (pass --yes in scripts)\n";
     ctx.exit_code = app::kBadInput;
     return;
   }
-  card.amp().reset();
+  ctx.card().amp().reset();
   if (ctx.options.json)
     ctx.print_json(app::Json::object().set("reset", true).set("target", where));
   else

@@ -261,7 +261,7 @@ void apply_single(Context& ctx, const Profile& profile, const std::string& file,
     return ctx.print_json(j);
   }
   render::print_run(std::cout, run, *job.db, file, plan_shown);
-  if (!run.ok()) std::cerr << "i20: " << render::outcome_line(run) << "\n";
+  if (!run.ok()) std::cerr << "i20: " << render::error_line(run) << "\n";
 }
 
 void run_apply_command(Context& ctx, const ApplyCliOptions& o) {

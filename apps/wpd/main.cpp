@@ -56,7 +56,7 @@ int report(const ops::TargetRun& run, const params::ParamDb& db) {
     return run.exit_code();
   }
   app::render::print_run(out, run, db, "command line");
-  std::cerr << "wpd: " << app::render::outcome_line(run) << "\n";
+  std::cerr << "wpd: " << app::render::error_line(run) << "\n";
   return run.exit_code();
 }
 

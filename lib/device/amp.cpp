@@ -367,17 +367,24 @@ lbp::Bytes Amp8i20::read_memory(Space space, std::uint16_t address, std::size_t 
 lbp::Bytes Amp8i20::read_rpc_table() {
   throw_if_cancelled();
   namespace L = lbp::local;
-  const std::vector<lbp::Command> sizes{lbp::local_read(L::kGetRpcSizeLow),
-                                        lbp::local_read(L::kGetRpcSizeHigh)};
+  const std::vector<lbp::Command> sizes{lbp::local_read(L::kGetRpcSizeLow), lbp::local_read(L::kGetRpcSizeHigh)};
   const auto r = link_.execute(sizes);
-  const std::size_t size = r[0].at(0) | (r[1].at(0) << 8);
+  return read_rpc_table(0, r[0].at(0) | (r[1].at(0) << 8));
+}
+
+lbp::Bytes Amp8i20::read_rpc_table(std::size_t offset, std::size_t count) {
+  throw_if_cancelled();
+  namespace L = lbp::local;
+  if (count == 0) return {};
   const auto leave = lbp::local_write(L::kSetRpcMemAccess, 0);
   ModeGuard guard(link_, leave, "RPC memory access mode");
-  link_.execute_one(lbp::local_write(L::kSetRpcMemAccess, 1));
+  auto commands = chunked_reads(static_cast<std::uint16_t>(offset), count, link_.max_data_bytes());
+  commands.insert(commands.begin(), lbp::local_write(L::kSetRpcMemAccess, 1));
+  commands.push_back(leave);
+  const auto replies = link_.execute(commands);
+  guard.disarm();
   lbp::Bytes table;
-  for (const auto& part : link_.execute(chunked_reads(0, size, link_.max_data_bytes())))
-    table.insert(table.end(), part.begin(), part.end());
-  guard.leave();
+  for (std::size_t i = 1; i + 1 < replies.size(); ++i) table.insert(table.end(), replies[i].begin(), replies[i].end());
   return table;
 }
 

@@ -142,6 +142,8 @@ class Amp8i20 {
   lbp::Bytes read_memory(params::Space space, std::uint16_t address, std::size_t count);
   // The RPC table (RPCMEM access enabled only for the read, always disabled after).
   lbp::Bytes read_rpc_table();
+  // `count` bytes of it from `offset`, the same way (a client that needs one RPC reads no more).
+  lbp::Bytes read_rpc_table(std::size_t offset, std::size_t count);
 
   link::Link& link() { return link_; }
   const params::ParamDb& db() const { return db_; }

@@ -51,6 +51,23 @@ void check_card_reset(Card& c, std::optional<std::int64_t> before, TargetRun& ru
                    "): its working values were reloaded from the EEPROM as it was at that moment";
 }
 
+// The card reset itself mid-change, so its working values came from the EEPROM half
+// written; the EEPROM has been restored since. One more reset makes the working values the
+// restored ones again, instead of a mix nobody asked for.
+void reload_restored_values(Card& c, TargetRun& run) {
+  try {
+    c.amp().reset();
+    run.result->events.push_back(
+        "after restoring the EEPROM the tool reset the card once more, so its working values are the restored "
+        "ones, not the half-written EEPROM's it had reloaded by itself");
+    run.card_reset.clear();
+  } catch (const Error& e) {
+    run.outcome = Outcome::Uncertain;
+    run.result->reason += std::string("; the card reset itself meanwhile, and resetting it again failed (") +
+                          e.what() + "): its working values may come from the half-written EEPROM";
+  }
+}
+
 // NV cells of the profile whose working twin holds something else: not live until a reset.
 void check_live(Card& c, const ApplyJob& job, TargetRun& run) {
   const auto& r = *run.result;
@@ -80,6 +97,7 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
   const auto start = std::chrono::steady_clock::now();
   const auto status_before = sticky_status(card);
   auto options = job.transaction;
+  options.force = options.force || job.write.force;  // one --force: guards and the measured-bus rules
   if (options.backup_label.empty())
     options.backup_label =
         job.profile->name + "-unit" + lbp::hex_value(card.identity().info.unit_number.value_or(0), 8).substr(2);
@@ -92,8 +110,9 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
   if (run.outcome != Outcome::Refused && run.outcome != Outcome::DryRun && run.outcome != Outcome::BadInput &&
       run.outcome != Outcome::Failed) {
     if (activity) activity("checking");
-    check_card_reset(card, status_before, run);
     check_live(card, job, run);
+    check_card_reset(card, status_before, run);  // last: a reset during the checks is seen too
+    if (!run.card_reset.empty() && run.outcome == Outcome::RolledBack) reload_restored_values(card, run);
   }
   run.retries = card.retries();
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

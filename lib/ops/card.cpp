@@ -61,15 +61,9 @@ void Card::identify(const params::ParamDb& loaded) {
     identity_.modes_left = with_retries([&] { return bootstrap.leave_modes(); });
 
   auto resolved = loaded.for_firmware(*info.swrevision);
-  if (info.rpc_size > 0 && info.rpc_size <= kMaxRpcTableBytes) {
-    device::Amp8i20 reader(*link_, resolved, cancel_.flag());
-    const auto table = with_retries([&] { return reader.read_rpc_table(); });
-    const auto evidence = rpc_evidence(device::decode_rpc_evidence(table), identity_.rpc_note);
-    for (const auto& e : evidence) identity_.rpc_confirmed.push_back(e.name);
-    resolved = resolved.with_evidence(evidence);
-  } else {
-    identity_.rpc_note = "the card reports no RPC table";
-  }
+  const auto evidence = read_rpc_evidence(resolved);
+  for (const auto& e : evidence) identity_.rpc_confirmed.push_back(e.name);
+  resolved = resolved.with_evidence(evidence);
   db_ = std::make_unique<params::ParamDb>(std::move(resolved));
   amp_ = std::make_unique<device::Amp8i20>(*link_, *db_, cancel_.flag());
   identity_.info.working_map_confirmed = device::working_map_confirmed(*db_);
@@ -83,6 +77,33 @@ Card::Uninterruptible::Uninterruptible(Card& card) : card_(card) {
 Card::Uninterruptible::~Uninterruptible() {
   card_.uninterruptible_ = false;
   card_.amp().set_cancel(card_.cancel_.flag());
+}
+
+// The table is read a slice at a time until SSLBP's cycle RPC decodes, so a card whose
+// cycle RPC sits near the start costs a few commands, not the whole table. A table that
+// cannot be read is not fatal: the card then confirms nothing by itself, and says so.
+std::vector<params::ParamDb::Evidence> Card::read_rpc_evidence(const params::ParamDb& resolved) {
+  constexpr std::size_t kSlice = 64;
+  const std::size_t size = identity_.info.rpc_size;
+  if (size == 0 || size > kMaxRpcTableBytes) {
+    identity_.rpc_note = "the card reports no usable RPC table (" + std::to_string(size) + " bytes)";
+    return {};
+  }
+  device::Amp8i20 reader(*link_, resolved, cancel_.flag());
+  lbp::Bytes table;
+  device::RpcEvidence decoded;
+  try {
+    while (table.size() < size && decoded.addresses.empty()) {
+      const std::size_t count = std::min(kSlice, size - table.size());
+      const auto slice = with_retries([&] { return reader.read_rpc_table(table.size(), count); });
+      table.insert(table.end(), slice.begin(), slice.end());
+      decoded = device::decode_rpc_evidence(table);
+    }
+  } catch (const link::LinkError& e) {
+    identity_.rpc_note = std::string("the RPC table could not be read (") + e.what() + ")";
+    return {};
+  }
+  return rpc_evidence(decoded, identity_.rpc_note);
 }
 
 std::string Card::describe() const {

@@ -91,6 +91,7 @@ class Card {
  private:
   Card(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retry, Cancel cancel);
   void identify(const params::ParamDb& loaded);
+  std::vector<params::ParamDb::Evidence> read_rpc_evidence(const params::ParamDb& resolved);
 
   std::unique_ptr<link::Link> link_;
   Endpoint endpoint_;

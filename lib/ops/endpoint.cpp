@@ -140,7 +140,9 @@ std::unique_ptr<link::Link> open_link(const Endpoint& e, const params::ParamDb& 
       sim.device.map = sim::register_map_from(db);
       if (!e.path.empty()) sim.device.eeprom_file = e.path;
       sim.name = "the built-in simulator";
-      return sim::make_sim_link(std::move(sim), link_options);
+      auto stream = std::make_unique<sim::SimStream>(std::move(sim));
+      for (const auto& line : s.sim_control) stream->control(line);
+      return std::make_unique<link::PipelinedLink>(std::move(stream), link_options);
     }
     case Endpoint::Kind::Eth: {
       eth::PassthroughOptions options;

@@ -62,6 +62,9 @@ struct LinkSettings {
   unsigned baud = 115200;     // setup mode is always 115200 (manual)
   unsigned timeout_ms = 50;   // reply timeout on top of the wire time
   bool take_over = false;     // Ethernet: stop a port another host (LinuxCNC) is driving
+  // In-process simulator only: control lines (lib/sim/control.hpp, e.g. "busv 160") applied
+  // before the first command, so --sim can stand in for a card on another supply.
+  std::vector<std::string> sim_control;
 };
 
 // Opens the link. A serial port is locked for this process (flock, root included). The

@@ -80,8 +80,9 @@ class Transaction {
     }
     for (const auto& name : names)
       if (!snapshot_.contains(name)) {
-        stop(Outcome::Refused, name + " cannot be read as a fact on this card (its address is not confirmed for "
-                                      "its firmware), so it is not written");
+        stop(Outcome::Refused, "the card cannot read " + name +
+                                   " as a fact (its address is not confirmed for this card's firmware: run `i20 "
+                                   "discover`, or pass --allow-unverified if you know better)");
         return false;
       }
     read_context();

@@ -41,12 +41,15 @@ TEST_F(I20Cli, GetPrintsEngineeringRawAndHex) {
 }
 
 TEST_F(I20Cli, SetAcceptsUnitsAndRawAndSaysWhenAResetIsNeeded) {
-  const auto r = i20({"set", "NVBRAKEONV=320V", "NVMAXCURRENT=7.5A", "BRAKEOFFV=30000"});
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("NVBRAKEONV = 320.00 V (32000) written to EEPROM, verified"), std::string::npos)
-      << r.out;
-  EXPECT_NE(r.out.find("i20 reset"), std::string::npos);
-  EXPECT_EQ(sim.control("get BRAKEOFFV"), "30000");
+  sim.control("busv 300");  // below the new 320 V brake-on
+  const auto r =
+      i20({"set", "NVBRAKEONV=320V", "NVBRAKEOFFV=300V", "NVMAXCURRENT=7.5A", "BRAKEOFFV=34000"});
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("NVBRAKEONV    360.00 V  320.00 V"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("APPLIED AND VERIFIED: 3 values written, reset needed"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Already set (not written): BRAKEOFFV 340.00 V"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("i20 --port " + sim.port() + " reset"), std::string::npos) << r.out;
+  EXPECT_EQ(sim.control("get NVBRAKEOFFV"), "30000");
   EXPECT_EQ(i20({"get", "--raw", "NVMAXCURRENT"}).out, "NVMAXCURRENT = 750\n");
 }
 
@@ -109,9 +112,9 @@ TEST(I20CliSim, BuiltInSimulatorNeedsNoHardware) {
 TEST(I20CliSim, SimEepromPersistsBetweenRuns) {
   TempDir dir;
   const auto image = (dir / "card.eeprom").string();
-  ASSERT_EQ(run("i20", {"--sim", "--sim-eeprom", image, "set", "NVBRAKEONV=190V"}).exit_code, 0);
+  ASSERT_EQ(run("i20", {"--sim", "--sim-eeprom", image, "set", "NVBRAKEONV=370V"}).exit_code, 0);
   EXPECT_EQ(run("i20", {"--sim", "--sim-eeprom", image, "get", "NVBRAKEONV", "BRAKEONV"}).out,
-            "NVBRAKEONV = 190.00 V\nBRAKEONV = 190.00 V\n")
+            "NVBRAKEONV = 370.00 V\nBRAKEONV = 370.00 V\n")
       << "power-up loads NV into the working set";
 }
 
@@ -124,15 +127,15 @@ TEST(I20CliDiscover, DiscoveredOverlayUnlocksWorkingWritesOnAnUnknownFirmware) {
     args.insert(args.begin(), target.begin(), target.end());
     return args;
   };
-  auto r = run("i20", with({"set", "BRAKEONV=300V"}));
+  auto r = run("i20", with({"set", "BRAKEONV=370V"}));
   ASSERT_EQ(r.exit_code, 3) << "unknown firmware: refused until discovered: " << r.err;
   r = run("i20", with({"discover", "--yes", "--range", "0x0000-0x0FFF", "--out", overlay}));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("BRAKEONV"), std::string::npos);
   EXPECT_NE(r.out.find("ambiguous"), std::string::npos) << "KQP = KDP = 50 cannot be told apart read-only";
-  r = run("i20", with({"--params", overlay, "set", "BRAKEONV=300V"}));
+  r = run("i20", with({"--params", overlay, "set", "BRAKEONV=370V"}));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(sim.control("get BRAKEONV"), "30000") << "the write must land at the card's own address";
+  EXPECT_EQ(sim.control("get BRAKEONV"), "37000") << "the write must land at the card's own address";
   r = run("i20", with({"--params", overlay, "set", "KQP=60"}));
   EXPECT_EQ(r.exit_code, 3) << "KQP stays unknown on this firmware";
 }

@@ -64,8 +64,22 @@ TEST_F(LegacyTools, WpdNvWriteIsVerifiedAndOnlyLiveAfterReset) {
 }
 
 TEST_F(LegacyTools, WpdWorkingWriteIsLive) {
-  ASSERT_EQ(wpd({"BRAKEONV", "30000"}).exit_code, 0);  // manual: 300 V
+  sim.control("busv 160");  // a 120 V line: a 300 V brake-on is safe there
+  // The manual's rule first: BrakeOn always higher than BrakeOff (340 V on a factory card).
+  ASSERT_EQ(wpd({"BRAKEOFFV", "28000"}).exit_code, 0);
+  const auto r = wpd({"BRAKEONV", "30000"});  // manual: 300 V
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_EQ(sim.control("get BRAKEONV"), "30000");
+}
+
+TEST_F(LegacyTools, WpdRefusesAnOverVoltageAtOrBelowTheMeasuredBus) {
+  sim.control("busv 320");  // a live BUSOVERV of 300 V would fault the drive at once
+  const auto r = wpd({"BUSOVERV", "30000"});
+  EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
+  EXPECT_NE(r.err.find("320.00 V the card measures"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--force"), std::string::npos) << r.err;
+  EXPECT_EQ(writes_seen(), 0u) << sim.trace();
+  EXPECT_EQ(sim.control("get BUSOVERV"), "38500");
 }
 
 TEST_F(LegacyTools, OutOfRangeIsRefusedAndNothingIsSent) {
@@ -141,6 +155,6 @@ TEST(LegacyToolsUnconfirmed, WorkingWritesOnAnUnknownFirmwareNeedAllowUnverified
   EXPECT_NE(r.err.find("not confirmed"), std::string::npos) << r.err;
   EXPECT_EQ(sim.trace().find(": 6"), std::string::npos) << "no write may reach the card:\n" << sim.trace();
   // NV addresses are public: they work on any firmware at once.
-  r = run("wpd", {"NVBRAKEONV", "32000"}, env);
+  r = run("wpd", {"NVBRAKEONV", "37000"}, env);
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }

@@ -229,7 +229,8 @@ TEST_F(FaultsCli, EnableOffNamesTheInputAndSaysTheCauseIsPresent) {
   EXPECT_TRUE(has(r.out, "now: cause still present: the enable input (TB1 pins 3-4) is not driven")) << r.out;
   EXPECT_TRUE(has(r.out, "1. Measure between TB1 pin 3 (+) and pin 4 (-)")) << r.out;
   EXPECT_TRUE(has(r.out, "NOENABLESTATUS (bit 8), warning")) << r.out;
-  EXPECT_TRUE(has(r.out, "Next: fix the causes above, then run `i20 clear-faults`")) << r.out;
+  EXPECT_TRUE(has(r.out, "Next: fix the causes above, then run `i20 --port " + sim.port() + " clear-faults`"))
+      << "the follow-up names the card it was run on: " << r.out;
   // Once the input is driven again the fault is still latched, but its cause is gone.
   sim.control("enable on");
   const auto later = i20({"faults"});

@@ -185,7 +185,7 @@ TEST_F(WatchCli, FaultChangesAreTimestampedExplainedAndLogged) {
   sim.control("set CLEARFAULT 1");  // what clear-faults writes; the watch holds the port
   EXPECT_NE(w->wait_for("* FAULT cleared: NOENABLEFAULT (bit 1)", set), npos) << w->out();
   const auto r = w->finish(SIGINT);  // Ctrl-C
-  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.exit_code, 130) << r.err;
   EXPECT_TRUE(has(r.out, "2 FAULT changes")) << r.out;
   const std::string log = slurp(csv);
   EXPECT_TRUE(has(log, ",0x0002,0xFFFF,0,NOENABLEFAULT,")) << log;
@@ -205,7 +205,7 @@ TEST_F(WatchCli, SurvivesAPowerCycleAndSaysTheCardRestarted) {
   EXPECT_NE(w->wait_for("reconnecting to re-identify it", restarted), npos);
   EXPECT_NE(w->wait_for("  BUSV 24.00 V", restarted + 1), npos) << "it keeps watching: " << w->out();
   const auto r = w->finish(SIGINT);
-  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.exit_code, 130) << r.err;
 }
 
 TEST_F(WatchCli, SurvivesAResetInTheMiddleOfABatch) {
@@ -217,7 +217,7 @@ TEST_F(WatchCli, SurvivesAResetInTheMiddleOfABatch) {
   ASSERT_NE(restarted, npos) << w->out();
   EXPECT_NE(w->wait_for("  BUSV 320.00 V", restarted), npos) << w->out();
   const auto r = w->finish(SIGINT);
-  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.exit_code, 130) << r.err;
 }
 
 TEST_F(WatchCli, SurvivesLogicPowerLossAndReconnects) {
@@ -232,7 +232,7 @@ TEST_F(WatchCli, SurvivesLogicPowerLossAndReconnects) {
   const auto back = w->wait_for("* reconnected to the 8I20 on " + sim.port() + " after ", lost);
   ASSERT_NE(back, npos) << w->out();
   const auto r = w->finish(SIGINT);
-  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.exit_code, 130) << r.err;
   EXPECT_TRUE(has(r.out, ", 1 reconnect\n")) << r.out;
   const std::string log = slurp(csv);
   EXPECT_TRUE(has(log, ",,,,,,,,,,\"lost contact with the 8I20")) << "a gap row: " << log;
@@ -259,5 +259,5 @@ TEST_F(WatchCli, SurvivesTheAdapterBeingUnpluggedAndReplugged) {
   ASSERT_NE(back, npos) << w->out();
   EXPECT_NE(w->wait_for("  BUSV 320.00 V", back), npos);
   const auto r = w->finish(SIGINT);
-  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.exit_code, 130) << r.err;
 }

@@ -57,6 +57,10 @@ YAML::Node json(const Result& r);
 // The raw value the simulator holds for NAME (its `get` control command).
 std::int64_t sim_value(SimProcess& sim, const std::string& name);
 
+// The bus a card on the manual's 120 V line sees (the shipped line-120v profile's supply):
+// the profile's 190 V brake and 195 V over-voltage are refused above the measured bus.
+inline const std::vector<std::string> kLine120Bus{"--busv", "160"};
+
 // Checks one target's apply report (the --json object) against the card's values as
 // `value_of` reads them afterwards: applied -> every planned cell holds the profile's
 // value; rolled back or refused -> every planned cell holds its original value;

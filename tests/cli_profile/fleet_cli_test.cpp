@@ -11,7 +11,8 @@ namespace {
 class FleetCli : public ::testing::Test {
  protected:
   Result fleet(const std::vector<std::string>& targets, std::vector<std::string> extra = {}) {
-    std::vector<std::string> args{"--no-user-params"};
+    // In-process simulators on the same 120 V line as the pty ones (kLine120Bus).
+    std::vector<std::string> args{"--no-user-params", "--sim-control", "busv 160"};
     if (json_mode) args.push_back("--json");
     args.insert(args.end(),
                 {"profile", "apply", shipped("line-120v.yaml"), "--backup-dir", dir.path().string()});
@@ -32,16 +33,16 @@ class FleetCli : public ::testing::Test {
 }  // namespace
 
 TEST_F(FleetCli, ThreeTargetsOneDeadTheOthersApplyAndVerify) {
-  SimProcess dead({"--drop", "1"});  // executes everything, answers nothing
+  SimProcess dead({"--busv", "160", "--drop", "1"});  // executes everything, answers nothing
   const auto a = image("a.eeprom"), b = image("b.eeprom");
   auto r = fleet({"sim:" + a, dead.port(), "sim:" + b});
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
   auto j = json(r);
   EXPECT_EQ(j["exit_code"].as<int>(), 1);
   ASSERT_EQ(j["targets"].size(), 3u) << r.out;
-  EXPECT_EQ(outcome(j["targets"][0]), "applied-and-verified");
-  EXPECT_EQ(outcome(j["targets"][1]), "not-reached");
-  EXPECT_EQ(outcome(j["targets"][2]), "applied-and-verified");
+  EXPECT_EQ(outcome(j["targets"][0]), "done");
+  EXPECT_EQ(outcome(j["targets"][1]), "failed");
+  EXPECT_EQ(outcome(j["targets"][2]), "done");
   EXPECT_EQ(j["targets"][1]["target"].as<std::string>(), dead.port());
   EXPECT_EQ(brake_on_in(a), "NVBRAKEONV = 19000\n");
   EXPECT_EQ(brake_on_in(b), "NVBRAKEONV = 19000\n");
@@ -61,15 +62,15 @@ TEST_F(FleetCli, ThreeTargetsOneDeadTheOthersApplyAndVerify) {
 }
 
 TEST_F(FleetCli, ARolledBackTargetDoesNotChangeTheOthers) {
-  SimProcess good, failing;
+  SimProcess good{kLine120Bus}, failing{kLine120Bus};
   ASSERT_EQ(failing.control("eeprom-power-loss torn"), "ok");
   const auto r = fleet({good.port(), failing.port(), "sim:" + image("c.eeprom")});
   EXPECT_EQ(r.exit_code, 4) << "a card needing attention outranks everything: " << r.out << r.err;
   const auto j = json(r);
   ASSERT_EQ(j["targets"].size(), 3u);
-  EXPECT_EQ(outcome(j["targets"][0]), "applied-and-verified");
-  EXPECT_EQ(outcome(j["targets"][1]), "rollback-failed");
-  EXPECT_EQ(outcome(j["targets"][2]), "applied-and-verified");
+  EXPECT_EQ(outcome(j["targets"][0]), "done");
+  EXPECT_EQ(outcome(j["targets"][1]), "uncertain");
+  EXPECT_EQ(outcome(j["targets"][2]), "done");
   expect_report_matches_card(
       j["targets"][0], [&](const std::string& c) { return sim_value(good, c); }, "good");
   EXPECT_EQ(brake_on_in(image("c.eeprom")), "NVBRAKEONV = 19000\n");
@@ -80,7 +81,7 @@ TEST_F(FleetCli, ARolledBackTargetDoesNotChangeTheOthers) {
 }
 
 TEST_F(FleetCli, ReapplyingToAVerifiedFleetWritesNothing) {
-  SimProcess one, two;
+  SimProcess one{kLine120Bus}, two{kLine120Bus};
   auto r = fleet({one.port(), two.port()});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const auto writes_one = eeprom_writes(one.trace()), writes_two = eeprom_writes(two.trace());
@@ -98,13 +99,13 @@ TEST_F(FleetCli, AMissingPortIsNotReachedWhileTheOthersApply) {
   const auto r = fleet({"/dev/i20-no-such-port", "sim:" + image("d.eeprom")});
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
   const auto j = json(r);
-  EXPECT_EQ(outcome(j["targets"][0]), "not-reached");
+  EXPECT_EQ(outcome(j["targets"][0]), "failed");
   EXPECT_NE(j["targets"][0]["error"].as<std::string>().find("i20-no-such-port"), std::string::npos);
-  EXPECT_EQ(outcome(j["targets"][1]), "applied-and-verified");
+  EXPECT_EQ(outcome(j["targets"][1]), "done");
 }
 
 TEST_F(FleetCli, DryRunPlansEveryTargetAndWritesNothing) {
-  SimProcess one;
+  SimProcess one{kLine120Bus};
   const auto r = fleet({one.port(), "sim"}, {"--dry-run"});
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   const auto j = json(r);

@@ -18,7 +18,7 @@ class ProfileCli : public ::testing::Test {
   }
   std::int64_t card(const std::string& name) { return sim_value(sim, name); }
 
-  SimProcess sim;
+  SimProcess sim{kLine120Bus};
   TempDir dir;
 };
 
@@ -159,11 +159,12 @@ TEST_F(ProfileCli, BackupHoldsThePreviousValuesAndReapplies) {
 }
 
 TEST_F(ProfileCli, ApplyJsonIsCompleteForScripts) {
+  sim.control("busv 48");  // the bench supply the profile is for
   const auto r =
       i20({"--json", "profile", "apply", shipped("bench-48v.yaml"), "--backup-dir", dir.path().string()});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const auto j = json(r);
-  EXPECT_EQ(outcome(j), "applied-and-verified");
+  EXPECT_EQ(outcome(j), "done");
   EXPECT_TRUE(j["ok"].as<bool>());
   EXPECT_EQ(j["exit_code"].as<int>(), 0);
   EXPECT_EQ(j["profile"].as<std::string>(), "bench-48v");
@@ -210,20 +211,22 @@ TEST_F(ProfileCli, InvalidProfileIsRefusedBeforeAnythingIsWritten) {
 
   const auto brake = write_file(dir / "brake.yaml", kBrakeOnly);
   r = apply({brake});
-  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_EQ(r.exit_code, 3) << "a broken rule is a refusal: " << r.out;
   EXPECT_NE(r.out.find("[brake-order]"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("REFUSED: the profile has errors; nothing was written"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("REFUSED by the rule above; nothing was written"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("refused: NVBRAKEONV: NVBRAKEOFFV 340.00 V (card) must be below"), std::string::npos)
+      << r.err;
   EXPECT_EQ(data_writes(sim.trace()), 0u);
   EXPECT_TRUE(backups_in(dir.path()).empty());
 }
 
 TEST_F(ProfileCli, SafetyRuleRefusalExitsThreeAndWritesNothing) {
-  SimProcess unknown_firmware({"--random-map", "5"});
+  SimProcess unknown_firmware({"--busv", "160", "--random-map", "5"});
   const auto live = write_file(dir / "live.yaml", "name: live\ntarget: working\nparameters:\n  KQP: 60\n");
   const auto r =
       i20_on(unknown_firmware.port(), {"profile", "apply", live, "--backup-dir", dir.path().string()});
   EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
-  EXPECT_NE(r.out.find("REFUSED: the card would refuse KQP"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("REFUSED: the card cannot read KQP as a fact"), std::string::npos) << r.out;
   EXPECT_EQ(data_writes(unknown_firmware.trace()), 0u);
 }
 

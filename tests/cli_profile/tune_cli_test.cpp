@@ -124,7 +124,7 @@ TEST(TuneCli, OutProfileValidatesAndApplies) {
   r = run("i20", {"profile", "validate", out});
   EXPECT_EQ(r.exit_code, 0) << r.out;
   EXPECT_NE(r.out.find("valid (no findings)"), std::string::npos) << r.out;
-  SimProcess sim;
+  SimProcess sim{kLine120Bus};
   r = i20_on(sim.port(), {"profile", "apply", out, "--backup-dir", dir.path().string()});
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_EQ(sim_value(sim, "NVKQP"), 44);

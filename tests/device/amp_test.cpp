@@ -25,8 +25,15 @@ class AmpTest : public ::testing::Test {
     return false;
   }
 
+  // The client is given the database resolved for the card (ops::Card does that): here
+  // the simulator's revision, whose working map the database confirms.
+  static params::ParamDb resolved() {
+    const auto loaded = params::ParamDb::builtin();
+    return loaded.for_firmware(*loaded.simulator_swrevision());
+  }
+
   test::FakeCard card;
-  params::ParamDb db = params::ParamDb::builtin();
+  params::ParamDb db = resolved();
   Amp8i20 amp{card, db};
 };
 
@@ -40,12 +47,12 @@ TEST_F(AmpTest, ReadsWorkingParametersByName) {
 TEST_F(AmpTest, NvReadsHappenInsideNvModeAndLeaveIt) {
   card.put(40, 19000, 2, /*nv=*/true);
   EXPECT_EQ(amp.read("NVBRAKEONV").raw, 19000);
-  // One exchange: SWREVISION (the card is not identified yet), then the NV read in NV
-  // mode, then a check that the card is still in NV mode (it did not reset meanwhile).
-  ASSERT_EQ(card.sent.size(), 5u);
-  EXPECT_EQ(card.sent[3].bytes, (lbp::Bytes{0xCC}));
-  EXPECT_EQ(card.sent[0].bytes, (lbp::Bytes{0x45, 0x74, 0x08}));  // SWREVISION at 2164
-  EXPECT_EQ(card.sent[1].bytes, (lbp::Bytes{0xEC, 0x01}));
+  // One exchange: the NV read in NV mode, then a check that the card is still in NV mode
+  // (it did not reset meanwhile), then leaving it.
+  ASSERT_EQ(card.sent.size(), 4u);
+  EXPECT_EQ(card.sent[0].bytes, (lbp::Bytes{0xEC, 0x01}));
+  EXPECT_EQ(card.sent[1].bytes, (lbp::Bytes{0x45, 0x28, 0x00}));  // NVBRAKEONV at 40
+  EXPECT_EQ(card.sent[2].bytes, (lbp::Bytes{0xCC}));
   EXPECT_EQ(card.sent.back().bytes, (lbp::Bytes{0xEC, 0x00}));
   EXPECT_EQ(card.nv_mode, 0);
 }
@@ -53,19 +60,24 @@ TEST_F(AmpTest, NvReadsHappenInsideNvModeAndLeaveIt) {
 TEST_F(AmpTest, NvWriteEntersWritesReadsBackAndLeaves) {
   identify_as_simulator();
   card.sent.clear();
+  card.exchanges.clear();
   const auto report = amp.write("NVMAXCURRENT", 2500, {});  // manual: "WPD NVMAXCURRENT 2500"
   EXPECT_TRUE(report.verified);
   EXPECT_TRUE(report.needs_reset);
   EXPECT_EQ(card.get(2, 2, true), 2500u);
   EXPECT_EQ(card.get(0x0812, 2), 0u) << "an NV write changes nothing live";
-  ASSERT_EQ(card.sent.size(), 6u);
+  // Two exchanges: entering NV mode, confirmed in a reply before any EEPROM data write;
+  // then the write, its read-back, the mode check, and leaving NV mode (confirmed too).
+  ASSERT_EQ(card.sent.size(), 7u);
   EXPECT_EQ(card.sent[0].bytes, (lbp::Bytes{0xEC, 0x01}));
-  EXPECT_EQ(card.sent[1].bytes, (lbp::Bytes{0xCC}));                          // still in NV mode?
+  EXPECT_EQ(card.sent[1].bytes, (lbp::Bytes{0xCC}));
+  EXPECT_EQ(card.exchanges.at(0), 2u) << "the data write must not travel with the mode request";
   EXPECT_EQ(card.sent[2].bytes, (lbp::Bytes{0x65, 0x02, 0x00, 0xC4, 0x09}));  // 2-byte write at 2
   EXPECT_TRUE(card.sent[2].barrier);
   EXPECT_EQ(card.sent[3].bytes, (lbp::Bytes{0x45, 0x02, 0x00}));  // read back
-  EXPECT_EQ(card.sent[4].bytes, (lbp::Bytes{0xCC}));
+  EXPECT_EQ(card.sent[4].bytes, (lbp::Bytes{0xCC}));             // still in NV mode?
   EXPECT_EQ(card.sent[5].bytes, (lbp::Bytes{0xEC, 0x00}));
+  EXPECT_EQ(card.sent[6].bytes, (lbp::Bytes{0xCC}));             // and out of it again
 }
 
 TEST_F(AmpTest, NvModeIsLeftEvenWhenTheWriteFails) {
@@ -87,7 +99,16 @@ TEST_F(AmpTest, AResetInsideAnNvWriteIsNotMistakenForSuccess) {
   identify_as_simulator();
   card.reset_at = 2;  // after entering NV mode and the first mode check, before the write
   // The write then lands in RAM at address 40 and reads back from RAM: equal, but wrong.
-  EXPECT_THROW(amp.write("NVBRAKEONV", 32000, {}), VerifyError);
+  // The mode check after the cell catches it, and says where the value may have gone.
+  try {
+    amp.write("NVBRAKEONV", 32000, {});
+    FAIL() << "a reset inside the EEPROM sequence must not pass as a verified write";
+  } catch (const NvModeLost& e) {
+    EXPECT_EQ(e.cell(), "NVBRAKEONV");
+    EXPECT_EQ(e.address(), 40);
+    EXPECT_TRUE(e.stray_ram_value());
+    EXPECT_NE(std::string(e.what()).find("working memory at 0x0028"), std::string::npos) << e.what();
+  }
   EXPECT_EQ(card.get(40, 2, /*nv=*/true), 0u) << "the EEPROM never got the value";
   EXPECT_EQ(card.get(40, 2), 32000u) << "it went to RAM, which a plain read-back would have 'verified'";
 }
@@ -129,8 +150,9 @@ TEST_F(AmpTest, ReadOnlyParametersAreRefused) {
 }
 
 TEST_F(AmpTest, UnconfirmedWorkingAddressesNeedAllowUnverified) {
-  card.put(2164, 0x0100, 2);  // a real card of a revision the database has no map for
-  amp.identify();
+  // A real card of a revision the database has no map for.
+  const auto other = params::ParamDb::builtin().for_firmware(0x0100);
+  Amp8i20 amp{card, other};
   card.sent.clear();
   try {
     amp.write("BRAKEONV", 30000, {});

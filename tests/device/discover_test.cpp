@@ -96,16 +96,15 @@ TEST(Discover, OverlayConfirmsFindingsForThisRevisionOnly) {
   device::Amp8i20 amp(*rig.link, rig.db);
   const auto report = device::discover(amp, whole_map_range());
   const auto yaml = report.overlay_yaml("test");
-  params::ParamDb db = params::ParamDb::builtin();
-  db.apply_overlay_string(yaml, "discovered.yaml");
-  EXPECT_EQ(db.get("BRAKEONV").address, rig.db.get("BRAKEONV").address) << "waits for its revision";
-  db.select_firmware(report.swrevision);
+  params::ParamDb loaded = params::ParamDb::builtin();
+  loaded.apply_overlay_string(yaml, "discovered.yaml");
+  EXPECT_EQ(loaded.get("BRAKEONV").address, rig.db.get("BRAKEONV").address) << "waits for its revision";
+  const params::ParamDb db = loaded.for_firmware(report.swrevision);
   EXPECT_EQ(db.get("BRAKEONV").address, rig.card_address("BRAKEONV"));
   EXPECT_TRUE(db.address_confirmed(db.get("BRAKEONV")));
   EXPECT_FALSE(db.get("KQP").address) << "ambiguous: unknown on this revision, not the database's guess";
   // With the overlay, a working write lands where the card keeps BRAKEONV.
   device::Amp8i20 amp2(*rig.link, db);
-  amp2.identify();
   amp2.write("BRAKEONV", 30000, {});
   EXPECT_EQ(amp2.read_memory(params::Space::Ram, rig.card_address("BRAKEONV"), 2), (lbp::Bytes{0x30, 0x75}));
 }

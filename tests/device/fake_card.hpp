@@ -19,6 +19,7 @@ class FakeCard : public link::Link {
   lbp::Byte nv_mode = 0;
   lbp::Byte rpcmem = 0;
   std::vector<lbp::Command> sent;
+  std::vector<std::size_t> exchanges;  // commands per execute() call, in order
   // Fail (throw TimeoutError) on the n-th command from now, counting from 0; -1 never.
   int fail_at = -1;
   // Corrupt what EEPROM writes store (simulates a failing cell).
@@ -29,6 +30,7 @@ class FakeCard : public link::Link {
 
   std::vector<lbp::Bytes> execute(std::span<const lbp::Command> batch) override {
     std::vector<lbp::Bytes> replies;
+    exchanges.push_back(batch.size());
     for (const auto& c : batch) {
       if (fail_at == 0) {
         fail_at = -1;

@@ -209,6 +209,31 @@ TEST(SerialStream, ExclusiveAccessKeepsASecondOpenerOut) {
   }
 }
 
+// TIOCEXCL does not stop root, so every opener also takes an advisory lock: a second i20
+// (root included, as here in CI) is refused and told which process holds the port, before
+// it touches the line settings or sends a byte.
+TEST(SerialStream, ASecondProgramIsRefusedEvenAsRootAndToldWhoHoldsThePort) {
+  Pty pty;
+  SerialOptions shared;
+  shared.exclusive = false;  // only the advisory lock stands between the two
+  SerialStream first(pty.slave_path(), shared);
+  try {
+    SerialStream second(pty.slave_path(), shared);
+    FAIL() << "two programs shared one adapter";
+  } catch (const LinkError& e) {
+    const std::string text = e.what();
+    EXPECT_TRUE(contains(text, "is in use by PID " + std::to_string(::getpid()))) << text;
+    EXPECT_TRUE(contains(text, "one program")) << text;
+    EXPECT_EQ(text.find('\n'), std::string::npos) << "one line: " << text;
+  }
+}
+
+TEST(SerialStream, TheLockGoesWithTheProgram) {
+  Pty pty;
+  { SerialStream first(pty.slave_path()); }
+  EXPECT_NO_THROW(SerialStream again(pty.slave_path())) << "a closed port is free again";
+}
+
 TEST(SerialStream, NotesSayWhatLowLatencySetUpAchieved) {
   Pty pty;
   SerialStream stream(pty.slave_path());

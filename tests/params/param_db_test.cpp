@@ -115,10 +115,11 @@ TEST(ParamDb, WorkingAddressesAreConfirmedOnlyForTheSimulatorRevision) {
     EXPECT_TRUE(p.address_confirmed(sim)) << p.name;
     EXPECT_NE(p.provenance.source.find("not publish"), std::string::npos) << p.name;
   }
-  ParamDb copy = db();
-  EXPECT_FALSE(copy.address_confirmed(copy.get("BRAKEONV")));
-  copy.select_firmware(sim);
-  EXPECT_TRUE(copy.address_confirmed(copy.get("BRAKEONV")));
+  const ParamDb loaded = db();
+  EXPECT_FALSE(loaded.address_confirmed(loaded.get("BRAKEONV")));
+  const ParamDb resolved = loaded.for_firmware(sim);
+  EXPECT_TRUE(resolved.address_confirmed(resolved.get("BRAKEONV")));
+  EXPECT_FALSE(loaded.address_confirmed(loaded.get("BRAKEONV"))) << "resolving returns a new value";
 }
 
 TEST(ParamDb, LookupIsCaseInsensitiveAndSuggestsNeighbours) {
@@ -218,9 +219,11 @@ TEST(ParamDbOverlay, RevisionSpecificOverlayWaitsForItsFirmware) {
       "    provenance: {source: map for 0x42, confirmed_on: [0x0042]}\n",
       "rev42.yaml");
   EXPECT_EQ(*copy.get("KQP").address, 0x0814);
-  copy.select_firmware(0x0042);
-  EXPECT_EQ(*copy.get("KQP").address, 0x0A10);
-  EXPECT_TRUE(copy.address_confirmed(copy.get("KQP")));
+  const ParamDb rev42 = copy.for_firmware(0x0042);
+  EXPECT_EQ(*rev42.get("KQP").address, 0x0A10);
+  EXPECT_TRUE(rev42.address_confirmed(rev42.get("KQP")));
+  EXPECT_EQ(*copy.get("KQP").address, 0x0814) << "the loaded database stays as loaded";
+  EXPECT_EQ(*copy.for_firmware(0x0043).get("KQP").address, 0x0814) << "another revision: not applied";
 }
 
 TEST(ParamDbOverlay, LoadsFromFilesAndNamesMissingOnes) {

@@ -10,6 +10,7 @@
 #include "test_util.hpp"
 
 using namespace i20::profile;
+using namespace i20::profile::testing;
 
 namespace {
 

@@ -11,7 +11,7 @@ using namespace i20::profile::testing;
 namespace {
 
 std::vector<Finding> check(const std::string& yaml, const RawValues* card = nullptr, bool force = false) {
-  return validate(load(yaml), db(), {card, force});
+  return validate(load(yaml), db(), {card, force, std::nullopt});
 }
 
 std::vector<Finding> check_params(const std::string& lines, const std::string& extra = "",
