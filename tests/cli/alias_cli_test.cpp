@@ -29,3 +29,20 @@ TEST(AliasCli, AHalfIsRefusedAndNothingIsWritten) {
   EXPECT_NE(r.out.find("NVKQI = 150000"), std::string::npos) << r.out << r.err;
   EXPECT_NE(r.out.find("NVKDI = 150000"), std::string::npos) << r.out << r.err;
 }
+
+// `faults decode` takes what halshow shows (hostmot2 pin names, docs/facts.md s4) and shows
+// each bit's pin in the text as well as the JSON.
+TEST(AliasCli, FaultsDecodeTakesAndShowsHalPins) {
+  auto r = run("i20", {"faults", "decode", "hm2_7i96s.0.8i20.0.0.fault.no-enable,fault.bus-underv", "--status",
+                       "status.pid-on"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("FAULT 0x0102: 2 faults set"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  LinuxCNC HAL pin: fault.no-enable\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  LinuxCNC HAL pin: fault.bus-underv\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("PIDONSTATUS (bit 9), info, HAL pin status.pid-on:"), std::string::npos) << r.out;
+  r = run("i20", {"--json", "faults", "decode", "0x0200"});
+  EXPECT_NE(r.out.find("\"linuxcnc_pin\": \"fault.bus-high\""), std::string::npos) << r.out;
+  r = run("i20", {"faults", "decode", "status.pid-on"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("is a STATUS bit, not a FAULT bit"), std::string::npos) << r.err;
+}
