@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "change_render.hpp"
 #include "context.hpp"
 #include "device/errors.hpp"
 #include "faults/fault_mask.hpp"
@@ -17,7 +18,6 @@
 #include "faults/register_value.hpp"
 #include "faults_render.hpp"
 #include "lbp/bytes.hpp"
-#include "change_render.hpp"
 #include "live_source.hpp"
 #include "ops/faults.hpp"
 
@@ -314,11 +314,14 @@ void register_faults(CLI::App& app, Context& ctx) {
   auto decode_options = std::make_shared<DecodeOptions>();
   auto* decode = faults->add_subcommand(
       "decode", "Explain a FAULT value read elsewhere (HAL pin, log line, RPD FAULT H); needs no card");
-  decode->add_option("VALUE", decode_options->fault,
-                     "FAULT value: 0x0102, 0102h, 0b100000010 or 258, or the set bits by name or LinuxCNC pin: "
-                     "fault.no-enable,fault.bus-underv")
+  decode
+      ->add_option("VALUE", decode_options->fault,
+                   "FAULT value: 0x0102, 0102h, 0b100000010 or 258, or the set bits by name or LinuxCNC pin: "
+                   "fault.no-enable,fault.bus-underv")
       ->type_name("VALUE");
-  decode->add_option("--status", decode_options->status, "Also explain a STATUS value (a number, or bits: status.pid-on)")
+  decode
+      ->add_option("--status", decode_options->status,
+                   "Also explain a STATUS value (a number, or bits: status.pid-on)")
       ->type_name("VALUE");
   decode->add_option("--mask", decode_options->mask, "FAULTMASK value, to say which faults are masked")
       ->type_name("VALUE");

@@ -12,12 +12,12 @@
 #include <iostream>
 #include <memory>
 
+#include "change_render.hpp"
 #include "context.hpp"
 #include "profile/export.hpp"
 #include "profile/loader.hpp"
 #include "profile/validate.hpp"
 #include "profile_lookup.hpp"
-#include "change_render.hpp"
 
 namespace i20::cli {
 namespace {
@@ -33,8 +33,8 @@ struct ExportCliOptions {
 };
 
 // Loads and validates offline; nullopt (exit code set, findings printed) when not exportable.
-std::optional<profile::Profile> valid_profile(Context& ctx, const params::ParamDb& db, const std::string& file,
-                                              bool force) {
+std::optional<profile::Profile> valid_profile(Context& ctx, const params::ParamDb& db,
+                                              const std::string& file, bool force) {
   try {
     auto p = profile::load_profile_file(file, db);
     profile::ValidationContext offline;  // no card: the rules judge by the database's defaults
@@ -93,7 +93,8 @@ void run_export(Context& ctx, const ExportCliOptions& o) {
   write_file(o.out, text, o.overwrite);
   if (ctx.options.json) return ctx.print_json(values_json(values, o).set("output", o.out));
   std::cout << "Wrote " << values.settings.size() << (o.hal ? " setp" : " setsserial") << " lines for "
-            << o.device << " to " << o.out << " (" << p->name << "; NV values take effect after the 8I20 is reset)\n";
+            << o.device << " to " << o.out << " (" << p->name
+            << "; NV values take effect after the 8I20 is reset)\n";
   for (const auto& line : values.skipped) std::cout << "  skipped: " << line << "\n";
 }
 
@@ -103,13 +104,15 @@ void register_profile_export(CLI::App& profile, Context& ctx) {
   auto o = std::make_shared<ExportCliOptions>();
   auto* cmd = profile.add_subcommand(
       "export",
-      "A profile's EEPROM values for LinuxCNC: HAL setp lines for hostmot2 (--hal) or loadrt setsserial lines "
+      "A profile's EEPROM values for LinuxCNC: HAL setp lines for hostmot2 (--hal) or loadrt setsserial "
+      "lines "
       "(--setsserial), raw EEPROM words as hostmot2 takes them. Offline; exit 2 if the profile is invalid");
   cmd->add_option("FILE", o->file, "Profile file, or the name of a shipped profile (e.g. line-120v)")
       ->required()
       ->transform(profile_file());
   auto* hal = cmd->add_flag("--hal", o->hal, "setp lines for a HAL file");
-  auto* sss = cmd->add_flag("--setsserial", o->setsserial, "loadrt setsserial cmd=\"set ...\" lines for halrun");
+  auto* sss =
+      cmd->add_flag("--setsserial", o->setsserial, "loadrt setsserial cmd=\"set ...\" lines for halrun");
   hal->excludes(sss);
   cmd->add_option("--device", o->device,
                   "hostmot2 name of the 8I20: hm2_BOARD.N.8i20.PORT.CHANNEL, or hm2_8i20.XXXX with "
@@ -118,7 +121,8 @@ void register_profile_export(CLI::App& profile, Context& ctx) {
   cmd->add_flag("--overwrite", o->overwrite, "Replace the --output file if it exists");
   cmd->add_flag("--force", o->force, "Export guarded parameters (NVBAUDRATE) too; read why first");
   cmd->callback([&ctx, o] {
-    if (o->hal == o->setsserial) throw Error("give exactly one of --hal or --setsserial", ErrorKind::BadInput);
+    if (o->hal == o->setsserial)
+      throw Error("give exactly one of --hal or --setsserial", ErrorKind::BadInput);
     run_export(ctx, *o);
   });
 }

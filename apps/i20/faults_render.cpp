@@ -190,7 +190,8 @@ void print_status_report(std::ostream& out, const F::Report& report) {
   out << report.title << "\n";
   for (const auto& line : report.lines) {
     out << "  " << bit_label(line) << ", " << F::to_string(line.severity) << (line.sticky ? ", sticky" : "")
-        << (line.linuxcnc_pin.empty() ? "" : ", HAL pin " + line.linuxcnc_pin) << ": " << line.meaning << "\n";
+        << (line.linuxcnc_pin.empty() ? "" : ", HAL pin " + line.linuxcnc_pin) << ": " << line.meaning
+        << "\n";
     // Informational bits explain themselves; warnings need something to act on.
     if (line.severity != F::Severity::Info)
       for (const auto& check : line.checks) out << "      check: " << check << "\n";

@@ -22,8 +22,9 @@ std::uint16_t parse_register_spec(std::string_view text, Register reg, const Fau
   while (begin <= text.size()) {
     const std::size_t end = std::min(text.find_first_of(",+", begin), text.size());
     const std::string_view name = text.substr(begin, end - begin);
-    if (name.empty()) throw BadRegisterValue(std::string(to_string(reg)) + " bit list '" + std::string(text) +
-                                             "' has an empty name");
+    if (name.empty())
+      throw BadRegisterValue(std::string(to_string(reg)) + " bit list '" + std::string(text) +
+                             "' has an empty name");
     value = static_cast<std::uint16_t>(value | table.get(reg, name).mask());
     begin = end + 1;
   }

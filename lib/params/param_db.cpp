@@ -16,9 +16,10 @@
 namespace i20::params {
 namespace {
 
-const std::set<std::string> kParamKeys{
-    "name",    "space",  "address", "width", "signed",      "unit",       "scale", "min",          "max",
-    "allowed", "access", "default", "twin",  "description", "provenance", "guard", "self_clearing", "aliases"};
+const std::set<std::string> kParamKeys{"name",   "space",         "address", "width",       "signed",
+                                       "unit",   "scale",         "min",     "max",         "allowed",
+                                       "access", "default",       "twin",    "description", "provenance",
+                                       "guard",  "self_clearing", "aliases"};
 const std::set<std::string> kRequiredNewKeys{"name",   "space",  "address",     "width",
                                              "signed", "access", "description", "provenance"};
 const std::set<std::string> kBaseTopKeys{"schema", "device", "simulator_swrevision", "parameters"};
@@ -132,7 +133,8 @@ std::vector<Alias> read_aliases(const Reader& r, const YAML::Node& node) {
     YAML::Node name = item;
     if (item.IsMap()) {
       r.only_keys(item, {"name", "bits"}, "an alias");
-      if (!item["name"] || !item["bits"]) r.fail(item, "an alias map needs 'name' and 'bits' (0-15 or 16-31)");
+      if (!item["name"] || !item["bits"])
+        r.fail(item, "an alias map needs 'name' and 'bits' (0-15 or 16-31)");
       const auto bits = r.text(item["bits"], "bits");
       if (bits == "0-15")
         a.part = Alias::Part::Low16;
@@ -469,8 +471,9 @@ const Param& ParamDb::get(std::string_view name) const {
     const std::string lo = low ? a.alias->name : other, hi = low ? other : a.alias->name;
     throw HalfAlias(a.alias->name + " is LinuxCNC's name for bits " + (low ? "0-15" : "16-31") + " of " +
                     a.param->name + ", a 32-bit value that i20 reads and writes whole: use " + a.param->name +
-                    (lo.empty() || hi.empty() ? "" : " (" + lo + " = " + a.param->name + " & 0xFFFF, " + hi +
-                                                         " = " + a.param->name + " >> 16)"));
+                    (lo.empty() || hi.empty() ? ""
+                                              : " (" + lo + " = " + a.param->name + " & 0xFFFF, " + hi +
+                                                    " = " + a.param->name + " >> 16)"));
   }
   throw UnknownParameter(std::string(name), suggestions(name));
 }

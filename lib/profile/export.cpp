@@ -1,8 +1,8 @@
 #include "profile/export.hpp"
 
 #include <algorithm>
-#include <optional>
 #include <charconv>
+#include <optional>
 #include <regex>
 #include <sstream>
 
@@ -38,7 +38,8 @@ void add_cell(Hostmot2Values& out, const params::Param& param, std::int64_t raw)
     out.skipped.push_back(param.name + ": hostmot2 has no parameter for it; not exported");
     return;
   }
-  for (const auto& n : names) out.settings.push_back({n.hal_name, part_of(raw, n.part), param.name, raw, n.part});
+  for (const auto& n : names)
+    out.settings.push_back({n.hal_name, part_of(raw, n.part), param.name, raw, n.part});
 }
 
 std::string header(const Profile& profile, const ExportOptions& options, const char* how) {
@@ -132,24 +133,26 @@ Hostmot2Values hostmot2_values(const Profile& profile, const params::ParamDb& db
 std::string hal_text(const Profile& profile, const params::ParamDb& db, const ExportOptions& options) {
   check_hal_device(options.device);
   const auto values = hostmot2_values(profile, db);
-  std::string text = header(profile, options,
-                            "set from a HAL file: hostmot2 writes a changed value to the EEPROM and leaves\n"
-                            "# an unchanged one alone. If setp says the parameter is read-only, this hostmot2 "
-                            "version\n# does not write NV parameters: use `i20 profile export --setsserial`.");
+  std::string text =
+      header(profile, options,
+             "set from a HAL file: hostmot2 writes a changed value to the EEPROM and leaves\n"
+             "# an unchanged one alone. If setp says the parameter is read-only, this hostmot2 "
+             "version\n# does not write NV parameters: use `i20 profile export --setsserial`.");
   text += skipped_comments(values);
   for (const auto& s : values.settings)
-    text += value_comment(s, db) + "setp " + options.device + "." + s.hal_name + " " + std::to_string(s.value) +
-            "\n";
+    text += value_comment(s, db) + "setp " + options.device + "." + s.hal_name + " " +
+            std::to_string(s.value) + "\n";
   return text;
 }
 
 std::string setsserial_text(const Profile& profile, const params::ParamDb& db, const ExportOptions& options) {
   check_hal_device(options.device);
   const auto values = hostmot2_values(profile, db);
-  std::string text = header(profile, options,
-                            "written by LinuxCNC's setsserial, one EEPROM word per load. Run under halrun with\n"
-                            "# LinuxCNC stopped, after loading hostmot2 and the board driver as in your HAL file\n"
-                            "# (e.g. `loadrt hostmot2` and `loadrt hm2_eth board_ip=...`).");
+  std::string text =
+      header(profile, options,
+             "written by LinuxCNC's setsserial, one EEPROM word per load. Run under halrun with\n"
+             "# LinuxCNC stopped, after loading hostmot2 and the board driver as in your HAL file\n"
+             "# (e.g. `loadrt hostmot2` and `loadrt hm2_eth board_ip=...`).");
   text += skipped_comments(values);
   for (const auto& s : values.settings)
     text += value_comment(s, db) + "loadrt setsserial cmd=\"set " + options.device + "." + s.hal_name + " " +

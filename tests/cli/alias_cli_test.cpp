@@ -7,7 +7,8 @@
 using namespace i20::test;
 
 TEST(AliasCli, GetTakesTheHostmotNameAndPrintsTheDatabaseName) {
-  auto r = run("i20", {"--sim", "--no-user-params", "get", "nvmaxcurrent", "nvrembaudrate", "NVBUSUNDERVMIN"});
+  auto r =
+      run("i20", {"--sim", "--no-user-params", "get", "nvmaxcurrent", "nvrembaudrate", "NVBUSUNDERVMIN"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("NVMAXCURRENT = "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("NVBAUDRATE = 9"), std::string::npos) << r.out;
@@ -33,8 +34,8 @@ TEST(AliasCli, AHalfIsRefusedAndNothingIsWritten) {
 // `faults decode` takes what halshow shows (hostmot2 pin names, docs/facts.md s4) and shows
 // each bit's pin in the text as well as the JSON.
 TEST(AliasCli, FaultsDecodeTakesAndShowsHalPins) {
-  auto r = run("i20", {"faults", "decode", "hm2_7i96s.0.8i20.0.0.fault.no-enable,fault.bus-underv", "--status",
-                       "status.pid-on"});
+  auto r = run("i20", {"faults", "decode", "hm2_7i96s.0.8i20.0.0.fault.no-enable,fault.bus-underv",
+                       "--status", "status.pid-on"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("FAULT 0x0102: 2 faults set"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("  LinuxCNC HAL pin: fault.no-enable\n"), std::string::npos) << r.out;

@@ -47,8 +47,8 @@ TEST(ProfileExportCli, HalLinesForAShippedProfileByName) {
 TEST(ProfileExportCli, SetsserialToAFileThatIsNeverOverwrittenByAccident) {
   TempDir dir;
   const std::string out = (dir / "axis.hal").string();
-  auto r = run("i20", {"profile", "export", shipped("defaults.yaml"), "--setsserial", "--device", "hm2_8i20.001f",
-                       "-o", out});
+  auto r = run("i20", {"profile", "export", shipped("defaults.yaml"), "--setsserial", "--device",
+                       "hm2_8i20.001f", "-o", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("to " + out), std::string::npos) << r.out;
   const std::string text = slurp_file(out);
@@ -68,8 +68,8 @@ TEST(ProfileExportCli, SetsserialToAFileThatIsNeverOverwrittenByAccident) {
 TEST(ProfileExportCli, BadInputIsRefusedAndNothingIsWritten) {
   TempDir dir;
   const std::string out = (dir / "out.hal").string();
-  const auto bad = write_file(dir / "bad.yaml",
-                              "name: bad\nparameters:\n  NVBRAKEONV: 300 V\n  NVBRAKEOFFV: 320 V\n");
+  const auto bad =
+      write_file(dir / "bad.yaml", "name: bad\nparameters:\n  NVBRAKEONV: 300 V\n  NVBRAKEOFFV: 320 V\n");
   auto r = run("i20", {"profile", "export", bad, "--hal", "-o", out});
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find("[brake-order]"), std::string::npos) << r.err;
@@ -80,7 +80,8 @@ TEST(ProfileExportCli, BadInputIsRefusedAndNothingIsWritten) {
   EXPECT_NE(r.err.find("--hal or --setsserial"), std::string::npos) << r.err;
   r = run("i20", {"profile", "export", shipped("defaults.yaml"), "--hal", "--setsserial"});
   EXPECT_EQ(r.exit_code, 2);
-  r = run("i20", {"profile", "export", shipped("defaults.yaml"), "--hal", "--device", "hm2_7i96s.0 ; x", "-o", out});
+  r = run("i20",
+          {"profile", "export", shipped("defaults.yaml"), "--hal", "--device", "hm2_7i96s.0 ; x", "-o", out});
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find("is not a hostmot2 8I20 name"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));
@@ -95,7 +96,8 @@ TEST(ProfileExportCli, BadInputIsRefusedAndNothingIsWritten) {
 }
 
 TEST(ProfileExportCli, JsonListsEveryHalParameter) {
-  const auto r = run("i20", {"--json", "profile", "export", "line-240v", "--hal", "--device", "hm2_7i92t.0.8i20.1.3"});
+  const auto r =
+      run("i20", {"--json", "profile", "export", "line-240v", "--hal", "--device", "hm2_7i92t.0.8i20.1.3"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const YAML::Node j = YAML::Load(r.out);
   EXPECT_EQ(j["format"].as<std::string>(), "hal");
@@ -113,15 +115,20 @@ TEST(ProfileExportCli, ExportOfASavedCardCarriesTheCardsEepromWords) {
   SimProcess sim;
   TempDir dir;
   const std::string saved = (dir / "axis.yaml").string();
-  ASSERT_EQ(i20_on(sim.port(), {"set", "NVBRAKEONV=375V", "NVBRAKEOFFV=355V", "NVKQI=123456", "NVKDI=123456"}).exit_code, 0);
+  ASSERT_EQ(i20_on(sim.port(), {"set", "NVBRAKEONV=375V", "NVBRAKEOFFV=355V", "NVKQI=123456", "NVKDI=123456"})
+                .exit_code,
+            0);
   ASSERT_EQ(i20_on(sim.port(), {"profile", "save", saved}).exit_code, 0);
   const auto r = run("i20", {"profile", "export", saved, "--hal", "--device", "hm2_7i96s.0.8i20.0.2"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto hal = setp_values(r.out, "hm2_7i96s.0.8i20.0.2");
-  const std::map<std::string, std::string> single = {
-      {"nvmaxcurrent", "NVMAXCURRENT"}, {"nvbrakeonv", "NVBRAKEONV"}, {"nvbrakeoffv", "NVBRAKEOFFV"},
-      {"nvbusoverv", "NVBUSOVERV"},     {"nvbusundervmin", "NVBUSUNDERV"}, {"nvkqp", "NVKQP"},
-      {"nvkdp", "NVKDP"}};
+  const std::map<std::string, std::string> single = {{"nvmaxcurrent", "NVMAXCURRENT"},
+                                                     {"nvbrakeonv", "NVBRAKEONV"},
+                                                     {"nvbrakeoffv", "NVBRAKEOFFV"},
+                                                     {"nvbusoverv", "NVBUSOVERV"},
+                                                     {"nvbusundervmin", "NVBUSUNDERV"},
+                                                     {"nvkqp", "NVKQP"},
+                                                     {"nvkdp", "NVKDP"}};
   for (const auto& [hal_name, db_name] : single) {
     ASSERT_TRUE(hal.count(hal_name)) << hal_name << " missing in\n" << r.out;
     EXPECT_EQ(hal.at(hal_name), sim_value(sim, db_name)) << hal_name;
@@ -144,6 +151,7 @@ TEST(ProfileByNameCli, FoundFromThePathListThenTheShippedOnes) {
   r = run("i20", {"profile", "validate", "nosuch"}, {{"I20_PROFILE_PATH", dir.path().string()}});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("profile 'nosuch' not found"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find((dir / "nosuch").string() + "[.yaml] ($I20_PROFILE_PATH)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find((dir / "nosuch").string() + "[.yaml] ($I20_PROFILE_PATH)"), std::string::npos)
+      << r.err;
   EXPECT_NE(r.err.find("(source tree)"), std::string::npos) << "a build-tree run also looks in profiles/";
 }

@@ -211,7 +211,8 @@ TEST(FaultLoader, APinNamesItsOwnRegister) {
     FaultTable::load_string(table(bit(1, "a", "    linuxcnc_pin: status.x\n")), "bad.yaml");
     FAIL() << "a FAULT bit with a status pin loaded";
   } catch (const FaultFileError& e) {
-    EXPECT_NE(std::string(e.what()).find("must be fault.NAME, not 'status.x'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("must be fault.NAME, not 'status.x'"), std::string::npos)
+        << e.what();
   }
   for (const auto& b : FaultTable::builtin().bits(Register::Status)) {
     if (!b.linuxcnc_pin.empty()) {

@@ -35,11 +35,17 @@ std::string error_of(const std::string& entries) {
 
 TEST(ParamAlias, EveryHostmotNameFindsItsParameter) {
   // sserial.h hm2_8i20_globals: the driver's name -> the manual's parameter.
-  const std::pair<const char*, const char*> names[] = {
-      {"nvmaxcurrent", "NVMAXCURRENT"}, {"nvrembaudrate", "NVBAUDRATE"},   {"nvkqp", "NVKQP"},
-      {"nvkqil", "NVKQIL"},             {"nvkdp", "NVKDP"},                {"nvkdil", "NVKDIL"},
-      {"nvbusundervmin", "NVBUSUNDERV"}, {"nvbusundervmax", "NVBUSUNDERVMAX"}, {"nvbusoverv", "NVBUSOVERV"},
-      {"nvbrakeonv", "NVBRAKEONV"},     {"nvbrakeoffv", "NVBRAKEOFFV"}};
+  const std::pair<const char*, const char*> names[] = {{"nvmaxcurrent", "NVMAXCURRENT"},
+                                                       {"nvrembaudrate", "NVBAUDRATE"},
+                                                       {"nvkqp", "NVKQP"},
+                                                       {"nvkqil", "NVKQIL"},
+                                                       {"nvkdp", "NVKDP"},
+                                                       {"nvkdil", "NVKDIL"},
+                                                       {"nvbusundervmin", "NVBUSUNDERV"},
+                                                       {"nvbusundervmax", "NVBUSUNDERVMAX"},
+                                                       {"nvbusoverv", "NVBUSOVERV"},
+                                                       {"nvbrakeonv", "NVBRAKEONV"},
+                                                       {"nvbrakeoffv", "NVBRAKEOFFV"}};
   for (const auto& [alias, name] : names) {
     ASSERT_NE(db().find(alias), nullptr) << alias;
     EXPECT_EQ(db().get(alias).name, name) << alias;
@@ -63,7 +69,8 @@ TEST(ParamAlias, AHalfOfAThirtyTwoBitGainIsRefusedNamingTheWholeValue) {
       EXPECT_NE(what.find("& 0xFFFF"), std::string::npos) << what;
       EXPECT_EQ(e.kind(), i20::ErrorKind::BadInput);
     }
-    EXPECT_EQ(db().suggestions(half).front(), std::string(half).find("kq") != std::string::npos ? "NVKQI" : "NVKDI");
+    EXPECT_EQ(db().suggestions(half).front(),
+              std::string(half).find("kq") != std::string::npos ? "NVKQI" : "NVKDI");
   }
   const auto a = db().alias("nvkqihi");
   ASSERT_NE(a.alias, nullptr);
@@ -78,10 +85,13 @@ TEST(ParamAlias, TheLoaderKeepsNamesUnambiguous) {
             "bad.yaml:3: A: alias 'b' is the name of B");
   EXPECT_EQ(error_of(entry("A", 2, "    aliases: [{name: alo, bits: 0-15}]\n")),
             "bad.yaml:3: A: alias 'alo' names a 16-bit half, but A is not 32 bit");
-  EXPECT_NE(error_of(entry("A", 2, "    aliases: [{name: alo, bits: 0-7}]\n", 32)).find("must be 0-15 or 16-31"),
+  EXPECT_NE(
+      error_of(entry("A", 2, "    aliases: [{name: alo, bits: 0-7}]\n", 32)).find("must be 0-15 or 16-31"),
+      std::string::npos);
+  EXPECT_NE(error_of(entry("A", 2, "    aliases: [\"two words\"]\n")).find("must be one word"),
             std::string::npos);
-  EXPECT_NE(error_of(entry("A", 2, "    aliases: [\"two words\"]\n")).find("must be one word"), std::string::npos);
-  EXPECT_NE(error_of(entry("A", 2, "    aliases: nva\n")).find("'aliases' must be a list"), std::string::npos);
+  EXPECT_NE(error_of(entry("A", 2, "    aliases: nva\n")).find("'aliases' must be a list"),
+            std::string::npos);
   // Its own name in another case only records the hostmot2 spelling.
   EXPECT_EQ(error_of(entry("A", 2, "    aliases: [a]\n")), "");
 }

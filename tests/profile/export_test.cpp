@@ -104,7 +104,8 @@ TEST(ProfileExport, SetsserialLinesLoadOneWriteEachAndUnload) {
   EXPECT_TRUE(has_line(text, "loadrt setsserial cmd=\"set hm2_8i20.001f.nvkqihi 2\"")) << text;
   std::size_t loads = 0, unloads = 0;
   for (std::size_t at = 0; (at = text.find("\nloadrt setsserial", at)) != std::string::npos; ++at) ++loads;
-  for (std::size_t at = 0; (at = text.find("\nunloadrt setsserial\n", at)) != std::string::npos; ++at) ++unloads;
+  for (std::size_t at = 0; (at = text.find("\nunloadrt setsserial\n", at)) != std::string::npos; ++at)
+    ++unloads;
   EXPECT_EQ(loads, 3u);
   EXPECT_EQ(unloads, loads) << "each load is undone so the next one can load";
 }
@@ -120,8 +121,9 @@ TEST(ProfileExport, RoundTripGivesBackEveryNvValue) {
 }
 
 TEST(ProfileExport, WorkingOnlyEntriesAreSkippedAndSaidSo) {
-  const Profile p = load(with_params("  BRAKEONV: 300 V\n  NVBRAKEONV: {value: 190 V}\n  NVKQP: {value: 50, "
-                                     "target: both}\n  NVDEADZONE: 10\n"));
+  const Profile p =
+      load(with_params("  BRAKEONV: 300 V\n  NVBRAKEONV: {value: 190 V}\n  NVKQP: {value: 50, "
+                       "target: both}\n  NVDEADZONE: 10\n"));
   const auto values = hostmot2_values(p, db());
   std::set<std::string> names;
   for (const auto& s : values.settings) names.insert(s.hal_name);
@@ -142,8 +144,8 @@ TEST(ProfileExport, DeviceNamesAreHostmotNamesOnly) {
   EXPECT_NO_THROW(check_hal_device("hm2_7i92t.1.8i20.1.7"));
   EXPECT_NO_THROW(check_hal_device("hm2_8i20.001f"));
   // Anything that could break out of the halcmd line or the quoted setsserial argument.
-  for (const char* bad : {"", "hm2_7i96s.0.8i20.0", "hm2_7i96s.0.8i20.0.0 ", "x\" ; rm", "hm2_7i96s.0.7i76.0.0",
-                          "hm2_8i20.001F.", "hm2_7i96s.0.8i20.0.0\nsetp"}) {
+  for (const char* bad : {"", "hm2_7i96s.0.8i20.0", "hm2_7i96s.0.8i20.0.0 ", "x\" ; rm",
+                          "hm2_7i96s.0.7i76.0.0", "hm2_8i20.001F.", "hm2_7i96s.0.8i20.0.0\nsetp"}) {
     EXPECT_THROW(check_hal_device(bad), i20::Error) << bad;
     const Profile p = load(with_params("  NVKQP: 50\n"));
     EXPECT_THROW(hal_text(p, db(), options(bad)), i20::Error) << bad;
@@ -151,10 +153,13 @@ TEST(ProfileExport, DeviceNamesAreHostmotNamesOnly) {
 }
 
 TEST(ProfileExport, ParsingRefusesWhatItCannotTrust) {
-  EXPECT_THROW(parse_exported("setp hm2_7i96s.0.8i20.0.0.nvkqilo 5\n", kDevice, db()), i20::Error);  // no hi half
+  EXPECT_THROW(parse_exported("setp hm2_7i96s.0.8i20.0.0.nvkqilo 5\n", kDevice, db()),
+               i20::Error);  // no hi half
   EXPECT_THROW(parse_exported("setp hm2_7i96s.0.8i20.0.0.nvfoo 5\n", kDevice, db()), i20::Error);
-  EXPECT_THROW(parse_exported("setp hm2_7i96s.0.8i20.0.0.nvkqp 70000\n", kDevice, db()), i20::Error);  // > 16 bit
+  EXPECT_THROW(parse_exported("setp hm2_7i96s.0.8i20.0.0.nvkqp 70000\n", kDevice, db()),
+               i20::Error);  // > 16 bit
   EXPECT_THROW(parse_exported("setp hm2_7i96s.0.8i20.0.0.nvkqp 5x\n", kDevice, db()), i20::Error);
-  const auto values = parse_exported("# comment\nloadrt hostmot2\nsetp hm2_7i96s.0.8i20.0.0.nvkqp 0x32\n", kDevice, db());
+  const auto values =
+      parse_exported("# comment\nloadrt hostmot2\nsetp hm2_7i96s.0.8i20.0.0.nvkqp 0x32\n", kDevice, db());
   EXPECT_EQ(values, (std::map<std::string, std::int64_t>{{"NVKQP", 50}}));
 }

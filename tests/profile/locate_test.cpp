@@ -57,7 +57,8 @@ TEST_F(ProfileLocate, AMissNamesEveryPlaceTried) {
   } catch (const ProfileNotFound& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find("profile 'nosuch' not found"), std::string::npos) << what;
-    EXPECT_NE(what.find((root_ / "first" / "nosuch").string() + "[.yaml] ($I20_PROFILE_PATH)"), std::string::npos)
+    EXPECT_NE(what.find((root_ / "first" / "nosuch").string() + "[.yaml] ($I20_PROFILE_PATH)"),
+              std::string::npos)
         << what;
     EXPECT_NE(what.find((root_ / "second" / "nosuch").string() + "[.yaml] (installed profiles)"),
               std::string::npos)
