@@ -1,9 +1,13 @@
-// i20 scan --eth IP: the card, its SSERIAL ports and channels, and which 8I20s answer.
+// i20 scan --eth IP: the card, its SSERIAL ports and channels, and which 8I20s answer,
+// with the eth:// target and the LinuxCNC hostmot2 name of each. Refused while another
+// host runs the card, unless --force.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 
 #include "context.hpp"
+#include "eth/running_host.hpp"
 #include "eth/scan.hpp"
 #include "eth/target.hpp"
 #include "lbp/bytes.hpp"
@@ -27,13 +31,18 @@ app::Json scan_json(const eth::ScanResult& r) {
       auto cj = app::Json::object();
       cj.set("channel", c.channel).set("answered", c.answered).set("device", c.device_name);
       cj.set("unit_number", c.unit_number).set("status", c.status).set("is_8i20", c.is_8i20());
-      if (c.is_8i20()) cj.set("target", eth::EthTarget{r.card_address, p.index, c.channel}.url());
+      if (c.is_8i20()) {
+        cj.set("target", eth::EthTarget{r.card_address, p.index, c.channel}.url());
+        cj.set("linuxcnc_name", c.linuxcnc_name);
+      }
       chans.push(std::move(cj));
     }
     pj.set("channel_reports", std::move(chans));
     ports.push(std::move(pj));
   }
   j.set("ports", std::move(ports));
+  j.set("other_host", r.host_activity.describe());
+  j.set("foreign_packets_during_scan", r.foreign_packets_during_scan);
   return j;
 }
 
@@ -50,7 +59,8 @@ void print_scan(const eth::ScanResult& r) {
       std::cout << "    ch " << c.channel << ": ";
       if (c.is_8i20())
         std::cout << "8I20 unit " << c.unit_number << " (" << lbp::hex_value(c.unit_number, 8) << ")  -> "
-                  << eth::EthTarget{r.card_address, p.index, c.channel}.url() << "\n";
+                  << eth::EthTarget{r.card_address, p.index, c.channel}.url() << "  LinuxCNC "
+                  << c.linuxcnc_name << "\n";
       else if (c.answered)
         std::cout << c.device_name << " (not an 8I20), unit " << c.unit_number << "\n";
       else
@@ -62,14 +72,23 @@ void print_scan(const eth::ScanResult& r) {
             << (targets.empty() ? "eth://IP/ch0" : targets.front().url()) << " info\n";
 }
 
-void run_scan(Context& ctx) {
+void run_scan(Context& ctx, bool force) {
   if (ctx.options.target.eth.empty())
     throw UsageError("scan needs the Ethernet card's address: i20 scan --eth 192.168.1.121");
   const auto address = eth::is_eth_url(ctx.options.target.eth) ? eth::parse_target(ctx.options.target.eth).card
                                                         : eth::parse_host_port(ctx.options.target.eth);
   eth::ScanOptions options;
   options.udp.timeout = std::chrono::milliseconds(ctx.options.link.timeout_ms);
+  options.running_host.take_over = force;
+  options.running_host.take_over_flag = "--force";
   const auto result = eth::scan(address, options);
+  if (force && eth::host_is_running(result.host_activity, options.running_host))
+    std::cerr << "i20: scan --force: " << result.host_activity.describe()
+              << "; the SSERIAL ports were stopped under that host, its axes dropped out\n";
+  if (result.foreign_packets_during_scan > 0)
+    std::cerr << "i20: another host sent " << result.foreign_packets_during_scan
+              << " packet(s) to the card during the scan: its DOITs may have changed what the channels "
+                 "reported; stop it and scan again\n";
   if (ctx.options.json)
     ctx.print_json(scan_json(result));
   else
@@ -81,10 +100,17 @@ void run_scan(Context& ctx) {
 void register_scan_command(CLI::App& app, Context& ctx) {
   auto* scan = app.add_subcommand(
       "scan",
-      "Scan a 7I96S/7I92T over Ethernet (--eth IP): the card, its SSERIAL ports and channels, and which "
-      "8I20s "
-      "answer (name, unit number). Stops and restarts the smart-serial ports: LinuxCNC must not be running");
-  scan->callback([&ctx] { run_scan(ctx); });
+      "Scan a 7I96S/7I92T over Ethernet (--eth IP): the card, its SSERIAL ports and channels, which 8I20s "
+      "answer (name, unit number), their eth:// targets and LinuxCNC hostmot2 names. Scanning stops and "
+      "restarts every smart-serial port, so it first watches the card for 30 ms and refuses while another "
+      "host (LinuxCNC) is running it");
+  auto force = std::make_shared<bool>(false);
+  scan->add_flag(
+      "--force", *force,
+      "Scan even while another host runs the card: its smart-serial ports stop, every 8I20 on them "
+      "sees no DOIT for 40 ms and disables its output, and LinuxCNC drops every axis on those ports "
+      "with a watchdog fault");
+  scan->callback([&ctx, force] { run_scan(ctx, *force); });
 }
 
 }  // namespace i20::cli

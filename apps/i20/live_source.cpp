@@ -20,10 +20,12 @@ class RegisterSource final : public LiveSource {
 
 class NormalModeSource final : public LiveSource {
  public:
-  explicit NormalModeSource(eth::EthTarget target) : target_(std::move(target)) {}
+  NormalModeSource(eth::EthTarget target, bool take_over) : target_(std::move(target)) {
+    options_.running_host.take_over = take_over;
+  }
 
   Readings read() override {
-    if (!session_) session_ = eth::NormalModeSession::open(target_);
+    if (!session_) session_ = eth::NormalModeSession::open(target_, options_);
     const auto status = session_->wait_for_sample(std::chrono::milliseconds(500));
     const auto* ch = status.channel(target_.channel);
     if (!ch) throw Error("SSLBP normal mode returned no data for channel " + std::to_string(target_.channel));
@@ -40,6 +42,7 @@ class NormalModeSource final : public LiveSource {
 
  private:
   eth::EthTarget target_;
+  eth::NormalModeOptions options_;
   std::unique_ptr<eth::NormalModeSession> session_;
 };
 
@@ -52,7 +55,8 @@ bool is_eth_target(const app::GlobalOptions& o) {
 
 std::unique_ptr<LiveSource> make_live_source(Context& ctx, LiveMode mode) {
   if (mode == LiveMode::NormalModeOnEthernet && is_eth_target(ctx.options))
-    return std::make_unique<NormalModeSource>(eth::parse_target(ctx.session().endpoint().eth_url));
+    return std::make_unique<NormalModeSource>(eth::parse_target(ctx.session().endpoint().eth_url),
+                                              ctx.options.link.take_over);
   return std::make_unique<RegisterSource>(ctx);
 }
 

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "ethsim/card_control.hpp"
 #include "params/param_db.hpp"
 #include "sim/control.hpp"
 #include "sim/param_map.hpp"
@@ -12,7 +13,8 @@ namespace i20::sim::app {
 namespace {
 
 const char* kDescription =
-    "i20sim: a virtual Mesa 8I20 servo amplifier on a pseudo-terminal.\n"
+    "i20sim: a virtual Mesa 8I20 servo amplifier on a pseudo-terminal, or several behind a virtual\n"
+    "7I96S/7I92T Ethernet card (--eth).\n"
     "Strict like the real card in setup mode (115200 8N1, CRC-8, pre-parse framing, command timeout,\n"
     "NV values only after reset), with switches to script the world and inject faults.\n\n"
     "Examples:\n"
@@ -23,9 +25,15 @@ const char* kDescription =
     "  i20sim --pty --wire-time --turnaround-us 1000 real line timing behind a USB adapter\n"
     "  i20sim --pty --drop 0.05 --seed 3             lose 5% of the replies, reproducibly\n"
     "  i20sim --pty --control /tmp/i20.ctl &  echo 'busv 400' > /tmp/i20.ctl\n"
-    "  i20sim --print-map --random-map 7             show the map and the preloaded RPC table\n\n"
+    "  i20sim --print-map --random-map 7             show the map and the preloaded RPC table\n"
+    "  i20sim --eth 127.0.0.1:0                      a virtual 7I96S with the 8I20 on SSERIAL channel 0\n"
+    "  i20sim --eth 127.0.0.1:0 --card 7i92t --channels 4 --control /tmp/i20.ctl\n"
+    "                                                four 8I20s on a 7I92T port; echo 'ch 2 busv 24' > "
+    "/tmp/i20.ctl\n"
+    "  i20sim --eth 127.0.0.1:0 --running-host       beside a running machine (LinuxCNC stand-in)\n\n"
     "While serving, lines on stdin (and on the --control FIFO) change the world and the\n"
-    "injection switches; answers go to stdout. Control commands:\n";
+    "injection switches; answers go to stdout. With --eth a line goes to the first 8I20, or to\n"
+    "the one it names:\n";
 
 using Ms = std::chrono::duration<double, std::milli>;
 
@@ -70,10 +78,16 @@ void add_options(CLI::App& app, Invocation& o, Raw& raw) {
                  "8I20s on the card's port 0 (channels 0..N-1), for --eth")
       ->needs(eth)
       ->check(CLI::Range(1, 8));
+  app.add_flag(
+         "--running-host", o.eth_options.running_host,
+         "With --eth: another host already runs the 8I20s in normal mode, DOITs every 1 ms, as LinuxCNC "
+         "would (control: host on|off)")
+      ->needs(eth);
   app.add_flag("--print-map", o.print_map, "Print the register map and the preloaded RPC table, then exit");
   app.add_flag("--trace", o.trace, "Log every command, reply and framing event to stderr");
   app.add_option("--control", o.server.control_fifo,
-                 "Also read control lines from this FIFO (created if missing), e.g. /tmp/i20.ctl");
+                 "Also read control lines from this FIFO (created if missing, removed at exit if created), "
+                 "e.g. /tmp/i20.ctl; with --pty or --eth");
   app.add_flag(
       "--no-stdin", [&](std::int64_t) { o.server.read_stdin = false; },
       "Do not read control lines from stdin");
@@ -181,7 +195,10 @@ void apply(Invocation& o, const Raw& raw) {
 }  // namespace
 
 std::optional<int> parse_command_line(int argc, char** argv, Invocation& out) {
-  CLI::App app(std::string(kDescription) + control_help(), "i20sim");
+  CLI::App app(
+      std::string(kDescription) + ethsim::card_control_help() + "and for every 8I20:
+" + control_help(),
+      "i20sim");
   app.set_version_flag("--version", "i20sim " + std::string(build::kVersion), "Print the version and exit");
   Raw raw;
   add_options(app, out, raw);

@@ -6,15 +6,17 @@
 #include <atomic>
 #include <csignal>
 #include <iostream>
+#include <optional>
 #include <string>
 
+#include "control_fifo.hpp"
+#include "ethsim/card_control.hpp"
 #include "ethsim/server.hpp"
-#include "sim/control.hpp"
 
 namespace i20::sim::app {
 namespace {
 
-// The one process-wide flag a signal handler can reach; the server polls it every tick.
+// The one process-wide flag a signal handler can reach; the loop below polls it.
 std::atomic<bool> g_stop{false};
 extern "C" void on_stop_signal(int) {
   g_stop.store(true);
@@ -27,52 +29,52 @@ ethsim::ServerOptions server_options(const SimOptions& sim, const EthServeOption
   s.amplifier = sim.device;  // map, EEPROM file, world, injection: as for --pty
   s.amplifiers.clear();
   for (unsigned ch = 0; ch < o.channels; ++ch) s.amplifiers.push_back({0, ch});
+  if (o.running_host) s.host = ethsim::HostOptions{};
   return s;
 }
 
-// Applies one control line to the 8I20 on port 0 channel 0 and prints its answer.
+// Applies one control line and prints its answer (errors too: the server keeps serving).
 void control(ethsim::CardServer& server, const std::string& line) {
-  if (line.empty()) return;
+  std::string answer;
   try {
-    const auto answer = server.with_card([&](ethsim::VirtualCard& card) {
-      auto* amp = server.amplifier(card, 0, 0);
-      return amp ? apply_control(*amp, line, Clock::now()) : std::string("no 8I20 on port 0 channel 0");
-    });
-    std::cout << answer << std::endl;
+    answer = ethsim::apply_card_control(server, line);
   } catch (const Error& e) {
-    std::cout << "error: " << e.what() << std::endl;
+    answer = std::string("error: ") + e.what();
   }
+  if (!answer.empty()) std::cout << answer << (answer.back() == '\n' ? "" : "\n") << std::flush;
 }
 
 }  // namespace
 
-int serve_eth(const SimOptions& sim, const EthServeOptions& o) {
+int serve_eth(const SimOptions& sim, const EthServeOptions& o,
+              const std::vector<std::string>& startup_control) {
   ethsim::CardServer server(server_options(sim, o));
+  std::optional<ControlFifo> fifo;
+  if (!o.control_fifo.empty()) fifo.emplace(o.control_fifo);
+  for (const auto& line : startup_control) ethsim::apply_card_control(server, "all " + line);
   std::signal(SIGINT, on_stop_signal);
   std::signal(SIGTERM, on_stop_signal);
   std::cout << server.address().ip << ":" << server.address().port << std::endl;
   std::cerr << "i20sim: " << server.describe() << " with " << o.channels << " 8I20(s) on SSERIAL port 0"
-            << std::endl;
+            << (o.running_host ? ", another host running them" : "") << std::endl;
   server.start();
-  std::string pending;
+  LineSplitter from_stdin, from_fifo;
   bool stdin_open = o.read_stdin;
   while (!g_stop.load()) {
-    if (!stdin_open) {
+    std::vector<pollfd> fds;
+    if (stdin_open) fds.push_back({STDIN_FILENO, POLLIN, 0});
+    if (fifo) fds.push_back({fifo->fd(), POLLIN, 0});
+    if (fds.empty()) {
       usleep(20000);
       continue;
     }
-    pollfd p{STDIN_FILENO, POLLIN, 0};
-    if (poll(&p, 1, 50) <= 0) continue;
-    char buf[256];
-    const auto n = ::read(STDIN_FILENO, buf, sizeof buf);
-    if (n <= 0) {
-      stdin_open = false;
-      continue;
-    }
-    pending.append(buf, static_cast<std::size_t>(n));
-    for (auto nl = pending.find('\n'); nl != std::string::npos; nl = pending.find('\n')) {
-      control(server, pending.substr(0, nl));
-      pending.erase(0, nl + 1);
+    if (poll(fds.data(), fds.size(), 50) <= 0) continue;
+    for (const pollfd& p : fds) {
+      if (!(p.revents & (POLLIN | POLLHUP))) continue;
+      bool eof = false;
+      auto& splitter = p.fd == STDIN_FILENO ? from_stdin : from_fifo;
+      for (const auto& line : splitter.read_from(p.fd, eof)) control(server, line);
+      if (eof && p.fd == STDIN_FILENO) stdin_open = false;
     }
   }
   server.stop();

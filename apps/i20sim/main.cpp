@@ -45,7 +45,8 @@ int main(int argc, char** argv) {
     }
     if (inv.eth) {
       inv.eth_options.read_stdin = inv.server.read_stdin;
-      return sim::app::serve_eth(inv.sim, inv.eth_options);
+      inv.eth_options.control_fifo = inv.server.control_fifo;
+      return sim::app::serve_eth(inv.sim, inv.eth_options, inv.startup_control);
     }
     sim::Virtual8i20 card(inv.sim.device, sim::Clock::now());
     for (const auto& line : inv.startup_control) sim::apply_control(card, line, sim::Clock::now());

@@ -3,7 +3,6 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
-#include <sys/stat.h>
 
 #include <array>
 #include <cerrno>
@@ -12,6 +11,7 @@
 #include <iostream>
 #include <vector>
 
+#include "control_fifo.hpp"
 #include "pty.hpp"
 #include "sim/control.hpp"
 #include "sim/error.hpp"
@@ -59,37 +59,6 @@ class SignalPipe {
 
  private:
   UniqueFd read_, write_;
-};
-
-// A FIFO we read control lines from. We also hold a writer open ourselves, so the FIFO
-// never reports end-of-file when a shell's `echo ... > fifo` closes it.
-class ControlFifo {
- public:
-  explicit ControlFifo(const std::string& path) : path_(path) {
-    struct stat st {};
-    if (::stat(path.c_str(), &st) == 0) {
-      if (!S_ISFIFO(st.st_mode))
-        throw ConfigError(path + " exists and is not a FIFO: choose another --control path");
-    } else if (::mkfifo(path.c_str(), 0600) != 0) {
-      throw ConfigError("cannot create FIFO " + path + ": " + std::strerror(errno));
-    } else {
-      created_ = true;
-    }
-    read_.reset(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC));
-    keep_open_.reset(::open(path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC));
-    if (!read_ || !keep_open_) throw ConfigError("cannot open FIFO " + path + ": " + std::strerror(errno));
-  }
-  ~ControlFifo() {
-    if (created_) ::unlink(path_.c_str());
-  }
-  ControlFifo(const ControlFifo&) = delete;
-  ControlFifo& operator=(const ControlFifo&) = delete;
-  int fd() const { return read_.get(); }
-
- private:
-  std::string path_;
-  bool created_ = false;
-  UniqueFd read_, keep_open_;
 };
 
 // Collects bytes into lines and applies each one to the card.

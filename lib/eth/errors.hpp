@@ -23,6 +23,15 @@ class SslbpError : public link::LinkError {
   using LinkError::LinkError;
 };
 
+// Another host's packets reached the card during a passthrough exchange (space 6
+// RXUDPCount moved beyond ours). Its DOITs would run whatever our CS and INTERFACE0 hold,
+// and a DOIT of ours could be ignored while its result is taken for ours: the exchange's
+// results are discarded rather than trusted.
+class ForeignHostError : public link::LinkError {
+ public:
+  using LinkError::LinkError;
+};
+
 // The card is not what the target needs: no HostMot2 cookie, no SSERIAL module, no such
 // port or channel, no 8I20 on the channel.
 class DiscoveryError : public Error {

@@ -58,8 +58,10 @@ NormalModeSession::NormalModeSession(std::unique_ptr<Lbp16Transport> bus, unsign
     throw UsageError("the DOIT period must be 1..20 ms to keep the 8I20's 40 ms watchdog fed");
   const CardIdentity card = identify(*bus_);
   const HostMot2Info info = read_hostmot2(*bus_);
-  port_ = std::make_unique<SslbpPort>(*bus_, find_sserial_port(info, sserial_port), card.has_timer_space(),
-                                      options_.sslbp);
+  const SserialPort port = find_sserial_port(info, sserial_port);
+  port_ = std::make_unique<SslbpPort>(*bus_, port, card.has_timer_space(), options_.sslbp);
+  activity_ = require_no_running_host(*bus_, std::span(&port, 1), options_.running_host,
+                                      "stop and normal-start SSERIAL port " + std::to_string(port.index));
   port_->stop_all();
   const std::uint8_t failed = port_->start_normal(mask_);
   const auto regs = port_->read_channels(mask_);

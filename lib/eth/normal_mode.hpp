@@ -1,8 +1,10 @@
 // Live status of 8I20s over SSLBP normal mode (8I20 manual, "NORMAL MODE OPERATION",
 // "8I20 SPECIFIC INTERFACE REGISTER 0/1 DEFINITIONS"), for the CLI's watch and faults.
 //
-// Start: stop the port, normal start (0x900 | mask), check DATA, read each channel's
-// unit number from INTERFACE0 (only valid before the first DOIT).
+// Start: check that no other host runs the card (running_host.hpp; RunningHostError unless
+// options.running_host.take_over), stop the port, normal start (0x900 | mask), check
+// DATA, read each channel's unit number from INTERFACE0 (only valid before the first
+// DOIT). A normal start is not a read: see kNormalStartEffect.
 //
 // Then a worker thread runs one DOIT cycle every `period` (default 10 ms, well under the
 // 40 ms watchdog SSLBP programs into the 8I20), so the caller's own pace (printing,
@@ -16,8 +18,7 @@
 // ends the thread and sends the SSLBP stop command.
 //
 // A session owns its SSERIAL port: the start stops whatever ran there (a passthrough
-// link on the same port included), and the stop is a stop-all. LinuxCNC must not be
-// running against the card at the same time.
+// link on the same port included), and the stop is a stop-all.
 #pragma once
 
 #include <chrono>
@@ -27,10 +28,12 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string_view>
 #include <thread>
 #include <vector>
 
 #include "eth/card.hpp"
+#include "eth/running_host.hpp"
 #include "eth/sslbp_port.hpp"
 #include "eth/target.hpp"
 #include "eth/transport.hpp"
@@ -38,9 +41,17 @@
 
 namespace i20::eth {
 
+// What SSLBP's normal start does to every 8I20 it starts, for the user to hear before
+// asking for one (8I20 manual, "8I20 DEVICE SPECIFIC SETUP"). Latched faults are gone
+// afterwards: report them first (a setup-mode passthrough read leaves them alone).
+inline constexpr std::string_view kNormalStartEffect =
+    "a normal start clears the 8I20's latched faults, sets QSETPOINT to 0 A, enables its current "
+    "loop and arms its 40 ms watchdog (8I20 manual, 8I20 DEVICE SPECIFIC SETUP)";
+
 struct NormalModeOptions {
   UdpOptions udp{.timeout = std::chrono::milliseconds{20}};
   SslbpOptions sslbp;
+  RunningHostCheck running_host;
   // DOIT period; at most 20 ms so that one lost cycle still leaves the 40 ms watchdog fed.
   std::chrono::milliseconds period{10};
   // Consecutive cycles without a reply before the session gives up.
@@ -49,9 +60,11 @@ struct NormalModeOptions {
 
 struct ChannelSample {
   unsigned channel = 0;
-  std::uint16_t bus_voltage = 0;  // INTERFACE0 MSW, 10 mV per count
-  // INTERFACE0 LSW. The SSLBP chapter says "in oC", the parameter table says TEMPERATURE
-  // is 0.01 C per count (docs/facts.md section 1); the register carries the parameter.
+  // INTERFACE0 MSW: "Bus voltage in 10s of mV" (8I20 manual, 8I20 SPECIFIC INTERFACE
+  // REGISTER 0 DEFINITIONS).
+  std::uint16_t bus_voltage = 0;
+  // INTERFACE0 LSW: "Card Temperature in oC", whole degrees (same section; docs/facts.md
+  // section 5). Not the TEMPERATURE parameter, which counts 0.01 C.
   std::uint16_t temperature = 0;
   std::uint16_t fault = 0;       // INTERFACE1 MSW
   std::uint16_t status = 0;      // INTERFACE1 LSW
@@ -59,7 +72,7 @@ struct ChannelSample {
   std::uint32_t cs = 0;
 
   double bus_volts() const { return bus_voltage / 100.0; }
-  double temperature_celsius() const { return temperature / 100.0; }
+  double temperature_celsius() const { return temperature; }
 };
 
 struct LiveStatus {
@@ -95,6 +108,8 @@ class NormalModeSession {
   // the session.
   std::uint32_t unit_number(unsigned channel) const;
   std::uint8_t channel_mask() const { return mask_; }
+  // What the running-host check saw before the start.
+  const HostActivity& host_activity() const { return activity_; }
 
   // The newest sample, nullopt until the first one. Rethrows the worker's failure.
   std::optional<LiveStatus> latest() const;
@@ -120,6 +135,7 @@ class NormalModeSession {
   NormalModeOptions options_;
   std::uint8_t mask_;
   std::vector<std::pair<unsigned, std::uint32_t>> unit_numbers_{};
+  HostActivity activity_{};
 
   mutable std::mutex mutex_;
   std::condition_variable changed_;

@@ -30,9 +30,11 @@ PassthroughStep plan_data(const lbp::Command& command) {
   require_length(command, 3 + (h.write ? n : 0));
   const auto address = static_cast<std::uint16_t>(lbp::read_le(lbp::ByteView(command.bytes).subspan(1, 2)));
   PassthroughStep step{.cs = lbp::hm2::sslbp::passthrough_cs(command.bytes[0], address)};
+  step.data_bytes = n;
   if (h.write) {
     step.interface0 = static_cast<std::uint32_t>(lbp::read_le(lbp::ByteView(command.bytes).subspan(3, n)));
     step.data_write = true;
+    step.effect = StepEffect::DataWrite;
   } else {
     step.reply_bytes = n;
   }
@@ -52,7 +54,11 @@ PassthroughStep plan_local(const lbp::Command& command) {
     require_length(command, 2);
     step.interface0 = command.bytes[1];
     step.repeatable = header != lbp::local::kAddToAddress && header != lbp::local::kResetProcessor;
-    if (header == lbp::local::kSetNvAccess) step.nv_access_mode = command.bytes[1];
+    step.effect = step.repeatable ? StepEffect::LocalWrite : StepEffect::Unrepeatable;
+    if (header == lbp::local::kSetNvAccess) {
+      step.nv_access_mode = command.bytes[1];
+      step.effect = StepEffect::NvMode;
+    }
   }
   step.wire_bytes = command.bytes.size() + 1 + step.reply_bytes + 1;
   return step;

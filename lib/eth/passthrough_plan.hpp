@@ -20,6 +20,16 @@
 
 namespace i20::eth {
 
+// What executing a step does to the 8I20, which decides where the link may put it in a
+// packet of several DOITs (see passthrough_port.hpp).
+enum class StepEffect {
+  Read,          // data or local read: no side effect, harmless to repeat or to run early
+  NvMode,        // 0xEC: changes what data addresses mean; the link tracks and restores it
+  DataWrite,     // writes 8I20 memory (the EEPROM while NV access is on)
+  LocalWrite,    // another repeatable local write (0xEA RPC memory access, addresses, ...)
+  Unrepeatable,  // 0xFA adds to the address pointer, 0xFE resets: never run twice
+};
+
 struct PassthroughStep {
   std::uint32_t cs = 0;
   std::optional<std::uint32_t> interface0{};  // written before DOIT when set
@@ -30,6 +40,8 @@ struct PassthroughStep {
   bool data_write = false;                       // writes 8I20 memory (EEPROM when NV mode is on)
   std::optional<std::uint8_t> nv_access_mode{};  // set by 0xEC
   std::size_t wire_bytes = 0;  // serial bytes both ways, CRCs included: for timing estimates
+  StepEffect effect = StepEffect::Read;
+  std::size_t data_bytes = 0;  // of a data read or write (EEPROM write time scales with it)
 };
 
 // Throws link::UnsupportedCommand (completed = 0) naming the command and why.

@@ -1,13 +1,20 @@
 #include "eth/scan.hpp"
 
 #include <algorithm>
+#include <cctype>
 
 namespace i20::eth {
 namespace {
 
+std::string lower(std::string_view text) {
+  std::string out(text);
+  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return std::tolower(c); });
+  return out;
+}
+
 PortReport scan_port(Lbp16Transport& bus, const SserialPort& port, bool timer_space,
-                     const SslbpOptions& options) {
-  SslbpPort sslbp(bus, port, timer_space, options);
+                     const ScanOptions& options, const std::string& card_name) {
+  SslbpPort sslbp(bus, port, timer_space, options.sslbp);
   PortReport report{.index = port.index, .gtag = port.gtag, .command_address = port.registers.command};
   sslbp.stop_all();
   report.parameters = sslbp.read_parameters();
@@ -25,12 +32,21 @@ PortReport scan_port(Lbp16Transport& bus, const SserialPort& port, bool timer_sp
                                             .unit_number = answered ? r.interface0 : 0,
                                             .cs = r.cs,
                                             .status = r.status().describe()});
+    if (report.channels.back().is_8i20())
+      report.channels.back().linuxcnc_name =
+          linuxcnc_device_name(card_name, options.board_index, port.index, ch);
   }
   sslbp.stop_all();
   return report;
 }
 
 }  // namespace
+
+std::string linuxcnc_device_name(std::string_view card_name, unsigned board_index, unsigned sserial_port,
+                                 unsigned channel, std::string_view remote) {
+  return "hm2_" + lower(card_name) + "." + std::to_string(board_index) + "." + lower(remote) + "." +
+         std::to_string(sserial_port) + "." + std::to_string(channel);
+}
 
 std::vector<EthTarget> ScanResult::targets() const {
   std::vector<EthTarget> out;
@@ -48,8 +64,14 @@ ScanResult scan(Lbp16Transport& bus, ScanOptions options) {
   result.config_name = info.ident.config_name;
   result.board_name = info.idrom.board_name;
   result.clock_low_hz = info.idrom.clock_low;
-  for (const SserialPort& port : info.sserial_ports())
-    result.ports.push_back(scan_port(bus, port, result.card.has_timer_space(), options.sslbp));
+  const auto ports = info.sserial_ports();
+  if (!ports.empty())
+    result.host_activity =
+        require_no_running_host(bus, ports, options.running_host, "stop and scan the SSERIAL ports");
+  for (const SserialPort& port : ports)
+    result.ports.push_back(
+        scan_port(bus, port, result.card.has_timer_space(), options, result.card.card_name));
+  if (!ports.empty()) result.foreign_packets_during_scan = foreign_packets_since(bus, result.host_activity);
   return result;
 }
 

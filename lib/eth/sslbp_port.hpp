@@ -83,6 +83,10 @@ class SslbpPort {
 
   // Waits for COMMAND to read 0 (after an error left it busy). False on timeout.
   bool wait_idle();
+  // Read-only polls of COMMAND, DATA and `results` until COMMAND reads 0; throws
+  // link::TimeoutError naming `command` after SslbpOptions::command_timeout.
+  // `round_trips` is added to the count the completion reports.
+  Completion poll(std::span<const std::uint16_t> results, std::uint32_t command, unsigned round_trips = 0);
 
   void stop_all();
   // Return DATA: a set bit marks a channel that failed to start.
@@ -112,15 +116,11 @@ class SslbpPort {
   };
   Reading parse(const std::vector<lbp::Bytes>& parts, std::size_t first, std::size_t results) const;
   std::vector<lbp::lbp16::Command> read_back(std::span<const std::uint16_t> results) const;
-  Completion poll(std::span<const std::uint16_t> results, std::uint32_t command, unsigned round_trips);
 
   Lbp16Transport& bus_;
   SserialPort port_;
   bool timer_space_;
   SslbpOptions options_;
 };
-
-// Space 4 WaituS: writing it delays the card's processing of the rest of the packet.
-inline constexpr std::uint16_t kWaitMicrosecondsAddress = 0x0002;
 
 }  // namespace i20::eth

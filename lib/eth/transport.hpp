@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <span>
 #include <string>
 #include <vector>
@@ -29,6 +31,11 @@ struct TransportStats {
   std::uint64_t stale_ignored = 0;    // late replies to earlier packets
 };
 
+// Space 4 WaituS (7I96S/7I92T manuals, "SPACE 4 LBP TIMER/UTILITY AREA"): writing it
+// delays the card's processing of the rest of the packet by that many microseconds
+// (0..65535), so the reply comes that much later.
+inline constexpr std::uint16_t kWaitMicrosecondsAddress = 0x0002;
+
 class Lbp16Transport {
  public:
   virtual ~Lbp16Transport() = default;
@@ -39,10 +46,49 @@ class Lbp16Transport {
   virtual std::vector<lbp::Bytes> transact(std::span<const lbp::lbp16::Command> commands,
                                            Resend resend = Resend::IfReadOnly) = 0;
 
+  // transact(), and how many packets this transport had sent once this one was (its own
+  // included, resends too), counted together with it even when other threads share the
+  // transport: what a check for another host's packets compares the card's count with.
+  virtual std::vector<lbp::Bytes> transact_counted(std::span<const lbp::lbp16::Command> commands,
+                                                   Resend resend, std::uint64_t& sent) {
+    auto parts = transact(commands, resend);
+    sent = stats().packets_sent;
+    return parts;
+  }
+
   // "192.168.1.121" (":PORT" appended when not 27181), for messages.
   virtual std::string describe() const = 0;
 
   virtual TransportStats stats() const = 0;
+};
+
+// One transport to a card for several users on several threads (the PassthroughPorts of
+// a card's SSERIAL ports in a fleet): one packet on the wire at a time, and one packet
+// count, so that each user's check for another host counts the others' packets as ours.
+class SharedTransport final : public Lbp16Transport {
+ public:
+  explicit SharedTransport(std::unique_ptr<Lbp16Transport> inner) : inner_(std::move(inner)) {}
+  std::vector<lbp::Bytes> transact(std::span<const lbp::lbp16::Command> commands,
+                                   Resend resend = Resend::IfReadOnly) override {
+    std::lock_guard lock(mutex_);
+    return inner_->transact(commands, resend);
+  }
+  std::vector<lbp::Bytes> transact_counted(std::span<const lbp::lbp16::Command> commands, Resend resend,
+                                           std::uint64_t& sent) override {
+    std::lock_guard lock(mutex_);
+    auto parts = inner_->transact(commands, resend);
+    sent = inner_->stats().packets_sent;
+    return parts;
+  }
+  std::string describe() const override { return inner_->describe(); }
+  TransportStats stats() const override {
+    std::lock_guard lock(mutex_);
+    return inner_->stats();
+  }
+
+ private:
+  std::unique_ptr<Lbp16Transport> inner_;
+  mutable std::mutex mutex_;
 };
 
 }  // namespace i20::eth

@@ -83,6 +83,17 @@ bool has_writes(std::span<const lbp16::Command> commands) {
   return std::any_of(commands.begin(), commands.end(), [](const lbp16::Command& c) { return c.word.write; });
 }
 
+// The card holds the reply back by every WaituS in the packet: that time is added to the
+// reply timeout, so a packet that waits for an EEPROM write is not taken for lost.
+std::chrono::microseconds requested_waits(std::span<const lbp16::Command> commands) {
+  std::chrono::microseconds total{0};
+  for (const auto& c : commands)
+    if (c.word.write && c.word.space == lbp16::space::kTimers && c.address == kWaitMicrosecondsAddress &&
+        c.data.size() >= 2)
+      total += std::chrono::microseconds(lbp::read_le(lbp::ByteView(c.data).subspan(0, 2)));
+  return total;
+}
+
 std::vector<lbp16::Command> tagged(std::span<const lbp16::Command> commands, std::uint16_t tag) {
   std::vector<lbp16::Command> packet;
   packet.reserve(commands.size() + 2);
@@ -139,7 +150,7 @@ std::vector<lbp::Bytes> UdpClient::transact(std::span<const lbp16::Command> comm
     ++stats_.packets_sent;
     if (expected == 0) return std::vector<lbp::Bytes>(commands.size());  // untagged writes: no reply exists
 
-    const auto deadline = Clock::now() + options_.timeout;
+    const auto deadline = Clock::now() + options_.timeout + requested_waits(commands);
     while (auto datagram = impl_->receive(deadline)) {
       if (datagram->sender != impl_->card) {
         ++stats_.foreign_ignored;

@@ -8,6 +8,8 @@
 //   instead of being taken for the current one, and every packet gets a reply, even one
 //   that only writes (the manual asks for a read after writes "for host synchronization").
 // - A reply of the wrong size is never acted upon: BadReplyError.
+// - A packet that writes WaituS (space 4) gets that much longer to answer: the card holds
+//   the reply back by the wait.
 // - Only packets without writes are resent after a timeout, unless the caller says the
 //   packet is idempotent (Resend::Idempotent). The sequence-number write is not counted:
 //   repeating it is harmless by design.

@@ -34,6 +34,9 @@ class RemoteLbpDevice {
   // The device-specific setup SSLBP's normal start performs on this device (8I20 manual,
   // "8I20 DEVICE SPECIFIC SETUP": clear faults, QSETPOINT 0, loop on, 40 ms watchdog).
   virtual std::vector<lbp::Command> normal_start_commands() const { return {}; }
+  // The normal start's commands went through: the device may now run what a normal start
+  // sets up (the 8I20's watchdog).
+  virtual void normal_started() {}
 
   // Short name for traces ("8I20 unit 0x00012345").
   virtual std::string describe() const = 0;

@@ -43,6 +43,7 @@ RemoteFactory amplifier_factory(const ServerOptions& options) {
     sim::DeviceOptions device = options.amplifier;
     device.mode = options.operate_mode ? sim::FramingMode::Operate : sim::FramingMode::Setup;
     device.amplifier.unit_number += index;
+    device.amplifier.watchdog_set_by_host = true;  // SSLBP's normal start sets it
     if (device.eeprom_file && list.size() > 1)
       device.eeprom_file->replace_filename(device.eeprom_file->stem().string() + "-p" + std::to_string(port) +
                                            "c" + std::to_string(channel) +
@@ -76,6 +77,7 @@ CardServer::CardServer(ServerOptions options)
       throw UsageError("the virtual " + std::string(card_kind_name(options_.card)) + " has no SSERIAL port " +
                        std::to_string(a.port) + " channel " + std::to_string(a.channel));
   card_ = std::make_unique<VirtualCard>(std::move(card), Clock::now());
+  if (options_.host) start_host(*options_.host);
 
   eth::require_ipv4(options_.listen.ip);
   const udp::endpoint endpoint(asio::ip::make_address_v4(options_.listen.ip), options_.listen.port);
@@ -118,6 +120,10 @@ void CardServer::run(const std::atomic<bool>* stop_flag) {
 }
 
 void CardServer::serve_once(Clock::time_point until) {
+  {
+    std::lock_guard lock(mutex_);
+    if (host_) until = std::min(until, host_->next_due());
+  }
   socket_->wait_readable(until);
   for (;;) {
     boost::system::error_code ec;
@@ -138,6 +144,32 @@ void CardServer::serve_once(Clock::time_point until) {
   }
   std::lock_guard lock(mutex_);
   card_->advance(Clock::now());
+  if (host_) host_->run_until(*card_, Clock::now());
+}
+
+void CardServer::start_host(HostOptions options) {
+  std::lock_guard lock(mutex_);
+  if (options.port >= card_->sserial_ports())
+    throw UsageError("the virtual " + card_->config().card_name + " has no SSERIAL port " +
+                     std::to_string(options.port));
+  if (options.mask == 0)
+    for (const auto& a : amplifiers())
+      if (a.port == options.port) options.mask |= static_cast<std::uint8_t>(1u << a.channel);
+  if (options.mask == 0) options.mask = 0x01;
+  if (host_) host_->stop(*card_, Clock::now());
+  host_.emplace(options);
+}
+
+void CardServer::stop_host() {
+  std::lock_guard lock(mutex_);
+  if (host_) host_->stop(*card_, Clock::now());
+  host_.reset();
+}
+
+std::optional<std::string> CardServer::host_status() {
+  std::lock_guard lock(mutex_);
+  if (!host_) return std::nullopt;
+  return host_->describe();
 }
 
 sim::Virtual8i20* CardServer::amplifier(VirtualCard& card, unsigned port, unsigned channel) {

@@ -27,6 +27,7 @@
 
 #include "eth/target.hpp"
 #include "ethsim/card_config.hpp"
+#include "ethsim/simulated_host.hpp"
 #include "ethsim/virtual_card.hpp"
 #include "sim/virtual_8i20.hpp"
 
@@ -55,6 +56,9 @@ struct ServerOptions {
   RemoteFactory remotes{};
   // Card time granularity between packets.
   std::chrono::milliseconds tick{2};
+  // Another host already running the machine when the server starts (see
+  // simulated_host.hpp); start_host() starts one later.
+  std::optional<HostOptions> host{};
 };
 
 // "ADDR[:PORT]" (default port 27181; port 0 picks a free one). Throws UsageError.
@@ -89,6 +93,18 @@ class CardServer {
   // The virtual 8I20 on a channel, when the server built it (nullptr otherwise). Use it
   // inside with_card().
   sim::Virtual8i20* amplifier(VirtualCard& card, unsigned port, unsigned channel);
+  // The channels the server put 8I20s on (empty when ServerOptions::remotes built them).
+  std::vector<ChannelAddress> amplifiers() const {
+    return options_.remotes ? std::vector<ChannelAddress>{} : options_.amplifiers;
+  }
+
+  // Another host starts running the machine (a stand-in for LinuxCNC). `mask` 0 means the
+  // port's 8I20s. Replaces a host already running.
+  void start_host(HostOptions options);
+  // That host exits: it stops its port, as LinuxCNC does.
+  void stop_host();
+  // "normal mode on SSERIAL port 0 ch 0, every 1 ms, ..." or nullopt without a host.
+  std::optional<std::string> host_status();
 
  private:
   struct Socket;
@@ -98,6 +114,7 @@ class CardServer {
   std::unique_ptr<Socket> socket_;
   std::mutex mutex_;
   std::unique_ptr<VirtualCard> card_;
+  std::optional<SimulatedHost> host_;  // under mutex_
   std::atomic<bool> stop_requested_{false};
   std::thread thread_;
 };

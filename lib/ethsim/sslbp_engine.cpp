@@ -270,6 +270,7 @@ bool SslbpEngine::start(Channel& ch, ChannelMode mode, Registers& out, Clock::ti
         return false;
       }
     }
+    ch.remote->normal_started();
   }
   ch.mode = mode;
   ch.doit_seen = false;
@@ -295,7 +296,13 @@ bool SslbpEngine::doit(Channel& ch, Registers& out, Clock::time_point& t) {
     return false;
   }
   const lbp::ByteView r(*reply);
-  out.interface0 = static_cast<std::uint32_t>(lbp::read_le(r.subspan(0, 4)));
+  // The RPC returns TEMPERATURE (0.01 C per count) and BUSV; INTERFACE0 presents "MSW = Bus
+  // voltage in 10s of mV", "LSW = Card Temperature in oC" (8I20 manual, 8I20 SPECIFIC
+  // INTERFACE REGISTER 0 DEFINITIONS): whole degrees, truncated (the manual does not say
+  // how SSLBP rounds).
+  const auto counts = static_cast<std::uint32_t>(lbp::read_le(r.subspan(0, 2)));
+  const auto bus = static_cast<std::uint32_t>(lbp::read_le(r.subspan(2, 2)));
+  out.interface0 = bus << 16 | (counts / 100);
   out.interface1 = static_cast<std::uint32_t>(lbp::read_le(r.subspan(4, 4)));
   const bool remote_fault = (out.interface1 >> 16) != 0;
   out.cs = status_word(ch, remote_fault ? Status::kRemoteFault : 0);

@@ -16,7 +16,9 @@
 //   10 ms) until the first DOIT.
 // - DOIT in setup mode runs the passthrough: CS holds the LBP header and address
 //   (data commands) or the local command, INTERFACE0 the write data; a read's answer
-//   lands right justified in INTERFACE0. In normal mode DOIT runs the 8I20's cycle RPC.
+//   lands right justified in INTERFACE0. In normal mode DOIT runs the 8I20's cycle RPC
+//   and presents bus voltage (10 mV) and temperature in whole degrees C in INTERFACE0,
+//   FAULT and STATUS in INTERFACE1 (8I20 manual, 8I20 SPECIFIC INTERFACE REGISTER 0/1).
 // - A failed transfer sets the channel's DATA bit and sticky CS error bits (timeout,
 //   CRC, extra character); only a stop clears the error byte.
 #pragma once

@@ -16,6 +16,7 @@ constexpr unsigned kMaxEventSteps = 256;
 sim::DeviceOptions Virtual8i20Remote::default_options() {
   sim::DeviceOptions o;
   o.mode = sim::FramingMode::Operate;
+  o.amplifier.watchdog_set_by_host = true;  // SSLBP's normal start sets it (8I20 DEVICE SPECIFIC SETUP)
   return o;
 }
 
@@ -51,6 +52,10 @@ std::vector<lbp::Command> Virtual8i20Remote::normal_start_commands() const {
   const auto& map = device_.amplifier().map();
   return {lbp::write(map.at("CLEARFAULT").address, lbp::DataSize::Two, 1),
           lbp::write(map.at("QSETPOINT").address, lbp::DataSize::Two, 0)};
+}
+
+void Virtual8i20Remote::normal_started() {
+  device_.amplifier().set_watchdog_by_host();
 }
 
 std::string Virtual8i20Remote::describe() const {

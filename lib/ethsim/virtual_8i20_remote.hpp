@@ -18,6 +18,7 @@ class Virtual8i20Remote final : public RemoteLbpDevice {
   void advance(Clock::time_point now) override;
   // CLEARFAULT = 1 and QSETPOINT = 0 at the addresses of the card's register map.
   std::vector<lbp::Command> normal_start_commands() const override;
+  void normal_started() override;
   std::string describe() const override;
 
   sim::Virtual8i20& device() { return device_; }

@@ -97,6 +97,10 @@ class VirtualCard {
   std::uint16_t status_register(std::uint16_t address) const;
   std::uint16_t eeprom_word(std::uint16_t address) const;
   std::uint32_t hm2_register(std::uint16_t address) const { return hm2_.at(address / 4); }
+  // Where SSERIAL port `port` keeps its registers in space 0.
+  lbp::hm2::SserialRegisters sserial_registers(unsigned port) const {
+    return lbp::hm2::SserialRegisters::locate(config_.idrom, config_.sserial_module(), port);
+  }
 
  private:
   void execute(const lbp::lbp16::Command& command, lbp::Bytes& reply);

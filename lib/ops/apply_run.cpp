@@ -119,12 +119,16 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
   return run;
 }
 
-TargetRun run_apply(const Endpoint& target, const ApplyJob& job, const Activity& activity) {
+namespace {
+
+// Opens the card with `open` and runs the job on it; never throws.
+template <class Open>
+TargetRun run_opened(const Endpoint& target, const ApplyJob& job, const Activity& activity, Open&& open) {
   const auto start = std::chrono::steady_clock::now();
   TargetRun run;
   try {
     if (activity) activity("connecting");
-    const auto card = Card::open(target, *job.db, job.open, job.transaction.cancel);
+    const auto card = open();
     run = run_apply_on(*card, job, activity);
   } catch (const Error& e) {
     run.target = target;
@@ -138,6 +142,19 @@ TargetRun run_apply(const Endpoint& target, const ApplyJob& job, const Activity&
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (activity) activity("done");
   return run;
+}
+
+}  // namespace
+
+TargetRun run_apply(const Endpoint& target, const ApplyJob& job, const Activity& activity) {
+  return run_opened(target, job, activity, [&] { return Card::open(target, *job.db, job.open, job.transaction.cancel); });
+}
+
+TargetRun run_apply_over(std::unique_ptr<link::Link> link, const Endpoint& target, const ApplyJob& job,
+                         const Activity& activity) {
+  return run_opened(target, job, activity, [&] {
+    return Card::attach(std::move(link), target, *job.db, job.open.retry, job.transaction.cancel);
+  });
 }
 
 Outcome fleet_outcome(const std::vector<TargetRun>& runs) {

@@ -50,6 +50,9 @@ struct TargetRun {
 // Opens the target, runs the transaction, closes it. Never throws: every failure ends in
 // the run's outcome, result or error.
 TargetRun run_apply(const Endpoint& target, const ApplyJob& job, const Activity& activity = {});
+// The same over a link the caller opened (the fleet's shared Ethernet ports).
+TargetRun run_apply_over(std::unique_ptr<link::Link> link, const Endpoint& target, const ApplyJob& job,
+                         const Activity& activity = {});
 // The same on a card that is already open (the single-target commands).
 TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity = {});
 

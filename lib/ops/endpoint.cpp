@@ -147,6 +147,7 @@ std::unique_ptr<link::Link> open_link(const Endpoint& e, const params::ParamDb& 
     case Endpoint::Kind::Eth: {
       eth::PassthroughOptions options;
       options.udp.timeout = std::chrono::milliseconds(s.timeout_ms);
+      options.running_host.take_over = s.take_over;
       return eth::SslbpPassthroughLink::open(eth::parse_target(e.eth_url), options);
     }
     case Endpoint::Kind::Serial: {

@@ -3,14 +3,18 @@
 #include <map>
 #include <thread>
 
+#include "eth/passthrough_port.hpp"
+#include "eth/target.hpp"
+
 namespace i20::ops {
 namespace {
 
-// Target indexes grouped by line, in order of first appearance.
+// Targets that share a serial line or an in-process simulator run one after another.
 std::vector<std::vector<std::size_t>> by_line(const std::vector<Endpoint>& targets) {
   std::vector<std::vector<std::size_t>> groups;
   std::map<std::string, std::size_t> group_of;
   for (std::size_t i = 0; i < targets.size(); ++i) {
+    if (targets[i].is_eth()) continue;
     const auto [it, fresh] = group_of.try_emplace(targets[i].line_key, groups.size());
     if (fresh) groups.emplace_back();
     groups[it->second].push_back(i);
@@ -18,22 +22,88 @@ std::vector<std::vector<std::size_t>> by_line(const std::vector<Endpoint>& targe
   return groups;
 }
 
+// The channels of one SSERIAL port: one PassthroughPort serves them all, and their
+// commands share DOITs (SSLBP's channel mask), so they run side by side.
+struct EthPort {
+  eth::HostPort card;
+  unsigned sserial_port = 0;
+  std::uint8_t mask = 0;
+  std::vector<std::size_t> targets;
+  std::shared_ptr<eth::PassthroughPort> port;
+  std::string error;
+  ErrorKind kind = ErrorKind::Failure;
+};
+
+std::vector<EthPort> by_port(const std::vector<Endpoint>& targets) {
+  std::vector<EthPort> ports;
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    if (!targets[i].is_eth()) continue;
+    const auto t = eth::parse_target(targets[i].eth_url);
+    auto it = std::find_if(ports.begin(), ports.end(),
+                           [&](const EthPort& p) { return p.card == t.card && p.sserial_port == t.sserial_port; });
+    if (it == ports.end()) it = ports.insert(ports.end(), EthPort{t.card, t.sserial_port, 0, {}, nullptr, {}, {}});
+    it->mask = static_cast<std::uint8_t>(it->mask | t.channel_mask());
+    it->targets.push_back(i);
+  }
+  return ports;
+}
+
+// Opened one after another before any thread starts; the ports of one card share its
+// transport, or each would take the other's packets for another host's.
+void open_ports(std::vector<EthPort>& ports, const ApplyJob& job) {
+  std::map<std::string, std::shared_ptr<eth::Lbp16Transport>> transports;
+  for (auto& p : ports) {
+    eth::PassthroughOptions options;
+    options.udp.timeout = std::chrono::milliseconds(job.open.link.timeout_ms);
+    options.running_host.take_over = job.open.link.take_over;
+    try {
+      auto& transport = transports[p.card.describe()];
+      if (!transport) transport = eth::PassthroughPort::card_transport(p.card, options.udp);
+      p.port = eth::PassthroughPort::open(transport, p.sserial_port, p.mask, options);
+    } catch (const Error& e) {
+      p.error = e.what();
+      p.kind = e.kind();
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<TargetRun> run_fleet(const std::vector<Endpoint>& targets, const ApplyJob& job,
                                  const FleetActivity& activity) {
   std::vector<TargetRun> runs(targets.size());
+  const auto one = [&](std::size_t i) -> Activity {
+    if (!activity) return {};
+    return [&activity, i](const std::string& s) { activity(i, s); };
+  };
+  const auto finish = [&](std::size_t i) {
+    if (activity) activity(i, to_string(runs[i].outcome));
+  };
+  auto ports = by_port(targets);
+  open_ports(ports, job);
   std::vector<std::thread> threads;
-  for (const auto& line : by_line(targets)) {
+  for (const auto& line : by_line(targets))
     threads.emplace_back([&, line] {
       for (const std::size_t i : line) {
-        Activity one;
-        if (activity) one = [&activity, i](const std::string& s) { activity(i, s); };
-        runs[i] = run_apply(targets[i], job, one);
-        if (activity) activity(i, to_string(runs[i].outcome));
+        runs[i] = run_apply(targets[i], job, one(i));
+        finish(i);
       }
     });
-  }
+  for (const auto& p : ports)
+    for (const std::size_t i : p.targets) {
+      if (!p.port) {
+        runs[i].target = targets[i];
+        runs[i].error = p.error;
+        runs[i].outcome = outcome_of(p.kind);
+        finish(i);
+        continue;
+      }
+      const unsigned channel = eth::parse_target(targets[i].eth_url).channel;
+      threads.emplace_back([&, i, channel, port = p.port] {
+        runs[i] = run_apply_over(port->link(channel), targets[i], job, one(i));
+        finish(i);
+      });
+    }
   for (auto& t : threads) t.join();
   return runs;
 }

@@ -14,8 +14,9 @@ namespace i20::ops {
 // the end), from the worker threads: it must be thread-safe.
 using FleetActivity = std::function<void(std::size_t index, const std::string& what)>;
 
-// Runs in the order given within a line (targets sharing a line_key), concurrently across
-// lines. Returns one run per target, in the order of `targets`.
+// Runs in the order given within a serial line or simulator (targets sharing a line_key),
+// concurrently across lines; the channels of one Ethernet SSERIAL port run side by side,
+// their commands sharing SSLBP DOITs. Returns one run per target, in the order of `targets`.
 std::vector<TargetRun> run_fleet(const std::vector<Endpoint>& targets, const ApplyJob& job,
                                  const FleetActivity& activity = {});
 

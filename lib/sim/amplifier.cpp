@@ -46,6 +46,7 @@ void Amplifier::load_working_from_nv() {
   latched_faults_ = 0;
   brake_on_ = false;
   last_valid_command_.reset();
+  watchdog_set_ = false;
   clear_due_.reset();
 }
 
@@ -68,9 +69,12 @@ void Amplifier::feed_watchdog(Clock::time_point now) {
   last_valid_command_ = now;
 }
 
+bool Amplifier::watchdog_running() const {
+  return settings_.operate_mode && last_valid_command_ && (!settings_.watchdog_set_by_host || watchdog_set_);
+}
+
 std::optional<Clock::time_point> Amplifier::watchdog_due() const {
-  if (!settings_.operate_mode || !last_valid_command_ || (previous_causes_ & fault::kWatchdog))
-    return std::nullopt;
+  if (!watchdog_running() || (previous_causes_ & fault::kWatchdog)) return std::nullopt;
   return *last_valid_command_ + settings_.watchdog + Duration(1);
 }
 
@@ -82,8 +86,7 @@ std::uint16_t Amplifier::causes(const World::Sample& s, Clock::time_point now) c
   if (s.busv_raw < ram16("BUSUNDERV")) c |= fault::kBusLow;
   if (s.busv_raw > ram16("BUSOVERV")) c |= fault::kBusHigh;
   if (s.bus_volts > kFixedOverVolts) c |= fault::kBusMax;
-  if (settings_.operate_mode && last_valid_command_ && now - *last_valid_command_ > settings_.watchdog)
-    c |= fault::kWatchdog;
+  if (watchdog_running() && now - *last_valid_command_ > settings_.watchdog) c |= fault::kWatchdog;
   return c;
 }
 

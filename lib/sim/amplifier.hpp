@@ -39,6 +39,10 @@ struct AmplifierSettings {
   Duration clearfault_delay = std::chrono::milliseconds(5);
   Duration watchdog = std::chrono::milliseconds(40);  // SSLBP sets 40 ms (manual, SSLBP)
   bool operate_mode = false;                          // setup mode drives no motor
+  // The watchdog runs only once a host has set it (SSLBP's normal start: "setting the 8I20s
+  // watchdog timer to 40 mS", manual, 8I20 DEVICE SPECIFIC SETUP), until the next reset.
+  // Off: it runs from the first command in operate mode (a host that drives LBP directly).
+  bool watchdog_set_by_host = false;
 };
 
 class Amplifier {
@@ -55,6 +59,8 @@ class Amplifier {
   void update(Clock::time_point now);
   // A valid command arrived: feeds the operate-mode watchdog.
   void feed_watchdog(Clock::time_point now);
+  // The host set the watchdog (see AmplifierSettings::watchdog_set_by_host).
+  void set_watchdog_by_host() { watchdog_set_ = true; }
 
   lbp::Byte ram(std::uint16_t address) const { return ram_[address]; }
   // Whether a host write of `length` bytes at `address` would touch a read-only register.
@@ -83,6 +89,7 @@ class Amplifier {
   // How often the operate-mode watchdog has bitten (rising edges), and when it next would.
   std::uint64_t watchdog_bites() const { return watchdog_bites_; }
   std::optional<Clock::time_point> watchdog_due() const;
+  bool watchdog_running() const;
 
   // CLEARFAULT never returns to 0 and nothing is cleared (injected firmware hang).
   void set_clearfault_stuck(bool stuck) { clearfault_stuck_ = stuck; }
@@ -116,6 +123,7 @@ class Amplifier {
   bool clearfault_stuck_ = false;
   std::uint16_t previous_causes_ = 0;
   std::uint64_t watchdog_bites_ = 0;
+  bool watchdog_set_ = false;
 };
 
 }  // namespace i20::sim

@@ -24,9 +24,12 @@ constexpr std::string_view kRequired[] = {"FAULT",       "STATUS",    "CLEARFAUL
                                           "TEMPERATURE", "ANGLE",     "QSETPOINT",  "BUSUNDERV", "BUSOVERV",
                                           "BRAKEONV",    "BRAKEOFFV", "SWREVISION", "UNITNUMBER"};
 
-// Registers that keep their public addresses when a map is shuffled (docs/facts.md s2).
+// Registers that keep their public addresses when a map is shuffled (docs/facts.md s2):
+// the EEPROM, and the RAM registers LinuxCNC reads on every real 8I20 (MAXCURRENT at
+// 0x08E8 to scale its current pin, SWREVISION, UNITNUMBER).
 bool is_fixed(const Register& r) {
-  return r.space == Space::Eeprom || r.name == "SWREVISION" || r.name == "UNITNUMBER";
+  return r.space == Space::Eeprom || r.name == "SWREVISION" || r.name == "UNITNUMBER" ||
+         r.name == "MAXCURRENT";
 }
 
 std::string trim(std::string_view s) {
@@ -84,7 +87,7 @@ RegisterMap RegisterMap::builtin() {
       ram("ANGLE", 0x080C, 16, false, false, 0),
       ram("QSETPOINT", 0x080E, 16, true, false, 0),
       ram("DSETPOINT", 0x0810, 16, true, false, 0),
-      ram("MAXCURRENT", 0x0812, 16, false, false, std::nullopt, "NVMAXCURRENT"),
+      ram("MAXCURRENT", 0x08E8, 16, false, false, std::nullopt, "NVMAXCURRENT"),
       ram("KQP", 0x0814, 16, false, false, std::nullopt, "NVKQP"),
       ram("KQI", 0x0816, 32, false, false, std::nullopt, "NVKQI"),
       ram("KQIL", 0x081A, 16, false, false, std::nullopt, "NVKQIL"),

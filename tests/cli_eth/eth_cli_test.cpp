@@ -1,6 +1,14 @@
 // Issue 7 end to end: the toolkit's commands work unchanged through a 7I96S's SSLBP
 // passthrough, and one EEPROM image is one amplifier whichever way it is reached.
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
 
 #include "harness.hpp"
 
@@ -125,4 +133,129 @@ TEST(EthCli, FleetAppliesToSerialAndEthernetTargetsTogether) {
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_EQ(run_i20(eth(card), {"get", "NVBRAKEONV"}).out, "NVBRAKEONV = 190.00 V\n");
   EXPECT_EQ(run_i20(pty(bench), {"get", "NVBRAKEONV"}).out, "NVBRAKEONV = 190.00 V\n");
+}
+
+// ---- issue 12: safe beside a running machine, units, control, batching ---------------------
+
+namespace {
+
+// Waits up to 2 s for `path` to exist.
+bool appears(const std::filesystem::path& path) {
+  for (int i = 0; i < 100 && !std::filesystem::exists(path); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  return std::filesystem::exists(path);
+}
+
+void write_line(const std::filesystem::path& fifo, const std::string& line) {
+  std::ofstream out(fifo);
+  out << line << "\n";
+}
+
+std::string get_raw(const SimProcess& sim, const std::string& name, unsigned channel = 0) {
+  return run_i20({"--eth", sim.port(), "--channel", std::to_string(channel)}, {"get", "--raw", name}).out;
+}
+
+// Polls until `name` reads `expected` (the simulator applies control lines asynchronously).
+bool reads(const SimProcess& sim, const std::string& name, const std::string& expected,
+           unsigned channel = 0) {
+  for (int i = 0; i < 50; ++i) {
+    if (get_raw(sim, name, channel) == name + " = " + expected + "\n") return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
+}  // namespace
+
+TEST(EthCli, ScanIsRefusedBesideARunningMachineAndForceSaysWhatItDid) {
+  SimProcess card({"--running-host"}, Transport::Eth);  // a LinuxCNC stand-in, DOITs every 1 ms
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  auto r = run_i20(eth(card), {"scan"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("refusing to stop and scan the SSERIAL ports"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("another host is running the card"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("pass --force: every axis on that port drops out"), std::string::npos) << r.err;
+  EXPECT_EQ(card.control("host").find("(0 failed)") != std::string::npos, true) << "the machine runs on";
+  r = run_i20(eth(card), {"scan", "--force"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("hm2_7i96s.0.8i20.0.0"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("its axes dropped out"), std::string::npos) << r.err;
+  const auto help = run("i20", {"scan", "--help"});
+  EXPECT_NE(help.out.find("--force"), std::string::npos);
+  EXPECT_NE(help.out.find("drops every axis"), std::string::npos) << help.out;
+}
+
+TEST(EthCli, ScanIsRefusedBesideAWatch) {
+  // The issue's case: an `i20 --eth IP watch` in normal mode stands in for LinuxCNC.
+  SimProcess card({}, Transport::Eth);
+  const Child watch = start("i20", {"--no-user-params", "--eth", card.port(), "watch", "--plain",
+                                    "--interval", "20", "--duration", "5"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const auto r = run_i20(eth(card), {"scan"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("another host is running the card"), std::string::npos) << r.err;
+  kill(watch.pid, SIGINT);
+  int status = 0;
+  waitpid(watch.pid, &status, 0);
+  close(watch.out_fd);
+  close(watch.err_fd);
+  EXPECT_EQ(run_i20(eth(card), {"scan"}).exit_code, 0) << "free again once the watch ended";
+}
+
+TEST(EthCli, TemperatureIsInTheManualsUnitsEndToEnd) {
+  // INTERFACE0 LSW "Card Temperature in oC" (8I20 manual): whole degrees from the virtual
+  // card, degrees on the screen.
+  SimProcess card({"--temp", "47"}, Transport::Eth);
+  const auto r = run_i20(eth(card), {"watch", "--count", "2", "--plain", "--interval", "30"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("TEMP 47.00 C"), std::string::npos) << r.out;
+}
+
+TEST(EthCli, ControlFifoIsCreatedReadAndRemoved) {
+  TempDir dir;
+  const auto fifo = dir / "card.ctl";
+  {
+    SimProcess card({"--card", "7i92t", "--channels", "2", "--control", fifo.string()}, Transport::Eth);
+    ASSERT_TRUE(appears(fifo)) << "the FIFO is created";
+    EXPECT_TRUE(std::filesystem::is_fifo(fifo));
+    write_line(fifo, "ch 1 busv 48");  // a writer does not block: the simulator holds the FIFO open
+    EXPECT_TRUE(reads(card, "BUSV", "4800", 1));
+    EXPECT_EQ(get_raw(card, "BUSV", 0), "BUSV = 32000\n") << "only channel 1 changed";
+    write_line(fifo, "all enable off");
+    for (unsigned ch : {0u, 1u}) {
+      bool no_enable = false;
+      for (int i = 0; i < 50 && !no_enable; ++i) {
+        const auto out = get_raw(card, "FAULT", ch);  // "FAULT = N"
+        no_enable = out.size() > 8 && (std::stoul(out.substr(8)) & 0x0002) != 0;
+      }
+      EXPECT_TRUE(no_enable) << "NOENABLEFAULT on ch " << ch;
+    }
+  }
+  EXPECT_FALSE(std::filesystem::exists(fifo)) << "removed at exit: the simulator created it";
+}
+
+TEST(EthCli, ControlLinesAddressOneChannelOfSeveral) {
+  SimProcess card({"--card", "7i92t", "--channels", "3"}, Transport::Eth);
+  EXPECT_EQ(card.control("ch 2 busv 24"), "ok");
+  EXPECT_EQ(card.control("channel 1 busv 100"), "ok");
+  EXPECT_TRUE(reads(card, "BUSV", "2400", 2));
+  EXPECT_TRUE(reads(card, "BUSV", "10000", 1));
+  EXPECT_EQ(get_raw(card, "BUSV", 0), "BUSV = 32000\n");
+  EXPECT_EQ(card.control("ch 2 get UNITNUMBER"), std::to_string(0x00012345 + 2));
+  EXPECT_NE(card.control("ch 7 busv 1").find("error: no 8I20 on SSERIAL port 0 channel 7"),
+            std::string::npos);
+  EXPECT_EQ(card.control("amplifiers"), "8I20s on port 0 ch 0, port 0 ch 1, port 0 ch 2");
+  const auto help = run("i20sim", {"--help"});
+  EXPECT_NE(help.out.find("ch N LINE"), std::string::npos) << help.out;
+  EXPECT_NE(help.out.find("host on"), std::string::npos) << help.out;
+}
+
+TEST(EthCli, ScanNamesEach8I20AsLinuxCncDoes) {
+  SimProcess card({"--card", "7i92t", "--channels", "2"}, Transport::Eth);
+  const auto r = run_i20(eth(card), {"scan"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("eth://" + card.port() + "/ch1  LinuxCNC hm2_7i92t.0.8i20.0.1"), std::string::npos)
+      << r.out;
+  const auto j = run_i20(eth(card), {"--json", "scan"});
+  EXPECT_NE(j.out.find("\"linuxcnc_name\": \"hm2_7i92t.0.8i20.0.0\""), std::string::npos) << j.out;
 }

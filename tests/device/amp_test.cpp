@@ -65,7 +65,7 @@ TEST_F(AmpTest, NvWriteEntersWritesReadsBackAndLeaves) {
   EXPECT_TRUE(report.verified);
   EXPECT_TRUE(report.needs_reset);
   EXPECT_EQ(card.get(2, 2, true), 2500u);
-  EXPECT_EQ(card.get(0x0812, 2), 0u) << "an NV write changes nothing live";
+  EXPECT_EQ(card.get(0x08E8, 2), 0u) << "an NV write changes nothing live (MAXCURRENT, RAM 0x08E8)";
   // Two exchanges: entering NV mode, confirmed in a reply before any EEPROM data write;
   // then the write, its read-back, the mode check, and leaving NV mode (confirmed too).
   ASSERT_EQ(card.sent.size(), 7u);

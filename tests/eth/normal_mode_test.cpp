@@ -25,7 +25,9 @@ TEST(EthNormalMode, StartsReadsUnitNumberAndStreamsTheAmplifiersValues) {
   ASSERT_NE(ch, nullptr);
   EXPECT_EQ(ch->bus_voltage, 32000);  // 10 mV units: the manual's RPD example value
   EXPECT_DOUBLE_EQ(ch->bus_volts(), 320.0);
-  EXPECT_EQ(ch->temperature, 3500);
+  // "LSW = Card Temperature in oC" (8I20 manual, 8I20 SPECIFIC INTERFACE REGISTER 0
+  // DEFINITIONS): whole degrees on the wire, the same degrees to the caller.
+  EXPECT_EQ(ch->temperature, 35);
   EXPECT_DOUBLE_EQ(ch->temperature_celsius(), 35.0);
   EXPECT_FALSE(ch->transfer_failed);
   EXPECT_EQ(ch->fault, 0);

@@ -121,14 +121,15 @@ TEST_F(EthSslbpEngine, NormalStartChattersUntilTheFirstDoitThenDoitFeedsTheWatch
   }
   EXPECT_EQ(amp->amplifier().watchdog_bites(), 0u);
   EXPECT_GT(card->sslbp(0).stats().chatter, 15u);
-  // DOITs every 10 ms: BUSV/TEMPERATURE in INTERFACE0, FAULT/STATUS in INTERFACE1.
+  // DOITs every 10 ms: BUSV/TEMPERATURE in INTERFACE0, FAULT/STATUS in INTERFACE1
+  // (8I20 manual, 8I20 SPECIFIC INTERFACE REGISTER 0/1 DEFINITIONS).
   for (int i = 0; i < 10; ++i) {
     write(kIf0, 0);
     EXPECT_EQ(command(sslbp::doit(0x01)), 0);
     t += 10ms;
   }
-  EXPECT_EQ(read(kIf0) >> 16, 32000u);
-  EXPECT_EQ(read(kIf0) & 0xFFFF, 3500u);
+  EXPECT_EQ(read(kIf0) >> 16, 32000u);  // "Bus voltage in 10s of mV": 320 V
+  EXPECT_EQ(read(kIf0) & 0xFFFF, 35u);  // "Card Temperature in oC": whole degrees, not 0.01 C
   EXPECT_EQ(read(kIf1) >> 16, 0u);
   EXPECT_EQ(amp->amplifier().watchdog_bites(), 0u);
   // After the first DOIT there is no more chatter: stop the DOITs and the watchdog bites.

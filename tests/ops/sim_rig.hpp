@@ -13,19 +13,13 @@
 #include "link/pipelined_link.hpp"
 #include "ops/card.hpp"
 #include "params/param_db.hpp"
+#include "sim/ground_truth.hpp"
 #include "sim/param_map.hpp"
 #include "sim/sim_stream.hpp"
 
 namespace i20::ops::testing {
 
-// What the simulated card holds, byte for byte.
-struct GroundTruth {
-  lbp::Bytes ram;
-  lbp::Bytes eeprom;
-  lbp::local::NvAccess nv_access = lbp::local::NvAccess::Ram;
-  bool rpcmem = false;
-  bool powered = true;
-};
+using sim::GroundTruth;
 
 struct RigOptions {
   std::optional<std::uint64_t> random_map;  // another SWREVISION, shuffled RAM addresses
@@ -68,16 +62,7 @@ class SimRig {
   std::int64_t value(const std::string& name) { return std::stoll(control("get " + name)); }
 
   GroundTruth truth() {
-    return stream_->with_card([](sim::Virtual8i20& c) {
-      GroundTruth t;
-      for (std::uint32_t a = 0; a < 0x10000; ++a) t.ram.push_back(c.amplifier().ram(static_cast<std::uint16_t>(a)));
-      const auto e = c.amplifier().eeprom().bytes();
-      t.eeprom.assign(e.begin(), e.end());
-      t.nv_access = c.lbp_registers().nv_access;
-      t.rpcmem = c.lbp_registers().rpcmem;
-      t.powered = c.powered();
-      return t;
-    });
+    return stream_->with_card([](sim::Virtual8i20& c) { return sim::capture(c); });
   }
   sim::DeviceStats stats() {
     return stream_->with_card([](sim::Virtual8i20& c) { return c.stats(); });
@@ -87,46 +72,10 @@ class SimRig {
     return stream_->with_card([](sim::Virtual8i20& c) { return c.amplifier().map(); });
   }
 
-  // Every byte that changed between two truths and that nothing explains: not a cell the
-  // command named, not a register the card changes itself (FAULT, STATUS, BUSV, TEMPERATURE,
-  // CLEARFAULT), and, when the card reset meanwhile, not a working register reloaded from
-  // its NV twin or its power-up default. Empty: no stray write.
+  // Changes nothing explains (lib/sim/ground_truth.hpp): empty means no stray write.
   std::vector<std::string> unexplained_changes(const GroundTruth& before, const GroundTruth& after,
-                                               const std::vector<std::string>& named, bool reset) {
-    const auto m = map();
-    std::vector<std::string> out;
-    const auto is_named = [&](const std::string& n) { return std::ranges::find(named, n) != named.end(); };
-    const auto value = [](const lbp::Bytes& mem, const sim::Register& r) {
-      std::uint64_t v = 0;
-      for (unsigned i = 0; i < r.bytes(); ++i) v |= std::uint64_t{mem[r.address + i]} << (8 * i);
-      return v;
-    };
-    for (std::size_t a = 0; a < after.eeprom.size(); ++a) {
-      if (before.eeprom[a] == after.eeprom[a]) continue;
-      const sim::Register* r = nullptr;
-      for (const auto& reg : m.all())
-        if (reg.space == sim::Space::Eeprom && reg.overlaps(static_cast<std::uint32_t>(a), 1)) r = &reg;
-      if (!r || !is_named(r->name)) out.push_back("EEPROM byte " + std::to_string(a) + (r ? " (" + r->name + ")" : ""));
-    }
-    for (std::size_t a = 0; a < after.ram.size(); ++a) {
-      if (before.ram[a] == after.ram[a]) continue;
-      const sim::Register* r = nullptr;
-      for (const auto& reg : m.all())
-        if (reg.space == sim::Space::Ram && reg.overlaps(static_cast<std::uint32_t>(a), 1)) r = &reg;
-      if (!r) {
-        out.push_back("RAM byte " + std::to_string(a) + " (no register)");
-        continue;
-      }
-      static const std::vector<std::string> kVolatile{"FAULT", "STATUS", "BUSV", "TEMPERATURE", "CLEARFAULT"};
-      if (is_named(r->name) || std::ranges::find(kVolatile, r->name) != kVolatile.end()) continue;
-      if (reset) {
-        const sim::Register* nv = r->twin.empty() ? nullptr : m.find(r->twin);
-        if (nv && nv->space == sim::Space::Eeprom && value(after.ram, *r) == value(after.eeprom, *nv)) continue;
-        if (!nv && r->default_value && value(after.ram, *r) == static_cast<std::uint64_t>(*r->default_value)) continue;
-      }
-      out.push_back("RAM byte " + std::to_string(a) + " (" + r->name + ")");
-    }
-    return out;
+                                               const std::vector<std::string>& named) {
+    return sim::unexplained_changes(map(), before, after, named);
   }
   link::PipelinedLink& link() { return *link_; }
 

@@ -109,7 +109,8 @@ TEST(ParamDb, WorkingAddressesAreConfirmedOnlyForTheSimulatorRevision) {
   ASSERT_TRUE(db().simulator_swrevision());
   const auto sim = *db().simulator_swrevision();
   for (const auto& p : db().all()) {
-    if (p.space != Space::Ram || p.name == "SWREVISION" || p.name == "UNITNUMBER") continue;
+    if (p.space != Space::Ram || p.name == "SWREVISION" || p.name == "UNITNUMBER" || p.name == "MAXCURRENT")
+      continue;
     EXPECT_FALSE(p.address_confirmed(std::nullopt)) << p.name << " must not pass for a public fact";
     EXPECT_FALSE(p.address_confirmed(0x0100)) << p.name;
     EXPECT_TRUE(p.address_confirmed(sim)) << p.name;
@@ -120,6 +121,16 @@ TEST(ParamDb, WorkingAddressesAreConfirmedOnlyForTheSimulatorRevision) {
   const ParamDb resolved = loaded.for_firmware(sim);
   EXPECT_TRUE(resolved.address_confirmed(resolved.get("BRAKEONV")));
   EXPECT_FALSE(loaded.address_confirmed(loaded.get("BRAKEONV"))) << "resolving returns a new value";
+}
+
+TEST(ParamDb, MaxcurrentHasItsRealCardAddressFromLinuxCnc) {
+  // docs/facts.md s2, last paragraph: LinuxCNC's hostmot2 driver reads RAM 0x08E8 of every
+  // 8I20 to scale its current pin, so that address is confirmed beyond the simulator.
+  const auto& p = db().get("MAXCURRENT");
+  EXPECT_EQ(*p.address, 0x08E8);
+  EXPECT_TRUE(p.address_confirmed(std::nullopt));
+  EXPECT_TRUE(p.address_confirmed(0x0100)) << "any revision";
+  EXPECT_NE(p.provenance.source.find("LinuxCNC"), std::string::npos) << p.provenance.source;
 }
 
 TEST(ParamDb, LookupIsCaseInsensitiveAndSuggestsNeighbours) {

@@ -79,7 +79,8 @@ TEST(SimMap, ShuffleIsDeterministicAndKeepsPublicAddresses) {
   for (const auto& r : base.all()) {
     const auto& x = a.at(r.name);
     EXPECT_EQ(x.address, again.at(r.name).address) << r.name;
-    if (r.space == Space::Eeprom || r.name == "SWREVISION" || r.name == "UNITNUMBER")
+    if (r.space == Space::Eeprom || r.name == "SWREVISION" || r.name == "UNITNUMBER" ||
+        r.name == "MAXCURRENT")
       EXPECT_EQ(x.address, r.address) << r.name << " is public and must stay";
     else
       EXPECT_EQ(x.address % 2, 0) << r.name;
@@ -89,6 +90,18 @@ TEST(SimMap, ShuffleIsDeterministicAndKeepsPublicAddresses) {
   EXPECT_GT(moved, 10u);
   EXPECT_GT(differs, 10u);
   EXPECT_NO_THROW(a.validate());
+}
+
+TEST(SimMap, MaxcurrentSitsWhereLinuxCncReadsItOnEveryCard) {
+  // LinuxCNC's hostmot2 driver reads RAM 0x08E8 of every 8I20 to scale its current pin
+  // (docs/facts.md s2): the database and the simulator built from it agree, shuffled too.
+  const auto yaml = register_map_from(params::ParamDb::builtin());
+  EXPECT_EQ(yaml.at("MAXCURRENT").address, 0x08E8);
+  EXPECT_EQ(RegisterMap::builtin().at("MAXCURRENT").address, 0x08E8);
+  for (std::uint64_t seed : {1u, 5u, 7u, 42u})
+    EXPECT_EQ(yaml.shuffled(seed).at("MAXCURRENT").address, 0x08E8);
+  Bench b;
+  EXPECT_EQ(b.read(0x08E8), 1000u) << "MAXCURRENT = NVMAXCURRENT after power-up";
 }
 
 TEST(SimMap, ShuffledCardBehavesAtItsOwnAddresses) {

@@ -219,7 +219,8 @@ TEST(SimPty, EepromPersistsAcrossRuns) {
   Child sim({"--pty", "--eeprom", file});
   Port port(sim.line());
   ASSERT_TRUE(port.ok());
-  EXPECT_EQ(port.exchange(framed("45 12 08"), 3), reply("D0 07")) << "MAXCURRENT = NVMAXCURRENT 2000";
+  EXPECT_EQ(port.exchange(framed("45 E8 08"), 3), reply("D0 07"))
+      << "MAXCURRENT (0x08E8) = NVMAXCURRENT 2000";
   EXPECT_EQ(sim.terminate(), 0);
   ::unlink(file.c_str());
 }

@@ -1,0 +1,859 @@
+#include "eth/passthrough_port.hpp"
+
+#include <algorithm>
+#include <cassert>
+
+#include "eth/errors.hpp"
+#include "eth/running_host.hpp"
+#include "lbp/bytes.hpp"
+#include "lbp/local.hpp"
+
+namespace i20::eth {
+
+namespace lbp16 = lbp::lbp16;
+namespace sslbp = lbp::hm2::sslbp;
+using Clock = std::chrono::steady_clock;
+using std::chrono::microseconds;
+
+namespace {
+
+// Setup mode's serial rate when the firmware does not say (8I20 setup mode: 115200 8N1).
+constexpr std::uint32_t kFallbackBaud = 115200;
+// What UdpClient adds to every packet: the sequence tag write and read (space 6 Scratch).
+// What every packet starts with: UdpClient's sequence tag (write and read of space 6
+// Scratch) and our read of RXUDPCount.
+constexpr std::size_t kTagRequestBytes = 6 + 4 + 4;
+constexpr std::size_t kTagReplyBytes = 2 + 2;
+// Late DOITs tolerated in one execute() before the link gives up: each costs a replay,
+// and a remote that is always slower than its estimate is better reported than chased.
+constexpr unsigned kMaxReplays = 16;
+
+std::uint32_t word(const lbp::Bytes& bytes) {
+  return static_cast<std::uint32_t>(lbp::read_le(bytes));
+}
+
+std::uint8_t bit(unsigned channel) {
+  return static_cast<std::uint8_t>(1u << channel);
+}
+
+std::vector<unsigned> channels_of(std::uint8_t mask) {
+  std::vector<unsigned> out;
+  for (unsigned ch = 0; ch < kMaxChannels; ++ch)
+    if (mask & bit(ch)) out.push_back(ch);
+  return out;
+}
+
+// Indexes into `channels` (ascending channel numbers) grouped into runs of neighbours, so
+// that the registers of channels 2, 3, 4 move in one block access.
+std::vector<std::vector<std::size_t>> runs_of(const std::vector<unsigned>& channels) {
+  std::vector<std::vector<std::size_t>> runs;
+  for (std::size_t i = 0; i < channels.size(); ++i) {
+    if (runs.empty() || channels[runs.back().back()] + 1 != channels[i]) runs.emplace_back();
+    runs.back().push_back(i);
+  }
+  return runs;
+}
+
+bool is_data_read(const PassthroughStep& step) {
+  return step.effect == StepEffect::Read && step.data_bytes > 0;
+}
+
+// Rethrows `error` as the same kind of link error with another `completed` count.
+std::exception_ptr with_completed(const std::exception_ptr& error, std::size_t completed) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const link::TimeoutError& e) {
+    return std::make_exception_ptr(link::TimeoutError(e.what(), completed));
+  } catch (const link::CrcError& e) {
+    return std::make_exception_ptr(link::CrcError(e.what(), completed));
+  } catch (const BadReplyError& e) {
+    return std::make_exception_ptr(BadReplyError(e.what(), completed));
+  } catch (const SslbpError& e) {
+    return std::make_exception_ptr(SslbpError(e.what(), completed));
+  } catch (const ForeignHostError& e) {
+    return std::make_exception_ptr(ForeignHostError(e.what(), completed));
+  } catch (const link::LinkError& e) {
+    return std::make_exception_ptr(link::LinkError(e.what(), completed));
+  } catch (...) {
+    return std::current_exception();
+  }
+}
+
+}  // namespace
+
+// ---- the working state of one execute() -------------------------------------------------
+
+struct PassthroughPort::Channel {
+  unsigned channel = 0;
+  std::span<const lbp::Command> commands{};
+  std::vector<PassthroughStep> steps{};
+  // NV access mode each step runs in (nullopt: not known); one more entry for "after".
+  std::vector<std::optional<std::uint8_t>> mode_before{};
+  std::vector<lbp::Bytes> replies{};  // of steps [0, next)
+  std::size_t next = 0;
+  bool failed = false;
+  std::exception_ptr error{};
+  std::optional<std::size_t> failed_transfer{};  // step whose DATA bit was set: CS still to read
+  std::optional<std::string> unsupported{};      // why command steps.size() cannot travel
+
+  bool active() const { return !failed && next < steps.size(); }
+};
+
+struct PassthroughPort::Slot {
+  std::size_t owner = 0;            // index into the execute's channels
+  std::optional<std::size_t> step;  // the owner's step; nullopt for an NV mode restore
+  PassthroughStep plan{};
+  std::optional<std::uint8_t> mode{};  // NV access mode the step runs in
+};
+
+struct PassthroughPort::Round {
+  std::vector<Slot> slots{};  // ascending channel numbers
+  std::uint8_t mask = 0;
+  microseconds settle{0};
+  microseconds serial{0};
+  bool alone = false;        // the only round of its packet
+  bool ends_packet = false;  // nothing may follow it in the packet
+  std::vector<lbp16::Command> commands{};
+  std::size_t command_read = 0;  // index of the COMMAND read in `commands` (DATA follows)
+  // INTERFACE0 reads: index in `commands`, and the slots it serves in channel order.
+  std::vector<std::pair<std::size_t, std::vector<std::size_t>>> interface0_reads{};
+  std::size_t request_bytes = 0, reply_bytes = 0;
+};
+
+struct PassthroughPort::Request {
+  unsigned channel = 0;
+  std::span<const lbp::Command> batch{};
+  Outcome outcome{};
+  std::exception_ptr port_error{};
+  bool done = false;
+};
+
+// ---- a link to one channel ----------------------------------------------------------------
+
+namespace {
+
+class ChannelLink final : public link::Link {
+ public:
+  ChannelLink(std::shared_ptr<PassthroughPort> port, unsigned channel)
+      : port_(std::move(port)), channel_(channel) {
+    port_->attach();
+  }
+  ~ChannelLink() override { port_->detach(); }
+  ChannelLink(const ChannelLink&) = delete;
+  ChannelLink& operator=(const ChannelLink&) = delete;
+
+  std::vector<lbp::Bytes> execute(std::span<const lbp::Command> batch) override {
+    return port_->execute_combined(channel_, batch);
+  }
+  std::string describe() const override { return port_->describe(channel_); }
+  std::size_t max_data_bytes() const override { return 4; }  // INTERFACE0 is 32 bits wide
+  std::vector<std::string> notes() const override { return port_->notes(); }
+
+ private:
+  std::shared_ptr<PassthroughPort> port_;
+  unsigned channel_;
+};
+
+}  // namespace
+
+// ---- opening and closing ------------------------------------------------------------------
+
+std::shared_ptr<PassthroughPort> PassthroughPort::open(const HostPort& card, unsigned sserial_port,
+                                                       std::uint8_t channel_mask,
+                                                       PassthroughOptions options) {
+  auto bus = std::make_unique<UdpClient>(card.ip, card.port, options.udp);
+  return std::make_shared<PassthroughPort>(std::move(bus), sserial_port, channel_mask, std::move(options));
+}
+
+std::shared_ptr<PassthroughPort> PassthroughPort::open(std::shared_ptr<Lbp16Transport> card,
+                                                       unsigned sserial_port, std::uint8_t channel_mask,
+                                                       PassthroughOptions options) {
+  return std::make_shared<PassthroughPort>(std::move(card), sserial_port, channel_mask, std::move(options));
+}
+
+std::shared_ptr<Lbp16Transport> PassthroughPort::card_transport(const HostPort& card,
+                                                                const UdpOptions& options) {
+  return std::make_shared<SharedTransport>(std::make_unique<UdpClient>(card.ip, card.port, options));
+}
+
+PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned sserial_port,
+                                 std::uint8_t channel_mask, PassthroughOptions options)
+    : bus_(std::move(bus)), sserial_port_(sserial_port), mask_(channel_mask), options_(std::move(options)) {
+  if (mask_ == 0) throw UsageError("a passthrough port needs at least one channel");
+  card_ = identify(*bus_);
+  const HostMot2Info info = read_hostmot2(*bus_);
+  board_name_ = info.idrom.board_name;
+  const SserialPort port = find_sserial_port(info, sserial_port_);
+  sslbp_ = std::make_unique<SslbpPort>(*bus_, port, card_.has_timer_space(), options_.sslbp);
+  activity_ = require_no_running_host(*bus_, std::span(&port, 1), options_.running_host,
+                                      "stop SSERIAL port " + std::to_string(port.index) + " for setup mode");
+  last_received_ = activity_.last_received;
+  sent_at_last_ = activity_.sent_at_last;
+  sslbp_->stop_all();
+  parameters_ = sslbp_->read_parameters();
+  for (unsigned ch : channels_of(mask_)) {
+    if (parameters_.channels > 0 && ch >= parameters_.channels)
+      throw DiscoveryError(card_.card_name + " SSERIAL port " + std::to_string(port.index) + " has " +
+                           std::to_string(parameters_.channels) + " channel(s), there is no channel " +
+                           std::to_string(ch));
+    bauds_[ch] = sslbp_->read_baud_rate(parameters_, ch);
+  }
+  start_setup();
+
+  notes_.push_back("card " + card_.card_name + ", LBP16 version " + std::to_string(card_.lbp16_version) +
+                   ", firmware version " + std::to_string(card_.firmware_version) + ", HostMot2 " +
+                   board_name_);
+  notes_.push_back("SSLBP " + parameters_.version() + " on SSERIAL port " + std::to_string(port.index) +
+                   " (COMMAND at " + lbp::hex_value(port.registers.command, 8) + "), " +
+                   std::to_string(parameters_.channels) + " channel(s)");
+  notes_.push_back((options_.running_host.take_over ? "take-over asked for; " : std::string()) +
+                   activity_.describe());
+  for (unsigned ch : channels_of(mask_)) {
+    const RemoteInfo& r = remotes_[ch];
+    std::string note = "ch " + std::to_string(ch) + ": " + r.name + " unit " +
+                       lbp::hex_value(r.unit_number, 8) + ", remote baud " +
+                       (bauds_[ch] ? std::to_string(bauds_[ch]) : std::string("unknown"));
+    if (r.nv_access && *r.nv_access != 0)
+      note += ", found in NV access mode " + std::to_string(*r.nv_access) + " (left by an interrupted tool?)";
+    notes_.push_back(note);
+  }
+  notes_.push_back(card_.has_timer_space()
+                       ? "passthrough batches DOITs and waits inside the packet (LBP16 WaituS)"
+                       : "no LBP16 timer space: one DOIT per packet, COMMAND polled");
+  stats_ = PassthroughStats{};  // the figures describe execute() traffic, not the opening
+}
+
+PassthroughPort::~PassthroughPort() {
+  try {
+    sslbp_->stop_all();
+  } catch (...) {
+    // Best effort: the card may be gone; leaving SSLBP in setup mode drives no motor.
+  }
+}
+
+void PassthroughPort::start_setup() {
+  sslbp_->stop_all();
+  const std::uint8_t failed = sslbp_->start_setup(mask_);
+  const auto regs = sslbp_->read_channels(mask_);
+  const auto channels = channels_of(mask_);
+  for (std::size_t i = 0; i < channels.size(); ++i) {
+    const unsigned ch = channels[i];
+    remotes_[ch] = RemoteInfo{.name = regs[i].name(), .unit_number = regs[i].interface0, .cs = regs[i].cs};
+    if (failed & bit(ch))
+      throw DiscoveryError("no remote answered on " + describe(ch) + " at setup start (CS " +
+                           lbp::hex_value(regs[i].cs, 8) + ": " + regs[i].status().describe() +
+                           "); check the cable and the 8I20's logic power");
+    if (options_.require_8i20 && regs[i].interface1 != sslbp::kName8i20)
+      throw DiscoveryError("the remote on " + describe(ch) + " reports itself as '" + regs[i].name() +
+                           "', not an 8I20");
+  }
+  // Each 8I20's NV access mode (0xCC), in one DOIT: known modes let NV mode changes share
+  // packets with other commands.
+  const lbp::Command query = lbp::local_read(lbp::local::kGetNvAccess);
+  std::vector<Channel> work;
+  for (unsigned ch : channels) {
+    nv_modes_[ch].reset();
+    Channel c{.channel = ch, .commands = std::span(&query, 1), .steps = {plan_passthrough(query)}};
+    c.mode_before.assign(2, std::nullopt);
+    work.push_back(std::move(c));
+  }
+  run(work);
+  for (const Channel& c : work) {
+    if (c.error || c.replies.empty()) continue;
+    nv_modes_[c.channel] = c.replies.front().at(0);
+    remotes_[c.channel].nv_access = nv_modes_[c.channel];
+  }
+}
+
+void PassthroughPort::resync() {
+  if (!sslbp_->wait_idle()) {
+    // Restarting is a start: the running-host rule applies again.
+    ++stats_.restarts;
+    const HostActivity seen =
+        require_no_running_host(*bus_, std::span(&sslbp_->port(), 1), options_.running_host,
+                                "restart SSERIAL port " + std::to_string(sserial_port_) + " in setup mode");
+    last_received_ = seen.last_received;
+    sent_at_last_ = seen.sent_at_last;
+    start_setup();
+  }
+  needs_resync_ = false;
+}
+
+// ---- what a DOIT costs --------------------------------------------------------------------
+
+std::chrono::microseconds PassthroughPort::serial_time(const PassthroughStep& step, unsigned channel) const {
+  const std::uint64_t baud = bauds_.at(channel) ? bauds_.at(channel) : kFallbackBaud;
+  const std::uint64_t characters = step.wire_bytes + options_.turnaround_characters;
+  return microseconds(characters * 10 * 1'000'000 / baud);
+}
+
+std::chrono::microseconds PassthroughPort::settle_for(const PassthroughStep& step, unsigned channel,
+                                                      std::optional<std::uint8_t> nv_mode) const {
+  auto us = serial_time(step, channel) + options_.overhead + slack_;
+  // A data write may be an EEPROM write: while NV access is on, or not known to be off.
+  if (step.data_write && nv_mode.value_or(1) != 0)
+    us += options_.nv_write_time * static_cast<long>(std::max<std::size_t>(1, step.data_bytes / 2));
+  return us;
+}
+
+// A round that writes an EEPROM cell and reads nothing back: when it is late, the DOIT in
+// flight is ours (nothing else can be), and DATA, once COMMAND clears, is its outcome
+// (unless a later DOIT of the packet ran in the microsecond after our read-back; then the
+// cell's failure could hide behind that DOIT's success, which the read-back of every NV
+// write catches).
+bool PassthroughPort::is_eeprom_write(const Round& round) {
+  const bool writes = std::any_of(round.slots.begin(), round.slots.end(),
+                                  [](const Slot& s) { return s.plan.data_write && s.mode.value_or(1) != 0; });
+  const bool reads = std::any_of(round.slots.begin(), round.slots.end(),
+                                 [](const Slot& s) { return s.plan.reply_bytes > 0; });
+  return writes && !reads;
+}
+
+// A DOIT outlived its WaituS: the remote or SSLBP is slower than the estimate. Every later
+// WaituS of this port gets longer (doubling, up to options.max_slack), so a slow card
+// costs a few replays, not one per command. EEPROM writes do not teach: their time is a
+// guess of its own (nv_write_time), and a slow cell only costs a poll.
+void PassthroughPort::learn_from_late(const Round& round) {
+  const bool eeprom = std::any_of(round.slots.begin(), round.slots.end(),
+                                  [](const Slot& s) { return s.plan.data_write && s.mode.value_or(1) != 0; });
+  if (eeprom) return;
+  const microseconds step = std::max(round.settle - slack_, microseconds{50});
+  slack_ = std::min(std::max(2 * slack_, step), microseconds(options_.max_slack));
+}
+
+// Fills in a round's mask, timing and LBP16 commands from its slots.
+void PassthroughPort::lay_out(Round& round, const std::vector<Channel>& channels) const {
+  const auto& regs = sslbp_->port().registers;
+  std::vector<unsigned> numbers;
+  round.mask = 0;
+  round.settle = round.serial = microseconds{0};
+  for (const Slot& s : round.slots) {
+    const unsigned ch = channels[s.owner].channel;
+    numbers.push_back(ch);
+    round.mask |= bit(ch);
+    round.settle = std::max(round.settle, settle_for(s.plan, ch, s.mode));
+    round.serial = std::max(round.serial, serial_time(s.plan, ch));
+  }
+  round.commands.clear();
+  round.interface0_reads.clear();
+  // Registers of neighbouring channels are neighbours too (4 bytes apart): one block
+  // access per run of channels.
+  const auto write_run = [&](auto address_of, auto value_of, auto wanted) {
+    std::vector<unsigned> chosen_channels;
+    std::vector<std::size_t> chosen_slots;
+    for (std::size_t i = 0; i < round.slots.size(); ++i)
+      if (wanted(round.slots[i])) {
+        chosen_channels.push_back(numbers[i]);
+        chosen_slots.push_back(i);
+      }
+    for (const auto& run : runs_of(chosen_channels)) {
+      std::vector<std::uint32_t> values;
+      for (std::size_t k : run) values.push_back(value_of(round.slots[chosen_slots[k]]));
+      round.commands.push_back(lbp16::write_hm2(address_of(chosen_channels[run.front()]), values));
+    }
+  };
+  write_run([&](unsigned ch) { return regs.interface0(ch); },
+            [](const Slot& s) { return *s.plan.interface0; },
+            [](const Slot& s) { return s.plan.interface0.has_value(); });
+  write_run([&](unsigned ch) { return regs.cs(ch); }, [](const Slot& s) { return s.plan.cs; },
+            [](const Slot&) { return true; });
+  round.commands.push_back(lbp16::write_hm2(regs.command, sslbp::doit(round.mask)));
+  if (sslbp_->timer_space() && round.settle.count() > 0) {
+    const auto us = static_cast<std::uint16_t>(std::min<std::int64_t>(round.settle.count(), 0xFFFF));
+    round.commands.push_back(lbp16::write(lbp16::space::kTimers, kWaitMicrosecondsAddress,
+                                          lbp16::Width::Bits16, lbp::to_le(us, 2), false));
+  }
+  round.command_read = round.commands.size();
+  round.commands.push_back(lbp16::read_hm2(regs.command));
+  round.commands.push_back(lbp16::read_hm2(regs.data));
+  std::vector<unsigned> reading;
+  std::vector<std::size_t> reading_slots;
+  for (std::size_t i = 0; i < round.slots.size(); ++i)
+    if (round.slots[i].plan.reply_bytes > 0) {
+      reading.push_back(numbers[i]);
+      reading_slots.push_back(i);
+    }
+  for (const auto& run : runs_of(reading)) {
+    std::vector<std::size_t> served;
+    for (std::size_t k : run) served.push_back(reading_slots[k]);
+    round.interface0_reads.emplace_back(round.commands.size(), served);
+    round.commands.push_back(
+        lbp16::read_hm2(regs.interface0(reading[run.front()]), static_cast<unsigned>(run.size())));
+  }
+  round.request_bytes = round.reply_bytes = 0;
+  for (const auto& c : round.commands) {
+    round.request_bytes += c.request_bytes();
+    round.reply_bytes += c.reply_bytes();
+  }
+}
+
+// ---- executing batches --------------------------------------------------------------------
+
+struct PassthroughPort::PacketResult {
+  enum class Next { Continue, Replay, Resend };
+  Next next = Next::Continue;
+  std::optional<Round> restore{};  // run alone before the replay
+  bool slow = false;               // the replay's first round goes alone (a late DOIT)
+};
+
+std::vector<PassthroughPort::Outcome> PassthroughPort::execute(std::span<const Batch> batches) {
+  std::lock_guard lock(execute_mutex_);
+  std::uint8_t seen = 0;
+  for (const Batch& b : batches) {
+    remote(b.channel);  // UsageError for a channel outside the mask
+    if (seen & bit(b.channel))
+      throw UsageError("two batches for channel " + std::to_string(b.channel) + " in one execute on " +
+                       describe());
+    seen |= bit(b.channel);
+  }
+  if (needs_resync_) resync();
+
+  std::vector<Channel> work;
+  for (const Batch& b : batches) {
+    Channel c{.channel = b.channel, .commands = b.commands};
+    for (std::size_t i = 0; i < b.commands.size(); ++i) {
+      try {
+        c.steps.push_back(plan_passthrough(b.commands[i]));
+      } catch (const link::UnsupportedCommand& e) {
+        c.unsupported = e.what();  // the commands before it still run, as on any link
+        break;
+      }
+    }
+    c.mode_before.push_back(nv_modes_[b.channel]);
+    for (const PassthroughStep& step : c.steps)
+      c.mode_before.push_back(step.nv_access_mode ? std::optional<std::uint8_t>(*step.nv_access_mode)
+                                                  : c.mode_before.back());
+    work.push_back(std::move(c));
+  }
+  const std::uint64_t trips_before = stats_.round_trips;
+  run(work);
+  stats_.max_round_trips = std::max(stats_.max_round_trips, stats_.round_trips - trips_before);
+
+  std::vector<Outcome> outcomes;
+  for (Channel& c : work) {
+    Outcome o{.channel = c.channel};
+    if (!c.error && c.unsupported)
+      c.error = std::make_exception_ptr(link::UnsupportedCommand(*c.unsupported, c.steps.size()));
+    if (c.error)
+      o.error = c.error;
+    else
+      o.replies = std::move(c.replies);
+    outcomes.push_back(std::move(o));
+  }
+  return outcomes;
+}
+
+void PassthroughPort::run(std::vector<Channel>& channels) {
+  unsigned replays = 0, resends = 0;
+  std::optional<Round> restore;
+  bool slow = false;
+  try {
+    while (std::any_of(channels.begin(), channels.end(), [](const Channel& c) { return c.active(); })) {
+      std::vector<Round> packet;
+      if (restore) {
+        packet.push_back(std::move(*restore));
+        restore.reset();
+      } else {
+        // After a late DOIT its round goes alone: the poll then reads its own result.
+        packet = next_packet(channels, slow ? 1u : options_.max_doits_per_packet);
+        slow = false;
+      }
+      PacketResult result = run_packet(packet, channels);
+      restore = std::move(result.restore);
+      slow = result.slow;
+      if (result.next == PacketResult::Next::Replay && ++replays > kMaxReplays)
+        throw link::TimeoutError(
+            "SSLBP DOITs on " + describe() + " keep finishing later than their serial traffic needs (" +
+            std::to_string(replays) + " replays in one exchange): the remote answers too slowly");
+      if (result.next == PacketResult::Next::Resend && ++resends > options_.sslbp.lost_reply_retries)
+        throw link::TimeoutError("the replies from " + describe() + " were lost " + std::to_string(resends) +
+                                 " times in a row; the card or the network is not answering");
+    }
+  } catch (const link::LinkError&) {
+    needs_resync_ = true;
+    const auto error = std::current_exception();
+    for (Channel& c : channels)
+      if (c.active()) {
+        c.failed = true;
+        c.error = with_completed(error, c.next);
+      }
+  }
+  describe_failures(channels);
+}
+
+std::vector<PassthroughPort::Round> PassthroughPort::next_packet(std::vector<Channel>& channels,
+                                                                 unsigned max_doits) const {
+  // What a channel already has in this packet: the packing rules (see the header) look
+  // at it.
+  struct Seen {
+    bool any = false;
+    bool data_read = false;
+    std::size_t first = 0;
+  };
+  std::vector<Round> packet;
+  std::vector<std::size_t> cursor;
+  for (const Channel& c : channels) cursor.push_back(c.next);
+  std::vector<Seen> seen(channels.size());
+  std::size_t request = kTagRequestBytes, reply = kTagReplyBytes;
+  microseconds wait{0};
+  for (;;) {
+    if (max_doits != 0 && packet.size() >= max_doits) break;
+    Round round;
+    bool allowed = true;
+    for (std::size_t i = 0; i < channels.size(); ++i) {
+      const Channel& c = channels[i];
+      if (c.failed || cursor[i] >= c.steps.size()) continue;
+      const PassthroughStep& step = c.steps[cursor[i]];
+      const auto mode = c.mode_before[cursor[i]];
+      round.slots.push_back(Slot{.owner = i, .step = cursor[i], .plan = step, .mode = mode});
+      const Seen& s = seen[i];
+      switch (step.effect) {
+        case StepEffect::Read: break;
+        case StepEffect::Unrepeatable: round.alone = true; break;
+        case StepEffect::LocalWrite: allowed = allowed && !s.any; break;
+        case StepEffect::NvMode: allowed = allowed && (!s.any || c.mode_before[s.first].has_value()); break;
+        case StepEffect::DataWrite: allowed = allowed && !s.data_read; break;
+      }
+    }
+    if (round.slots.empty()) break;
+    if (round.alone) allowed = allowed && packet.empty();
+    if (!sslbp_->timer_space()) round.ends_packet = true;  // nothing to wait with: poll each DOIT
+    lay_out(round, channels);
+    const bool fits = request + round.request_bytes <= lbp16::kMaxPayload &&
+                      reply + round.reply_bytes <= lbp16::kMaxPayload &&
+                      wait + round.settle <= options_.max_packet_wait;
+    if (!packet.empty() && (!allowed || !fits)) break;
+    for (const Slot& slot : round.slots) {
+      Seen& s = seen[slot.owner];
+      if (!s.any) s.first = *slot.step;
+      s.any = true;
+      s.data_read = s.data_read || is_data_read(slot.plan);
+      ++cursor[slot.owner];
+    }
+    request += round.request_bytes;
+    reply += round.reply_bytes;
+    wait += round.settle;
+    const bool last = round.alone || round.ends_packet;
+    packet.push_back(std::move(round));
+    if (last) break;
+  }
+  return packet;
+}
+
+PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& packet,
+                                                          std::vector<Channel>& channels) {
+  // First RXUDPCount: whether anyone else's packets reached the card since our last one.
+  std::vector<lbp16::Command> commands{
+      lbp16::read(lbp16::space::kStatus, kRxUdpCountAddress, lbp16::Width::Bits16)};
+  std::vector<std::size_t> offsets;
+  for (const Round& r : packet) {
+    offsets.push_back(commands.size());
+    commands.insert(commands.end(), r.commands.begin(), r.commands.end());
+  }
+  std::vector<lbp::Bytes> parts;
+  std::uint64_t sent = 0;
+  ++stats_.round_trips;
+  try {
+    // Never resent blindly: it holds writes. A lost reply is sorted out by lost_reply().
+    parts = bus_->transact_counted(commands, Resend::Never, sent);
+  } catch (const link::TimeoutError&) {
+    return lost_reply(packet, channels);
+  }
+  require_no_foreign_packets(static_cast<std::uint16_t>(lbp::read_le(parts.front())), sent);
+  for (std::size_t r = 0; r < packet.size(); ++r) {
+    Round& round = packet[r];
+    const std::size_t at = offsets[r] + round.command_read;
+    ++stats_.doits;
+    stats_.serial_time += round.serial;
+    if ((word(parts[at]) & 0xFFFF) != 0) {
+      ++stats_.late_doits;
+      learn_from_late(round);
+      if (r + 1 == packet.size()) {
+        // Nothing was issued after it: wait for it, what the polls read is its result.
+        complete_by_polling(round, channels,
+                            sslbp_->poll(interface0_addresses(round, channels), sslbp::doit(round.mask)));
+        return {};
+      }
+      if (is_eeprom_write(round)) {
+        // An EEPROM cell that took longer than its WaituS: wait for it and take DATA as its
+        // outcome rather than write the cell again; the rest of the packet replays.
+        const Completion idle = sslbp_->poll({}, sslbp::doit(round.mask));
+        stats_.round_trips += idle.round_trips;
+        ++stats_.replays;
+        for (const Slot& slot : round.slots) finish(channels, slot, 0, idle.data);
+        return {PacketResult::Next::Replay, restore_round(packet, r + 1, channels)};
+      }
+      // SSLBP ignored the next DOITs of this packet, or (a microsecond race) ran one: wait
+      // until it is idle, restore the NV mode the late round expects, replay from it.
+      // A channel whose DATA bit is set failed there (or just after): it ends, the others
+      // replay. Later WaituS get longer.
+      const Completion idle = sslbp_->poll({}, sslbp::doit(round.mask));
+      stats_.round_trips += idle.round_trips;
+      ++stats_.replays;
+      for (const Slot& slot : round.slots)
+        if (slot.step && (idle.data & bit(channels[slot.owner].channel)))
+          finish(channels, slot, 0, idle.data);
+      return {PacketResult::Next::Replay, restore_round(packet, r, channels), /*slow=*/true};
+    }
+    const auto data = static_cast<std::uint8_t>(word(parts[at + 1]));
+    std::vector<std::uint32_t> interface0(round.slots.size(), 0);
+    for (const auto& [index, served] : round.interface0_reads) {
+      const auto words = lbp16::words32(parts[offsets[r] + index]);
+      for (std::size_t k = 0; k < served.size(); ++k) interface0[served[k]] = words.at(k);
+    }
+    for (std::size_t i = 0; i < round.slots.size(); ++i)
+      finish(channels, round.slots[i], interface0[i], data);
+  }
+  return {};
+}
+
+void PassthroughPort::require_no_foreign_packets(std::uint16_t received, std::uint64_t sent) {
+  const std::uint32_t moved = static_cast<std::uint16_t>(received - last_received_);
+  const std::uint64_t ours = sent - sent_at_last_;
+  last_received_ = received;
+  sent_at_last_ = sent;
+  if (moved <= ours) return;
+  throw ForeignHostError(
+      "another host sent " + std::to_string(moved - ours) + " packet(s) to the card on " + describe() +
+      " during this exchange (LinuxCNC running?): its DOITs run the passthrough's commands "
+      "too, so the results were discarded; stop that host and run the command again");
+}
+
+PassthroughPort::PacketResult PassthroughPort::lost_reply(std::vector<Round>& packet,
+                                                          std::vector<Channel>& channels) {
+  // The reply is lost, the packet maybe too. A read-only probe tells whether a DOIT still
+  // runs: then the packet arrived.
+  const Round& last = packet.back();
+  const Completion probe = sslbp_->poll(interface0_addresses(last, channels), sslbp::doit(last.mask));
+  const bool was_busy = probe.round_trips > 1;
+  if (packet.size() == 1 && was_busy) {
+    complete_by_polling(packet.front(), channels, probe);  // its only DOIT ran: these are its results
+    return {};
+  }
+  stats_.round_trips += probe.round_trips;
+  if (packet.front().alone)
+    throw link::TimeoutError("the reply from " + describe() +
+                             " was lost and the command cannot be resent safely: it may or may not have "
+                             "taken effect");
+  ++stats_.replays;
+  return {PacketResult::Next::Resend, restore_round(packet, 0, channels)};
+}
+
+std::vector<std::uint16_t> PassthroughPort::interface0_addresses(const Round& round,
+                                                                 const std::vector<Channel>& channels) const {
+  std::vector<std::uint16_t> out;
+  for (const Slot& s : round.slots)
+    if (s.plan.reply_bytes > 0) out.push_back(sslbp_->port().registers.interface0(channels[s.owner].channel));
+  return out;
+}
+
+void PassthroughPort::complete_by_polling(const Round& round, std::vector<Channel>& channels,
+                                          const Completion& done) {
+  stats_.round_trips += done.round_trips;
+  std::vector<std::uint32_t> interface0(round.slots.size(), 0);
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < round.slots.size(); ++i)
+    if (round.slots[i].plan.reply_bytes > 0) interface0[i] = done.results.at(next++);
+  for (std::size_t i = 0; i < round.slots.size(); ++i)
+    finish(channels, round.slots[i], interface0[i], done.data);
+}
+
+std::optional<PassthroughPort::Round> PassthroughPort::restore_round(const std::vector<Round>& packet,
+                                                                     std::size_t late,
+                                                                     std::vector<Channel>& channels) const {
+  Round restore;
+  restore.alone = true;
+  for (const Slot& s : packet[late].slots) {
+    Channel& c = channels[s.owner];
+    if (c.failed || s.plan.effect == StepEffect::NvMode) continue;  // replaying an 0xEC sets the mode itself
+    bool changed_later = false;
+    for (std::size_t r = late + 1; r < packet.size(); ++r)
+      for (const Slot& t : packet[r].slots)
+        changed_later = changed_later || (t.owner == s.owner && t.plan.effect == StepEffect::NvMode);
+    if (!changed_later) continue;
+    if (!s.mode) {  // the packing rules keep this from happening
+      c.failed = true;
+      c.error = std::make_exception_ptr(SslbpError(
+          "the NV access mode of the 8I20 on " + describe(c.channel) +
+              " is not known after a late DOIT: run the command again (i20 reset if it stays in NV mode)",
+          c.next));
+      continue;
+    }
+    const lbp::Command command = lbp::local_write(lbp::local::kSetNvAccess, *s.mode);
+    restore.slots.push_back(
+        Slot{.owner = s.owner, .step = std::nullopt, .plan = plan_passthrough(command), .mode = s.mode});
+  }
+  if (restore.slots.empty()) return std::nullopt;
+  lay_out(restore, channels);
+  return restore;
+}
+
+void PassthroughPort::finish(std::vector<Channel>& channels, const Slot& slot, std::uint32_t interface0,
+                             std::uint8_t data) {
+  Channel& c = channels[slot.owner];
+  if (c.failed) return;  // its later DOITs in the packet ran, but its batch already ended
+  const bool failed = (data & bit(c.channel)) != 0;
+  if (!slot.step) {  // an NV mode restore before a replay
+    if (failed) {
+      c.failed = true;
+      c.error = std::make_exception_ptr(
+          SslbpError("could not restore the NV access mode of the 8I20 on " + describe(c.channel) +
+                         " before replaying a late DOIT; its mode is unknown: reset it (i20 reset)",
+                     c.next));
+      needs_resync_ = true;
+    }
+    return;
+  }
+  assert(*slot.step == c.next);
+  if (failed) {
+    c.failed = true;
+    c.failed_transfer = c.next;
+    nv_modes_[c.channel].reset();  // whatever it was doing, we no longer know
+    needs_resync_ = true;
+    return;
+  }
+  c.replies.push_back(reply_from_interface0(interface0, slot.plan.reply_bytes));
+  ++c.next;
+  ++stats_.commands;
+  if (slot.plan.nv_access_mode) nv_modes_[c.channel] = *slot.plan.nv_access_mode;
+  if (slot.plan.effect == StepEffect::Unrepeatable) nv_modes_[c.channel].reset();  // a reset leaves NV mode
+}
+
+void PassthroughPort::describe_failures(std::vector<Channel>& channels) {
+  std::uint8_t mask = 0;
+  for (const Channel& c : channels)
+    if (c.failed_transfer) mask |= bit(c.channel);
+  if (mask == 0) return;
+  std::vector<ChannelRegisters> regs;
+  try {
+    ++stats_.round_trips;
+    regs = sslbp_->read_channels(mask);
+  } catch (const link::LinkError&) {
+    // The failure is the news; without CS it is reported in fewer words.
+  }
+  for (Channel& c : channels) {
+    if (!c.failed_transfer) continue;
+    const std::size_t step = *c.failed_transfer;
+    const auto channels_before = channels_of(static_cast<std::uint8_t>(mask & (bit(c.channel) - 1))).size();
+    std::string message = "the remote on " + describe(c.channel) + " did not complete LBP command " +
+                          lbp::to_hex(c.commands[step].bytes);
+    if (regs.empty()) {
+      c.error =
+          std::make_exception_ptr(SslbpError(message + " (SSLBP flagged the transfer; CS unreadable)", step));
+      continue;
+    }
+    const std::uint32_t cs = regs[channels_before].cs;
+    const sslbp::ChannelStatus status{cs};
+    message += " (SSLBP CS " + lbp::hex_value(cs, 8) + ": " + status.describe() + ")";
+    if (status.timed_out())
+      c.error = std::make_exception_ptr(link::TimeoutError(message, step));
+    else if (status.crc_error())
+      c.error = std::make_exception_ptr(link::CrcError(message, step));
+    else
+      c.error = std::make_exception_ptr(SslbpError(message, step));
+  }
+}
+
+// ---- links of several channels share DOITs ------------------------------------------------
+
+void PassthroughPort::attach() noexcept {
+  std::lock_guard lock(combine_mutex_);
+  ++attached_;
+}
+
+void PassthroughPort::detach() noexcept {
+  {
+    std::lock_guard lock(combine_mutex_);
+    --attached_;
+  }
+  combine_changed_.notify_all();  // a leader waiting for this link need not wait any more
+}
+
+std::vector<lbp::Bytes> PassthroughPort::execute_combined(unsigned channel,
+                                                          std::span<const lbp::Command> batch) {
+  Request request{.channel = channel, .batch = batch};
+  std::unique_lock lock(combine_mutex_);
+  pending_.push_back(&request);
+  combine_changed_.notify_all();
+  while (!request.done) {
+    if (!leading_)
+      lead_combined(lock);
+    else
+      combine_changed_.wait(lock, [&] { return request.done || !leading_; });
+  }
+  if (request.port_error) std::rethrow_exception(request.port_error);
+  if (request.outcome.error) std::rethrow_exception(request.outcome.error);
+  return std::move(request.outcome.replies);
+}
+
+void PassthroughPort::lead_combined(std::unique_lock<std::mutex>& lock) {
+  leading_ = true;
+  // Give the other links a moment to join: one DOIT then serves them all.
+  combine_changed_.wait_until(lock, Clock::now() + options_.gather_window,
+                              [&] { return pending_.size() >= attached_; });
+  std::vector<Request*> taken, later;
+  std::uint8_t seen = 0;
+  for (Request* r : pending_) {
+    if (seen & bit(r->channel)) {
+      later.push_back(r);  // a second batch of a channel waits for the next round
+      continue;
+    }
+    seen |= bit(r->channel);
+    taken.push_back(r);
+  }
+  pending_ = std::move(later);
+  lock.unlock();
+  std::vector<Batch> batches;
+  for (const Request* r : taken) batches.push_back(Batch{.channel = r->channel, .commands = r->batch});
+  try {
+    auto outcomes = execute(batches);
+    for (std::size_t i = 0; i < taken.size(); ++i) taken[i]->outcome = std::move(outcomes[i]);
+  } catch (...) {
+    for (Request* r : taken) r->port_error = std::current_exception();
+  }
+  lock.lock();
+  for (Request* r : taken) r->done = true;
+  leading_ = false;
+  combine_changed_.notify_all();
+}
+
+// ---- accessors ----------------------------------------------------------------------------
+
+const RemoteInfo& PassthroughPort::remote(unsigned channel) const {
+  if (channel >= kMaxChannels || !(mask_ & bit(channel)))
+    throw UsageError("channel " + std::to_string(channel) + " is not part of " + describe());
+  return remotes_[channel];
+}
+
+std::uint32_t PassthroughPort::baud(unsigned channel) const {
+  return bauds_.at(channel);
+}
+
+PassthroughStats PassthroughPort::stats() const {
+  std::lock_guard lock(execute_mutex_);
+  PassthroughStats s = stats_;
+  s.slack = slack_;
+  return s;
+}
+
+TransportStats PassthroughPort::transport_stats() const {
+  std::lock_guard lock(execute_mutex_);
+  return bus_->stats();
+}
+
+std::string PassthroughPort::describe() const {
+  return "eth " + bus_->describe() + " port " + std::to_string(sserial_port_);
+}
+
+std::string PassthroughPort::describe(unsigned channel) const {
+  std::string s = "eth " + bus_->describe();
+  if (sserial_port_ != 0) s += " port " + std::to_string(sserial_port_);
+  return s + " ch " + std::to_string(channel);
+}
+
+std::unique_ptr<link::Link> PassthroughPort::link(unsigned channel) {
+  remote(channel);  // UsageError for a channel outside the mask
+  return std::make_unique<ChannelLink>(shared_from_this(), channel);
+}
+
+}  // namespace i20::eth

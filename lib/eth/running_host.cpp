@@ -1,0 +1,136 @@
+#include "eth/running_host.hpp"
+
+#include <algorithm>
+#include <optional>
+#include <thread>
+
+#include "eth/errors.hpp"
+#include "lbp/bytes.hpp"
+#include "lbp/hostmot2.hpp"
+
+namespace i20::eth {
+
+namespace lbp16 = lbp::lbp16;
+namespace sslbp = lbp::hm2::sslbp;
+
+namespace {
+
+struct Counters {
+  std::uint16_t received = 0;
+  std::uint16_t sent = 0;
+};
+
+// RXUDPCount (0x0A) through TXUDPCount (0x10): four 16-bit words in one command.
+lbp16::Command counters_read() {
+  return lbp16::read(lbp16::space::kStatus, kRxUdpCountAddress, lbp16::Width::Bits16,
+                     (kTxUdpCountAddress - kRxUdpCountAddress) / 2 + 1);
+}
+
+Counters counters_of(const lbp::Bytes& words) {
+  const auto w = lbp16::words16(words);
+  return Counters{.received = w.front(), .sent = w.back()};
+}
+
+// One read-only packet: optionally the counters, then COMMAND of every port. Returns the
+// counters when asked for and records busy COMMANDs.
+std::optional<Counters> sample(Lbp16Transport& bus, std::span<const SserialPort> ports, bool counters,
+                               HostActivity& activity, std::uint64_t& sent) {
+  std::vector<lbp16::Command> packet;
+  if (counters) packet.push_back(counters_read());
+  for (const auto& port : ports) packet.push_back(lbp16::read_hm2(port.registers.command));
+  const auto parts = bus.transact_counted(packet, Resend::IfReadOnly, sent);
+  const std::size_t first = counters ? 1 : 0;
+  for (std::size_t i = 0; i < ports.size(); ++i) {
+    const auto command = static_cast<std::uint32_t>(lbp::read_le(parts[first + i])) & 0xFFFF;
+    if (command != 0) activity.busy.push_back(BusyCommand{.port = ports[i].index, .command = command});
+  }
+  ++activity.command_samples;
+  if (!counters) return std::nullopt;
+  return counters_of(parts.front());
+}
+
+std::uint32_t beyond(std::uint16_t before, std::uint16_t after, std::uint32_t own) {
+  const std::uint32_t moved = static_cast<std::uint16_t>(after - before);  // the counters wrap at 16 bits
+  return moved > own ? moved - own : 0;
+}
+
+std::string what_command_is(std::uint32_t command) {
+  if (command & sslbp::kDoit) return "a DOIT";
+  if ((command & (sslbp::kStart | sslbp::kTypeMask)) == sslbp::kStartNormal) return "a normal start";
+  if ((command & (sslbp::kStart | sslbp::kTypeMask)) == sslbp::kStartSetup) return "a setup start";
+  if (command & sslbp::kRequest) return "a local parameter access";
+  return "a command";
+}
+
+}  // namespace
+
+std::string HostActivity::describe() const {
+  const std::string in = " in " + std::to_string(window.count()) + " ms";
+  std::string s;
+  if (foreign_packets() == 0) {
+    s = "no other host talked to the card" + in;
+  } else {
+    s = "the card received " + std::to_string(foreign_received) + " and sent " +
+        std::to_string(foreign_sent) + " UDP packets that were not ours" + in;
+  }
+  if (!busy.empty()) {
+    const BusyCommand& b = busy.front();
+    s += "; SSERIAL port " + std::to_string(b.port);
+    s += " COMMAND was busy with " + lbp::hex_value(b.command, 4);
+    s += " (" + what_command_is(b.command) + ") in ";
+    s += std::to_string(busy.size()) + " of " + std::to_string(command_samples) + " samples";
+  }
+  return s;
+}
+
+HostActivity observe_host_activity(Lbp16Transport& bus, std::span<const SserialPort> ports,
+                                   const RunningHostCheck& check) {
+  HostActivity activity;
+  const auto start = std::chrono::steady_clock::now();
+  std::uint64_t sent_after_first = 0, sent = 0;
+  const Counters first = *sample(bus, ports, true, activity, sent_after_first);
+  const unsigned between = std::max(1u, check.command_samples) - 1;
+  const auto step = check.window / (between + 1);
+  for (unsigned i = 0; i < between; ++i) {
+    std::this_thread::sleep_until(start + step * (i + 1));
+    sample(bus, ports, false, activity, sent);
+  }
+  std::this_thread::sleep_until(start + check.window);
+  const Counters last = *sample(bus, ports, true, activity, sent);
+  activity.window =
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start);
+  // Every packet we sent after the first counter read was counted on the way in; every
+  // reply from the first one on was counted on the way out.
+  activity.own_packets = static_cast<std::uint32_t>(sent - sent_after_first);
+  activity.foreign_received = beyond(first.received, last.received, activity.own_packets);
+  activity.foreign_sent = beyond(first.sent, last.sent, activity.own_packets);
+  activity.last_received = last.received;
+  activity.sent_at_last = sent;
+  return activity;
+}
+
+std::uint32_t foreign_packets_since(Lbp16Transport& bus, const HostActivity& since) {
+  const lbp16::Command read = counters_read();
+  std::uint64_t sent = 0;
+  const Counters now =
+      counters_of(bus.transact_counted(std::span(&read, 1), Resend::IfReadOnly, sent).front());
+  const std::uint64_t ours = sent - since.sent_at_last;
+  return beyond(since.last_received, now.received, static_cast<std::uint32_t>(ours));
+}
+
+bool host_is_running(const HostActivity& activity, const RunningHostCheck& check) {
+  return activity.foreign_packets() > check.foreign_packet_limit;
+}
+
+HostActivity require_no_running_host(Lbp16Transport& bus, std::span<const SserialPort> ports,
+                                     const RunningHostCheck& check, std::string_view action) {
+  HostActivity activity = observe_host_activity(bus, ports, check);
+  if (check.take_over || !host_is_running(activity, check)) return activity;
+  std::string message = "refusing to " + std::string(action) + " on " + bus.describe();
+  message += ": another host is running the card (" + activity.describe() + "). ";
+  message += "Stop LinuxCNC first, or pass " + check.take_over_flag;
+  message += ": every axis on that port drops out";
+  throw RunningHostError(message, activity);
+}
+
+}  // namespace i20::eth

@@ -1,0 +1,110 @@
+// Is another host (LinuxCNC, most likely) running the card right now? Asked before any
+// operation that stops, starts or re-modes an SSERIAL port: on a running machine a stop
+// drops every axis on that port (their 8I20s see no DOIT for 40 ms and disable).
+//
+// What is measured, over a short window (default 30 ms), with read-only packets:
+//
+//  1. LBP16 space 6 RXUDPCount (0x0A) and TXUDPCount (0x10), read at the start and the end
+//     (7I96S/7I92T manuals, "SPACE 6 LBP STATUS/CONTROL AREA"). The card counts every UDP
+//     packet it receives and sends; whatever moved beyond our own packets came from, or went
+//     to, another host. LinuxCNC's hm2_eth exchanges packets every servo period (1 ms by
+//     default), so a running machine shows tens of foreign packets in 30 ms.
+//  2. Each SSERIAL port's COMMAND register, sampled a few times in the window. We issue no
+//     command during the window, so a non-zero COMMAND is someone else's DOIT (or start)
+//     in flight (8I20 manual, "DOIT": SSLBP clears COMMAND when a DOIT completes).
+//
+// The counters are the evidence that decides; a busy COMMAND is named as corroboration (a
+// DOIT lasts a fraction of a servo period, so samples often miss it). The HostMot2
+// watchdog is not used: the manuals describe only its LED, and a bitten watchdog says a
+// host *was* running, not that one is.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "eth/card.hpp"
+#include "eth/transport.hpp"
+#include "lbp/error.hpp"
+
+namespace i20::eth {
+
+// The policy every port-changing operation takes (scan, passthrough open, normal start).
+struct RunningHostCheck {
+  // Proceed even when another host is using the card. Its machine stops: every axis on
+  // the port drops out.
+  bool take_over = false;
+  // How the user says take_over, named in the refusal: "--take-over" for most commands,
+  // "--force" for `i20 scan`.
+  std::string take_over_flag = "--take-over";
+  std::chrono::milliseconds window{30};
+  unsigned command_samples = 4;  // COMMAND reads per port spread over the window
+  // Foreign packets (received plus sent) in the window above which the card counts as in
+  // use. One stray exchange (a mesaflash query from another PC) is tolerated; LinuxCNC's
+  // servo loop moves both counters every millisecond, a 10 ms `i20 watch` every 10 ms.
+  unsigned foreign_packet_limit = 2;
+};
+
+struct BusyCommand {
+  unsigned port = 0;
+  std::uint32_t command = 0;
+};
+
+struct HostActivity {
+  std::chrono::milliseconds window{0};
+  std::uint32_t own_packets = 0;       // what we sent between the two counter reads
+  std::uint32_t foreign_received = 0;  // RXUDPCount moves beyond our packets
+  std::uint32_t foreign_sent = 0;      // TXUDPCount moves beyond our replies
+  unsigned command_samples = 0;
+  std::vector<BusyCommand> busy{};  // COMMAND seen non-zero
+  // RXUDPCount at the last read, and how many packets we had sent by then: the start of
+  // the count PassthroughPort keeps to notice a host that talks during its exchanges.
+  std::uint16_t last_received = 0;
+  std::uint64_t sent_at_last = 0;
+
+  std::uint32_t foreign_packets() const { return foreign_received + foreign_sent; }
+  // "the card received 31 UDP packets and sent 30 that were not ours in 30 ms; SSERIAL
+  // port 0 COMMAND was busy with 0x1001 (a DOIT)" or "no other host talked to the card
+  // in 30 ms".
+  std::string describe() const;
+};
+
+// Refused: another host is running the card. The message names what was seen and how to
+// proceed; apps map ErrorKind::Refused to exit code 3.
+class RunningHostError : public Error {
+ public:
+  RunningHostError(const std::string& message, HostActivity activity)
+      : Error(message, ErrorKind::Refused), activity_(std::move(activity)) {}
+  const HostActivity& activity() const { return activity_; }
+
+ private:
+  HostActivity activity_;
+};
+
+// Reads the counters, samples COMMAND of `ports` across the window, reads the counters
+// again. Read-only; about 2 + command_samples packets.
+HostActivity observe_host_activity(Lbp16Transport& bus, std::span<const SserialPort> ports,
+                                   const RunningHostCheck& check);
+
+// Whether `activity` means a host is using the card.
+bool host_is_running(const HostActivity& activity, const RunningHostCheck& check);
+
+// Observes the card and throws RunningHostError (ErrorKind::Refused) naming what was seen
+// and how to proceed when a host is running and take_over is off. `action` says what we
+// were about to do: "stop and setup-start SSERIAL port 0". Returns what was seen either
+// way (a take-over is worth a note).
+HostActivity require_no_running_host(Lbp16Transport& bus, std::span<const SserialPort> ports,
+                                     const RunningHostCheck& check, std::string_view action);
+
+// Packets that reached the card since `since` was observed and were not ours (one
+// read-only packet).
+std::uint32_t foreign_packets_since(Lbp16Transport& bus, const HostActivity& since);
+
+// Space 6 counters.
+inline constexpr std::uint16_t kRxUdpCountAddress = 0x000A;
+inline constexpr std::uint16_t kTxUdpCountAddress = 0x0010;
+
+}  // namespace i20::eth

@@ -1,0 +1,89 @@
+#include "ethsim/simulated_host.hpp"
+
+#include "lbp/bytes.hpp"
+#include "lbp/hostmot2.hpp"
+
+namespace i20::ethsim {
+
+namespace lbp16 = lbp::lbp16;
+namespace sslbp = lbp::hm2::sslbp;
+
+namespace {
+
+std::uint32_t word(const lbp::Bytes& bytes) {
+  return static_cast<std::uint32_t>(lbp::read_le(bytes));
+}
+
+}  // namespace
+
+SimulatedHost::SimulatedHost(HostOptions options) : options_(options) {}
+
+std::vector<lbp::Bytes> SimulatedHost::send(VirtualCard& card, const std::vector<lbp16::Command>& packet,
+                                            Clock::time_point now) {
+  ++stats_.packets;
+  const auto reply = card.handle(lbp16::encode_packet(packet), now);
+  if (!reply) return std::vector<lbp::Bytes>(packet.size());
+  return lbp16::split_reply(packet, *reply);
+}
+
+std::uint32_t SimulatedHost::command_register(VirtualCard& card, Clock::time_point now) {
+  const std::uint16_t address = card.sserial_registers(options_.port).command;
+  return word(send(card, {lbp16::read_hm2(address)}, now).front()) & 0xFFFF;
+}
+
+void SimulatedHost::run_until(VirtualCard& card, Clock::time_point now) {
+  if (now < next_ || state_ == State::Stopped) return;
+  const auto regs = card.sserial_registers(options_.port);
+  switch (state_) {
+    case State::Stopping:
+      send(card, {lbp16::write_hm2(regs.command, sslbp::stop()), lbp16::read_hm2(regs.command)}, now);
+      state_ = State::Starting;
+      break;
+    case State::Starting:
+      if (command_register(card, now) != 0) break;  // stop or start still running: poll
+      if (start_issued_) {
+        state_ = State::Running;
+        break;
+      }
+      send(card, {lbp16::write_hm2(regs.command, sslbp::start_normal(options_.mask))}, now);
+      start_issued_ = true;
+      break;
+    case State::Running: {
+      std::vector<lbp16::Command> cycle{lbp16::read_hm2(regs.command), lbp16::read_hm2(regs.data)};
+      for (unsigned ch = 0; ch < 8; ++ch)
+        if (options_.mask & (1u << ch)) {
+          cycle.push_back(lbp16::read_hm2(regs.interface0(ch)));
+          cycle.push_back(lbp16::read_hm2(regs.interface1(ch)));
+          cycle.push_back(lbp16::write_hm2(regs.interface0(ch), 0u));
+        }
+      cycle.push_back(lbp16::write_hm2(regs.command, sslbp::doit(options_.mask)));
+      const auto parts = send(card, cycle, now);
+      if ((word(parts[0]) & 0xFFFF) != 0) ++stats_.late_cycles;
+      if ((word(parts[1]) & options_.mask) != 0 && stats_.cycles > 0) ++stats_.failed_cycles;
+      ++stats_.cycles;
+      break;
+    }
+    case State::Stopped: break;
+  }
+  next_ = now + (state_ == State::Running ? options_.period : std::chrono::microseconds(200));
+}
+
+void SimulatedHost::stop(VirtualCard& card, Clock::time_point now) {
+  if (state_ == State::Stopped) return;
+  const auto regs = card.sserial_registers(options_.port);
+  send(card, {lbp16::write_hm2(regs.command, sslbp::stop()), lbp16::read_hm2(regs.command)}, now);
+  state_ = State::Stopped;
+}
+
+std::string SimulatedHost::describe() const {
+  std::string s = "normal mode on SSERIAL port " + std::to_string(options_.port) + " ch";
+  for (unsigned ch = 0; ch < 8; ++ch)
+    if (options_.mask & (1u << ch)) s += " " + std::to_string(ch);
+  const auto us = std::chrono::duration_cast<std::chrono::microseconds>(options_.period).count();
+  s += ", every " + (us % 1000 == 0 ? std::to_string(us / 1000) + " ms" : std::to_string(us) + " us");
+  s += ", " + std::to_string(stats_.cycles) + " DOITs (" + std::to_string(stats_.failed_cycles) + " failed)";
+  if (state_ == State::Stopped) s += ", stopped";
+  return s;
+}
+
+}  // namespace i20::ethsim

@@ -1,0 +1,215 @@
+// Issue 12: nothing that stops, starts or re-modes an SSERIAL port runs while another host
+// (LinuxCNC) is running the card, unless the caller takes over. The running host is the
+// virtual card's LinuxCNC stand-in (ethsim/simulated_host.hpp) or a second client in
+// normal mode. Detection reads the space 6 UDP counters (7I96S manual, "SPACE 6 LBP
+// STATUS/CONTROL AREA") and samples COMMAND (8I20 manual, "DOIT").
+#include "eth/running_host.hpp"
+
+#include <gtest/gtest.h>
+
+#include "eth/errors.hpp"
+#include "eth/normal_mode.hpp"
+#include "eth/passthrough_link.hpp"
+#include "eth/scan.hpp"
+#include "fixtures.hpp"
+
+using namespace i20;
+using namespace i20::eth;
+using namespace std::chrono_literals;
+
+namespace {
+
+ethsim::ServerOptions with_running_host() {
+  ethsim::ServerOptions o;
+  o.host = ethsim::HostOptions{};
+  return o;
+}
+
+// Lets the stand-in get through its stop and normal start and run some cycles.
+void let_host_run(test::RunningCard& card) {
+  for (int i = 0; i < 100; ++i) {
+    const auto status = card.server().host_status();
+    if (status && status->find(" 0 DOITs") == std::string::npos) break;
+    std::this_thread::sleep_for(5ms);
+  }
+  std::this_thread::sleep_for(20ms);
+}
+
+ethsim::ChannelMode mode_of(test::RunningCard& card) {
+  return card.server().with_card([](ethsim::VirtualCard& c) { return c.sslbp(0).mode(0); });
+}
+
+// Answers reads of the space 6 counters and COMMAND with values the test scripts; every
+// other read is 0. Counts its packets like a UdpClient.
+class CounterCard final : public Lbp16Transport {
+ public:
+  std::uint16_t received = 0, sent = 0, command = 0;
+  std::uint16_t foreign_per_packet = 0;  // another host's packets between two of ours
+
+  std::vector<lbp::Bytes> transact(std::span<const lbp::lbp16::Command> commands, Resend) override {
+    ++stats_.packets_sent;
+    received = static_cast<std::uint16_t>(received + 1 + foreign_per_packet);  // counted on arrival
+    std::vector<lbp::Bytes> out;
+    for (const auto& c : commands) {
+      if (c.word.write) {
+        out.emplace_back();
+      } else if (c.word.space == lbp::lbp16::space::kStatus) {
+        lbp::Bytes b;
+        lbp::append_le(b, received, 2);
+        lbp::append_le(b, 0, 2);
+        lbp::append_le(b, 0, 2);
+        lbp::append_le(b, sent, 2);
+        out.push_back(b);
+      } else {
+        out.push_back(lbp::to_le(command, 4));
+      }
+    }
+    sent = static_cast<std::uint16_t>(sent + 1 + foreign_per_packet);  // our reply, after the reads
+    return out;
+  }
+  std::string describe() const override { return "counter card"; }
+  TransportStats stats() const override { return stats_; }
+
+ private:
+  TransportStats stats_;
+};
+
+const SserialPort kPort{.index = 0, .registers = {.command = 0x5B00, .data = 0x5C00}};
+
+}  // namespace
+
+TEST(EthRunningHost, OwnPacketsAreNotForeignEvenWhenTheCountersWrap) {
+  CounterCard bus;
+  bus.received = 0xFFFE;  // wraps during the window
+  bus.sent = 0xFFFF;
+  RunningHostCheck check;
+  check.window = 4ms;
+  const HostActivity seen = observe_host_activity(bus, std::span(&kPort, 1), check);
+  EXPECT_EQ(seen.foreign_received, 0u);
+  EXPECT_EQ(seen.foreign_sent, 0u);
+  EXPECT_GE(seen.own_packets, 2u);
+  EXPECT_FALSE(host_is_running(seen, check));
+  EXPECT_NE(seen.describe().find("no other host"), std::string::npos) << seen.describe();
+}
+
+TEST(EthRunningHost, ForeignPacketsAndABusyCommandAreNamed) {
+  CounterCard bus;
+  bus.foreign_per_packet = 5;  // a 1 ms servo loop between our samples
+  bus.command = 0x1001;        // its DOIT on channel 0 in flight
+  RunningHostCheck check;
+  check.window = 4ms;
+  const HostActivity seen = observe_host_activity(bus, std::span(&kPort, 1), check);
+  EXPECT_EQ(seen.foreign_received, 5u * seen.own_packets);
+  EXPECT_EQ(seen.foreign_sent, 5u * seen.own_packets);
+  EXPECT_TRUE(host_is_running(seen, check));
+  EXPECT_EQ(seen.busy.size(), seen.command_samples);
+  EXPECT_NE(seen.describe().find("0x1001 (a DOIT)"), std::string::npos) << seen.describe();
+  try {
+    require_no_running_host(bus, std::span(&kPort, 1), check, "stop SSERIAL port 0");
+    FAIL();
+  } catch (const RunningHostError& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Refused);
+    const std::string m = e.what();
+    EXPECT_NE(m.find("refusing to stop SSERIAL port 0"), std::string::npos) << m;
+    EXPECT_NE(m.find("Stop LinuxCNC first, or pass --take-over"), std::string::npos) << m;
+    EXPECT_NE(m.find("every axis on that port drops out"), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << "one line";
+  }
+  check.take_over = true;
+  EXPECT_TRUE(host_is_running(require_no_running_host(bus, std::span(&kPort, 1), check, "stop"), check));
+}
+
+TEST(EthRunningHost, AnIdleCardIsNotRunByAnyone) {
+  test::RunningCard card;
+  const auto link = SslbpPassthroughLink::open(card.target(0));
+  EXPECT_EQ(link->port().host_activity().foreign_packets(), 0u);
+}
+
+TEST(EthRunningHost, PassthroughOpenIsRefusedBesideARunningMachineAndTheMachineRunsOn) {
+  test::RunningCard card(with_running_host());
+  let_host_run(card);
+  ASSERT_EQ(mode_of(card), ethsim::ChannelMode::Normal);
+  try {
+    SslbpPassthroughLink::open(card.target(0));
+    FAIL() << "setup start beside a running host";
+  } catch (const RunningHostError& e) {
+    EXPECT_NE(std::string(e.what()).find("another host is running the card"), std::string::npos) << e.what();
+    EXPECT_GT(e.activity().foreign_packets(), 10u) << e.what();
+  }
+  // Nothing was stopped: the host's channel is still in normal mode and its DOITs work.
+  EXPECT_EQ(mode_of(card), ethsim::ChannelMode::Normal);
+  std::this_thread::sleep_for(20ms);
+  EXPECT_NE(card.server().host_status()->find("(0 failed)"), std::string::npos)
+      << *card.server().host_status();
+}
+
+TEST(EthRunningHost, TakeOverStopsTheMachineAsItSays) {
+  test::RunningCard card(with_running_host());
+  let_host_run(card);
+  PassthroughOptions options;
+  options.running_host.take_over = true;
+  const auto link = SslbpPassthroughLink::open(card.target(0), options);
+  EXPECT_TRUE(host_is_running(link->port().host_activity(), options.running_host));
+  EXPECT_EQ(mode_of(card), ethsim::ChannelMode::Setup) << "the host's normal mode is gone";
+  // The stand-in keeps writing DOITs, as a host that was not stopped would: each one runs
+  // whatever the passthrough left in CS, and one of them can be taken for ours. So nothing
+  // read beside it is reported as the card's.
+  try {
+    for (int i = 0; i < 20; ++i) link->execute_one(lbp::read(2344, lbp::DataSize::Four));
+    FAIL() << "results taken while another host sent DOITs";
+  } catch (const ForeignHostError& e) {
+    EXPECT_NE(std::string(e.what()).find("results were discarded"), std::string::npos) << e.what();
+  }
+  card.server().stop_host();  // LinuxCNC finally exits (and stops the port)
+  const auto again = SslbpPassthroughLink::open(card.target(0));
+  EXPECT_EQ(lbp::read_le(again->execute_one(lbp::read(2344, lbp::DataSize::Four))), 0x00012345u);
+}
+
+TEST(EthRunningHost, ScanIsRefusedAndWithTakeOverProceeds) {
+  test::RunningCard card(with_running_host());
+  let_host_run(card);
+  ScanOptions options;
+  options.running_host.take_over_flag = "--force";
+  try {
+    scan(card.address(), options);
+    FAIL();
+  } catch (const RunningHostError& e) {
+    EXPECT_NE(std::string(e.what()).find("pass --force"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(mode_of(card), ethsim::ChannelMode::Normal);
+  options.running_host.take_over = true;
+  const ScanResult r = scan(card.address(), options);
+  EXPECT_EQ(r.targets().size(), 1u);
+  EXPECT_TRUE(host_is_running(r.host_activity, options.running_host));
+  EXPECT_GT(r.foreign_packets_during_scan, 0u) << "the host kept talking: the scan says so";
+}
+
+TEST(EthRunningHost, NormalStartIsRefusedBesideARunningMachine) {
+  test::RunningCard card(with_running_host());
+  let_host_run(card);
+  EXPECT_THROW(NormalModeSession::open(card.target(0)), RunningHostError);
+  NormalModeOptions options;
+  options.running_host.take_over = true;
+  EXPECT_NO_THROW(NormalModeSession::open(card.target(0), options));
+}
+
+TEST(EthRunningHost, ASecondClientInNormalModeCountsAsARunningHost) {
+  // The issue's stand-in for LinuxCNC: another client watching in normal mode.
+  test::RunningCard card;
+  const auto watching = NormalModeSession::open(card.target(0));
+  watching->wait_for_sample(500ms);
+  EXPECT_THROW(SslbpPassthroughLink::open(card.target(0)), RunningHostError);
+  EXPECT_THROW(scan(card.address()), RunningHostError);
+  EXPECT_TRUE(watching->running());
+  watching->stop();
+  // The watcher is gone: the card is free again.
+  EXPECT_NO_THROW(SslbpPassthroughLink::open(card.target(0)));
+  EXPECT_EQ(scan(card.address()).foreign_packets_during_scan, 0u);
+}
+
+TEST(EthRunningHost, AStoppedHostNoLongerCounts) {
+  test::RunningCard card(with_running_host());
+  let_host_run(card);
+  card.server().stop_host();  // LinuxCNC exits
+  EXPECT_NO_THROW(SslbpPassthroughLink::open(card.target(0)));
+}
