@@ -10,13 +10,14 @@
 #include <optional>
 #include <string>
 
+#include "change_render.hpp"
 #include "context.hpp"
 #include "device/errors.hpp"
 #include "faults/fault_mask.hpp"
+#include "faults/register_spec.hpp"
 #include "faults/register_value.hpp"
 #include "faults_render.hpp"
 #include "lbp/bytes.hpp"
-#include "change_render.hpp"
 #include "live_source.hpp"
 #include "ops/faults.hpp"
 
@@ -104,8 +105,9 @@ void run_decode(Context& ctx, const DecodeOptions& o) {
   with_fault_errors_mapped([&] {
     std::optional<std::uint16_t> mask;
     if (!o.mask.empty()) mask = F::parse_register_value(o.mask, "FAULTMASK");
-    if (!o.fault.empty()) fault = F::fault_report(F::parse_register_value(o.fault, "FAULT"), mask);
-    if (!o.status.empty()) status = F::status_report(F::parse_register_value(o.status, "STATUS"));
+    // A number, or the bits that are set by name or LinuxCNC pin (fault.no-enable, ...).
+    if (!o.fault.empty()) fault = F::fault_report(F::parse_register_spec(o.fault, F::Register::Fault), mask);
+    if (!o.status.empty()) status = F::status_report(F::parse_register_spec(o.status, F::Register::Status));
   });
   if (ctx.options.json) {
     auto j = app::Json::object();
@@ -312,9 +314,15 @@ void register_faults(CLI::App& app, Context& ctx) {
   auto decode_options = std::make_shared<DecodeOptions>();
   auto* decode = faults->add_subcommand(
       "decode", "Explain a FAULT value read elsewhere (HAL pin, log line, RPD FAULT H); needs no card");
-  decode->add_option("VALUE", decode_options->fault, "FAULT value: 0x0102, 0102h, 0b100000010 or 258")
+  decode
+      ->add_option("VALUE", decode_options->fault,
+                   "FAULT value: 0x0102, 0102h, 0b100000010 or 258, or the set bits by name or LinuxCNC pin: "
+                   "fault.no-enable,fault.bus-underv")
       ->type_name("VALUE");
-  decode->add_option("--status", decode_options->status, "Also explain a STATUS value")->type_name("VALUE");
+  decode
+      ->add_option("--status", decode_options->status,
+                   "Also explain a STATUS value (a number, or bits: status.pid-on)")
+      ->type_name("VALUE");
   decode->add_option("--mask", decode_options->mask, "FAULTMASK value, to say which faults are masked")
       ->type_name("VALUE");
   decode->callback([&ctx, decode_options] { run_decode(ctx, *decode_options); });
@@ -323,7 +331,8 @@ void register_faults(CLI::App& app, Context& ctx) {
   auto* mask = faults->add_subcommand(
       "mask",
       "Show FAULTMASK, or mask/unmask a maskable fault (only bus-under-voltage) from the fault output");
-  mask->add_option("BIT", mask_options->key, "Fault to (un)mask: bus-under-voltage, BUSLOVFAULT or 8");
+  mask->add_option("BIT", mask_options->key,
+                   "Fault to (un)mask: bus-under-voltage, BUSLOVFAULT, fault.bus-underv (LinuxCNC pin) or 8");
   mask->add_option("STATE", mask_options->state, "on = mask it, off = unmask it")
       ->check(CLI::IsMember({"on", "off"}));
   add_allow_unverified(mask, mask_options->write);

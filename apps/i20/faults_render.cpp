@@ -121,6 +121,8 @@ void print_fault_line(std::ostream& out, const F::ReportLine& line, const Render
   out << "\n"
       << (line.reserved ? "reserved bit " + std::to_string(line.bit) : line.name) << " " << bit_tags(line)
       << "\n";
+  // The name a LinuxCNC user sees in halshow, after hm2_<board>.<n>.8i20.<port>.<channel>.
+  if (!line.linuxcnc_pin.empty()) out << "  LinuxCNC HAL pin: " << line.linuxcnc_pin << "\n";
   out << "  " << line.meaning << "\n";
   if (o.live && !line.reserved) out << "  now: " << now_text(line, *o.live) << "\n";
   print_list(out, "likely causes:", line.causes, false);
@@ -188,7 +190,8 @@ void print_status_report(std::ostream& out, const F::Report& report) {
   out << report.title << "\n";
   for (const auto& line : report.lines) {
     out << "  " << bit_label(line) << ", " << F::to_string(line.severity) << (line.sticky ? ", sticky" : "")
-        << ": " << line.meaning << "\n";
+        << (line.linuxcnc_pin.empty() ? "" : ", HAL pin " + line.linuxcnc_pin) << ": " << line.meaning
+        << "\n";
     // Informational bits explain themselves; warnings need something to act on.
     if (line.severity != F::Severity::Info)
       for (const auto& check : line.checks) out << "      check: " << check << "\n";

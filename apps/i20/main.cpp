@@ -5,6 +5,7 @@
 #include "context.hpp"
 #include "interrupt.hpp"
 #include "params/closest.hpp"
+#include "version/build_info.hpp"
 
 using namespace i20;
 
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
       "W6 down = setup mode, 115200 baud), over Ethernet through a 7I96S/7I92T, or to the built-in\n"
       "simulator (--sim), which is the way to try everything without hardware.\n\n"
       "Try:  i20 --sim info   |   i20 --sim dump   |   i20 --sim set NVBRAKEONV=320V"};
+  app.set_version_flag("--version", "i20 " + std::string(build::kVersion), "Print the version and exit");
   app.require_subcommand(1);
   app.fallthrough();  // global options may follow the subcommand
   cli::Context ctx;

@@ -7,6 +7,7 @@
 #include "params/param_db.hpp"
 #include "sim/control.hpp"
 #include "sim/param_map.hpp"
+#include "version/build_info.hpp"
 
 namespace i20::sim::app {
 namespace {
@@ -197,6 +198,7 @@ std::optional<int> parse_command_line(int argc, char** argv, Invocation& out) {
   CLI::App app(
       std::string(kDescription) + ethsim::card_control_help() + "and for every 8I20:\n" + control_help(),
       "i20sim");
+  app.set_version_flag("--version", "i20sim " + std::string(build::kVersion), "Print the version and exit");
   Raw raw;
   add_options(app, out, raw);
   try {

@@ -13,6 +13,7 @@
 #include "legacy_env.hpp"
 #include "ops/read.hpp"
 #include "session.hpp"
+#include "version/build_info.hpp"
 
 using namespace i20;
 
@@ -24,6 +25,7 @@ int main(int argc, char** argv) {
       "Exit status: 0 read, 1 card not reached, 2 bad input, 3 not read: the address is not\n"
       "confirmed for this card's firmware (run `i20 discover`), 130 Ctrl-C.\n"
       "Examples:\n  COMPORT=/dev/ttyUSB0 rpd BUSV\n  rpd --sim FAULT H"};
+  cli.set_version_flag("--version", "rpd " + std::string(build::kVersion), "Print the version and exit");
   app::GlobalOptions options;
   std::string name, hex;
   bool allow_unverified = false;

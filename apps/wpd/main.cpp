@@ -16,6 +16,7 @@
 #include "ops/faults.hpp"
 #include "params/value.hpp"
 #include "session.hpp"
+#include "version/build_info.hpp"
 
 using namespace i20;
 
@@ -73,6 +74,7 @@ int main(int argc, char** argv) {
       "4 card state uncertain or rolled back, 5 faults remain (WPD FAULT 0), 130 Ctrl-C.\n"
       "Examples:\n  wpd NVMAXCURRENT 2500     (25 A)\n  wpd NVBRAKEONV 19000      (190 V)\n"
       "  wpd --sim BRAKEONV 30000  (300 V, live)"};
+  cli.set_version_flag("--version", "wpd " + std::string(build::kVersion), "Print the version and exit");
   app::GlobalOptions options;
   device::WriteOptions write;
   std::string name, value_text;

@@ -1,5 +1,5 @@
 // RAII guards for the two card modes that must never outlive an operation: NV (EEPROM)
-// access (docs/facts.md s2: "always return the mode to 0x00 afterwards, also on error") and
+// access (docs/facts.md s2: NV mode goes back to RAM access on every path, errors included) and
 // RPC memory access (manual: "The RPCMEM access flag must be clear for normal operation").
 #pragma once
 

@@ -78,7 +78,7 @@ void SimulatedHost::stop(VirtualCard& card, Clock::time_point now) {
 std::string SimulatedHost::describe() const {
   std::string s = "normal mode on SSERIAL port " + std::to_string(options_.port) + " ch";
   for (unsigned ch = 0; ch < 8; ++ch)
-    if (options_.mask & (1u << ch)) s += " " + std::to_string(ch);
+    if (options_.mask & (1u << ch)) s.append(" ").append(std::to_string(ch));  // GCC 12 -Wrestrict in Release
   const auto us = std::chrono::duration_cast<std::chrono::microseconds>(options_.period).count();
   s += ", every " + (us % 1000 == 0 ? std::to_string(us / 1000) + " ms" : std::to_string(us) + " us");
   s += ", " + std::to_string(stats_.cycles) + " DOITs (" + std::to_string(stats_.failed_cycles) + " failed)";

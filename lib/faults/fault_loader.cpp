@@ -141,6 +141,13 @@ BitInfo read_bit(const Reader& r, const YAML::Node& entry, Register reg) {
   if (entry["linuxcnc_pin"]) {
     b.linuxcnc_pin = r.text(entry["linuxcnc_pin"], "linuxcnc_pin");
     if (!all_of_chars(b.linuxcnc_pin, pin_char)) r.fail(entry["linuxcnc_pin"], "'linuxcnc_pin' has blanks");
+    // hostmot2 names each bit after its register (sserial.h hm2_8i20_params): fault.x, status.x.
+    const std::string prefix = reg == Register::Fault ? "fault." : "status.";
+    std::string head = b.linuxcnc_pin.substr(0, prefix.size());
+    for (auto& c : head) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (head != prefix || b.linuxcnc_pin.size() == prefix.size())
+      r.fail(entry["linuxcnc_pin"], "'linuxcnc_pin' of a " + std::string(to_string(reg)) + " bit must be " +
+                                        prefix + "NAME, not '" + b.linuxcnc_pin + "'");
   }
   b.severity = severity(r, entry["severity"]);
   b.meaning = r.text(entry["meaning"], "meaning");

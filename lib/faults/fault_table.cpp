@@ -19,7 +19,17 @@ bool same_text(std::string_view a, std::string_view b) {
          });
 }
 
+// "hm2_7i96s.0.8i20.0.0.fault.no-enable" (a pin as halshow shows it) -> "fault.no-enable".
+std::string_view pin_part(std::string_view key) {
+  if (key.size() < 4 || !same_text(key.substr(0, 4), "hm2_")) return key;
+  for (std::string_view reg : {".fault.", ".status."})
+    for (std::size_t at = 0; (at = key.find(reg.substr(1), at)) != std::string_view::npos; ++at)
+      if (at > 0 && key[at - 1] == '.') return key.substr(at);
+  return key;
+}
+
 bool names(const BitInfo& b, std::string_view key) {
+  key = pin_part(key);
   return same_text(b.slug, key) || same_text(b.name, key) ||
          (!b.linuxcnc_pin.empty() && same_text(b.linuxcnc_pin, key));
 }

@@ -32,7 +32,8 @@ class FaultTable {
   const std::vector<std::string>& notes(Register reg) const;
   // The bit's entry, or nullptr if the manual defines no such bit (reserved).
   const BitInfo* find(Register reg, unsigned bit) const;
-  // By slug, manual name or LinuxCNC pin (case-insensitive) in either register.
+  // By slug, manual name or LinuxCNC pin (case-insensitive) in either register. A pin may
+  // carry its hostmot2 device prefix (hm2_7i96s.0.8i20.0.0.fault.no-enable), as halshow shows it.
   const BitInfo* find(std::string_view key) const;
   // As above within one register; a decimal bit number ("8") is accepted too.
   const BitInfo* find(Register reg, std::string_view key) const;

@@ -18,6 +18,16 @@ struct Provenance {
   std::vector<std::uint16_t> confirmed_on;  // SWREVISION values it was confirmed on
 };
 
+// Another name a parameter answers to: LinuxCNC's hostmot2 name for it (docs/facts.md s2).
+// hostmot2 splits the 32-bit gains NVKQI/NVKDI into two 16-bit parameters; such an alias
+// names one half. i20 reads and writes the whole value only, so a half alias is recognised
+// (to say so) but resolves to nothing.
+struct Alias {
+  enum class Part { Whole, Low16, High16 };
+  std::string name;  // as the YAML spells it, e.g. "nvmaxcurrent"
+  Part part = Part::Whole;
+};
+
 struct Param {
   std::string name;
   Space space = Space::Ram;
@@ -37,6 +47,7 @@ struct Param {
   std::string guard;           // non-empty: writing needs --force, and this says why
   bool self_clearing = false;  // the card resets it itself (CLEARFAULT): no read-back verify
   std::string origin;          // "file:line" of the entry (or of its last override)
+  std::vector<Alias> aliases;  // other names, matched case-insensitively like the name
 
   std::size_t bytes() const { return width_bits / 8; }
   bool writable() const { return access == Access::ReadWrite; }

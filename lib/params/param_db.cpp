@@ -18,9 +18,10 @@
 namespace i20::params {
 namespace {
 
-const std::set<std::string> kParamKeys{
-    "name",    "space",  "address", "width", "signed",      "unit",       "scale", "min",          "max",
-    "allowed", "access", "default", "twin",  "description", "provenance", "guard", "self_clearing"};
+const std::set<std::string> kParamKeys{"name",   "space",         "address", "width",       "signed",
+                                       "unit",   "scale",         "min",     "max",         "allowed",
+                                       "access", "default",       "twin",    "description", "provenance",
+                                       "guard",  "self_clearing", "aliases"};
 const std::set<std::string> kRequiredNewKeys{"name",   "space",  "address",     "width",
                                              "signed", "access", "description", "provenance"};
 const std::set<std::string> kBaseTopKeys{"schema", "device", "simulator_swrevision", "parameters"};
@@ -114,6 +115,38 @@ void read_provenance(const Reader& r, const YAML::Node& node, Provenance& out) {
   }
 }
 
+// `aliases: [nvmaxcurrent]`, or for a 32-bit value split in two by LinuxCNC
+// `aliases: [{name: nvkqilo, bits: 0-15}, {name: nvkqihi, bits: 16-31}]`.
+std::vector<Alias> read_aliases(const Reader& r, const YAML::Node& node) {
+  if (!node.IsSequence()) r.fail(node, "'aliases' must be a list of names");
+  std::vector<Alias> aliases;
+  for (const auto& item : node) {
+    Alias a;
+    YAML::Node name = item;
+    if (item.IsMap()) {
+      r.only_keys(item, {"name", "bits"}, "an alias");
+      if (!item["name"] || !item["bits"])
+        r.fail(item, "an alias map needs 'name' and 'bits' (0-15 or 16-31)");
+      const auto bits = r.text(item["bits"], "bits");
+      if (bits == "0-15")
+        a.part = Alias::Part::Low16;
+      else if (bits == "16-31")
+        a.part = Alias::Part::High16;
+      else
+        r.fail(item["bits"], "'bits' of an alias must be 0-15 or 16-31, not '" + bits + "'");
+      name = item["name"];
+    }
+    a.name = r.text(name, "aliases");
+    const bool plain = !a.name.empty() && std::ranges::all_of(a.name, [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+    });
+    if (!plain) r.fail(name, "alias '" + a.name + "' must be one word (letters, digits, _ - .)");
+    aliases.push_back(std::move(a));
+  }
+  return aliases;
+}
+
+
 // The bits a value has on the wire: 8, 16 or 32, checked before anything shifts by it.
 unsigned read_width(const Reader& r, const YAML::Node& node) {
   const auto w = r.integer(node, "width");
@@ -190,6 +223,8 @@ void read_fields(const Reader& r, const YAML::Node& node, Param& p) {
       p.guard = r.text(v, key);
     } else if (key == "self_clearing") {
       p.self_clearing = r.boolean(v, key);
+    } else if (key == "aliases") {
+      p.aliases = read_aliases(r, v);
     }
   }
   p.origin = r.where(node);
@@ -347,6 +382,24 @@ void ParamDb::merge(std::string_view yaml, const std::string& source, bool is_ba
   sources_.push_back(source);
 }
 
+// Every alias names exactly one parameter, is no other parameter's name, and splits only
+// 32-bit values. It may spell its own parameter's name (nvmaxcurrent): then it only records
+// that hostmot2 uses the same name.
+template <class Fail>
+void ParamDb::check_aliases(const Param& p, const Fail& fail) const {
+  for (const auto& a : p.aliases) {
+    const auto key = upper(a.name);
+    if (a.part != Alias::Part::Whole && p.width_bits != 32)
+      fail("alias '" + a.name + "' names a 16-bit half, but " + p.name + " is not 32 bit");
+    for (const auto& q : params_) {
+      if (q.name == key && &q != &p) fail("alias '" + a.name + "' is the name of " + q.name);
+      for (const auto& b : q.aliases)
+        if (&b != &a && upper(b.name) == key)
+          fail("alias '" + a.name + "' is also an alias of " + q.name + " (" + q.origin + ")");
+    }
+  }
+}
+
 void ParamDb::check_consistency(const std::string& source) const {
   for (const auto& p : params_) {
     const auto fail = [&](const std::string& reason) {
@@ -375,6 +428,7 @@ void ParamDb::check_consistency(const std::string& source) const {
         fail("twin '" + p.twin + "' has a different width or signedness");
     }
     if (p.provenance.source.empty()) fail("provenance needs a source");
+    check_aliases(p, fail);
     for (const auto& q : params_) {
       if (&q == &p || q.space != p.space || !p.address || !q.address || q.name < p.name) continue;
       const auto p_end = std::size_t{*p.address} + p.bytes();
@@ -389,18 +443,51 @@ void ParamDb::check_consistency(const std::string& source) const {
 const Param* ParamDb::find(std::string_view name) const {
   const auto key = upper(name);
   const auto it = std::ranges::find(params_, key, &Param::name);
-  return it == params_.end() ? nullptr : &*it;
+  if (it != params_.end()) return &*it;
+  const AliasOf a = alias(name);
+  return a.alias && a.alias->part == Alias::Part::Whole ? a.param : nullptr;
+}
+
+ParamDb::AliasOf ParamDb::alias(std::string_view name) const {
+  const auto key = upper(name);
+  for (const auto& p : params_)
+    for (const auto& a : p.aliases)
+      if (upper(a.name) == key) return {&p, &a};
+  return {};
 }
 
 const Param& ParamDb::get(std::string_view name) const {
   if (const Param* p = find(name)) return *p;
+  if (const AliasOf a = alias(name); a.alias) {
+    const bool low = a.alias->part == Alias::Part::Low16;
+    std::string other;
+    for (const auto& b : a.param->aliases)
+      if (b.part != Alias::Part::Whole && b.part != a.alias->part) other = b.name;
+    const std::string lo = low ? a.alias->name : other, hi = low ? other : a.alias->name;
+    throw HalfAlias(a.alias->name + " is LinuxCNC's name for bits " + (low ? "0-15" : "16-31") + " of " +
+                    a.param->name + ", a 32-bit value that i20 reads and writes whole: use " + a.param->name +
+                    (lo.empty() || hi.empty() ? ""
+                                              : " (" + lo + " = " + a.param->name + " & 0xFFFF, " + hi +
+                                                    " = " + a.param->name + " >> 16)"));
+  }
   throw UnknownParameter(std::string(name), suggestions(name));
 }
 
 std::vector<std::string> ParamDb::suggestions(std::string_view name, std::size_t max) const {
   std::vector<Candidate> candidates;
-  for (const auto& p : params_) candidates.push_back({p.name, {p.name}});
-  return closest(name, candidates, max);
+  for (const auto& p : params_) {
+    Candidate c{p.name, {p.name}};
+    for (const auto& a : p.aliases) c.spellings.push_back(a.name);
+    candidates.push_back(std::move(c));
+  }
+  auto near = closest(name, candidates, max);
+  // A half alias (nvkqilo) means its 32-bit parameter, whatever is spelled alike.
+  if (const AliasOf a = alias(name); a.alias && a.alias->part != Alias::Part::Whole) {
+    std::erase(near, a.param->name);
+    near.insert(near.begin(), a.param->name);
+    if (near.size() > max) near.resize(max);
+  }
+  return near;
 }
 
 const Param* ParamDb::at_address(Space space, std::uint16_t address) const {

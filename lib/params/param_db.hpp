@@ -34,6 +34,13 @@ class UnknownParameter : public Error {
   std::vector<std::string> suggestions_;
 };
 
+// A LinuxCNC name for one 16-bit half of a 32-bit parameter (nvkqilo, nvkqihi, ...). what()
+// names the whole parameter to use instead and how the halves make it up.
+class HalfAlias : public Error {
+ public:
+  explicit HalfAlias(const std::string& message) : Error(message, ErrorKind::BadInput) {}
+};
+
 class ParamDb {
  public:
   // The database shipped with the toolkit (params/8i20.yaml, compiled in).
@@ -60,10 +67,17 @@ class ParamDb {
   std::optional<std::uint16_t> firmware() const { return firmware_; }
   bool address_confirmed(const Param& param) const { return param.address_confirmed(firmware_); }
 
-  // Case-insensitive lookup.
+  // Case-insensitive lookup by name or alias (`nvmaxcurrent` finds NVMAXCURRENT). A half
+  // alias (`nvkqilo`) finds nothing: i20 handles the 32-bit value whole.
   const Param* find(std::string_view name) const;
-  // Throws UnknownParameter with suggestions.
+  // Throws UnknownParameter with suggestions, or HalfAlias for a half alias.
   const Param& get(std::string_view name) const;
+  // The alias `name` is (nullptr for a database name or an unknown one), and its parameter.
+  struct AliasOf {
+    const Param* param = nullptr;
+    const Alias* alias = nullptr;
+  };
+  AliasOf alias(std::string_view name) const;
   std::vector<std::string> suggestions(std::string_view name, std::size_t max = 3) const;
   // The parameter whose bytes cover `address` in `space`, if any.
   const Param* at_address(Space space, std::uint16_t address) const;
@@ -81,6 +95,8 @@ class ParamDb {
 
   void merge(std::string_view yaml, const std::string& source, bool is_base);
   void check_consistency(const std::string& source) const;
+  template <class Fail>
+  void check_aliases(const Param& p, const Fail& fail) const;
 
   std::vector<Param> params_;
   std::optional<std::uint16_t> simulator_swrevision_;

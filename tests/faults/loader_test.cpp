@@ -228,3 +228,20 @@ TEST(FaultBuiltin, CompiledInCopyEqualsParamsFaultsYaml) {
 TEST(FaultBuiltin, CarriesItsSourceName) {
   EXPECT_EQ(FaultTable::builtin().source(), "params/faults.yaml");
 }
+
+// hostmot2 names every bit after its register (LinuxCNC sserial.h, hm2_8i20_params;
+// docs/facts.md s4): a FAULT bit's pin is fault.NAME, a STATUS bit's status.NAME.
+TEST(FaultLoader, APinNamesItsOwnRegister) {
+  try {
+    FaultTable::load_string(table(bit(1, "a", "    linuxcnc_pin: status.x\n")), "bad.yaml");
+    FAIL() << "a FAULT bit with a status pin loaded";
+  } catch (const FaultFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("must be fault.NAME, not 'status.x'"), std::string::npos)
+        << e.what();
+  }
+  for (const auto& b : FaultTable::builtin().bits(Register::Status)) {
+    if (!b.linuxcnc_pin.empty()) {
+      EXPECT_EQ(b.linuxcnc_pin.rfind("status.", 0), 0u) << b.name;
+    }
+  }
+}

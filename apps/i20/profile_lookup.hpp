@@ -1,0 +1,20 @@
+// Where `i20 profile ... NAME` looks for NAME: the path itself, then $I20_PROFILE_PATH
+// (colon-separated directories), then the installed share/i20tools/profiles, then the
+// source tree's profiles/ when the program runs from its build tree.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <vector>
+
+#include "profile/locate.hpp"
+
+namespace i20::cli {
+
+// The directories in search order, for this process (environment and executable location).
+std::vector<profile::SearchDir> profile_search_dirs();
+
+// A CLI11 transform for profile FILE arguments: replaces a name with the file it finds, or
+// fails naming every place it tried.
+CLI::Validator profile_file();
+
+}  // namespace i20::cli
