@@ -40,5 +40,6 @@ void register_discover_command(CLI::App& app, Context& ctx);
 void register_fault_commands(CLI::App& app, Context& ctx);    // faults, clear-faults, watch
 void register_profile_commands(CLI::App& app, Context& ctx);  // profile, tune
 void register_scan_command(CLI::App& app, Context& ctx);      // scan (Ethernet)
+void register_report_command(CLI::App& app, Context& ctx);    // report (field service)
 
 }  // namespace i20::cli

@@ -47,6 +47,7 @@ int main(int argc, char** argv) {
   cli::register_fault_commands(app, ctx);
   cli::register_profile_commands(app, ctx);
   cli::register_scan_command(app, ctx);
+  cli::register_report_command(app, ctx);
 
   app::install_interrupt_handler();
   try {

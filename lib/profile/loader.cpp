@@ -18,7 +18,9 @@ using params::iequals;
 using params::trim;
 
 const std::set<std::string> kTopKeys{"schema", "name",  "description", "motor",
-                                     "supply", "notes", "target",      "parameters"};
+                                     "supply", "notes", "target",      "parameters",
+                                     // `i20 report` files: the profile loader reads their parameters only
+                                     "report"};
 const std::set<std::string> kMotorKeys{
     "make", "model", "continuous_current", "peak_current", "phase_resistance", "phase_inductance"};
 const std::set<std::string> kSupplyKeys{"description", "bus_voltage"};
