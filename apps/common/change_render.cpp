@@ -71,8 +71,7 @@ std::string reset_line(const TargetRun& run) {
   return "";
 }
 
-void print_writes(std::ostream& out, const std::string& title,
-                  const std::vector<ops::WriteRecord>& records) {
+void print_writes(std::ostream& out, const std::string& title, const std::vector<ops::WriteRecord>& records) {
   if (records.empty()) return;
   out << title << "\n";
   Table t({"CELL", "VALUE", "RESULT"});
@@ -112,7 +111,7 @@ void print_reset_advice(std::ostream& out, const TargetRun& run) {
   if (!run.card_reset.empty())
     out << "WARNING: " << run.card_reset << "; "
         << (r.outcome == Outcome::Done ? "the EEPROM holds the verified values: reset the card again"
-                                          : "reset the card once its EEPROM is as you want it")
+                                       : "reset the card once its EEPROM is as you want it")
         << " (`i20 " << run.target.flags() << " reset`) so the working values match the EEPROM.\n";
 }
 
@@ -141,7 +140,7 @@ void print_next_steps(std::ostream& out, const TargetRun& run) {
     out << "Every value written was restored and read back. Fix the cause and try again.\n";
   if (r.outcome == Outcome::Interrupted && !r.writes.empty())
     out << "Stopped by Ctrl-C: every value written was restored and read back.\n";
-  if (r.outcome == Outcome::Uncertain && !r.cells.empty()) print_rollback_failed(out, run);
+  if (r.outcome == Outcome::Uncertain && !r.rollback.empty()) print_rollback_failed(out, run);
   if (run.retries > 0)
     out << "note: " << plural(run.retries, "read or write was", "reads or writes were")
         << " repeated after lost or garbled replies\n";
@@ -257,7 +256,9 @@ std::string outcome_name(const TargetRun& run) {
 std::string outcome_line(const TargetRun& run) {
   if (!run.result) {
     const bool refused = run.outcome == Outcome::Refused || run.outcome == Outcome::BadInput;
-    return std::string(refused ? "REFUSED: " : run.outcome == Outcome::Interrupted ? "INTERRUPTED: " : "NOT REACHED: ") +
+    return std::string(refused                               ? "REFUSED: "
+                       : run.outcome == Outcome::Interrupted ? "INTERRUPTED: "
+                                                             : "NOT REACHED: ") +
            run.error + "; nothing was written";
   }
   const auto& r = *run.result;
@@ -269,8 +270,9 @@ std::string outcome_line(const TargetRun& run) {
     case Outcome::Done:
       return "APPLIED AND VERIFIED: " + plural(steps, "value", "values") + " written" + reset_line(run);
     case Outcome::NothingToDo:
-      return "NOTHING TO DO: the card already holds " + (total == 1 ? std::string("the value") : "all " +
-             plural(total, "value", "values")) + "; nothing was written" + reset_line(run);
+      return "NOTHING TO DO: the card already holds " +
+             (total == 1 ? std::string("the value") : "all " + plural(total, "value", "values")) +
+             "; nothing was written" + reset_line(run);
     case Outcome::DryRun:
       return "DRY RUN: " + plural(steps, "value", "values") + " would be written, " +
              std::to_string(total - steps) + " already set; nothing was written";
@@ -281,12 +283,13 @@ std::string outcome_line(const TargetRun& run) {
                               : "INTERRUPTED AND ROLLED BACK: every value written was restored and read back";
     case Outcome::Uncertain:
       if (!r.reset_error.empty()) return "APPLIED AND VERIFIED, BUT THE RESET FAILED: " + r.reset_error;
-      return r.cells.empty() ? "CARD STATE UNCERTAIN: " + r.reason
-                             : "ROLLBACK FAILED after " + failure_of(run) + ": card state below";
+      return r.rollback.empty() ? "CARD STATE UNCERTAIN: " + r.reason
+                                : "ROLLBACK FAILED after " + failure_of(run) + ": card state below";
     case Outcome::Refused:
     case Outcome::BadInput:
-      if (profile::has_errors(r.findings)) return "REFUSED by the rule" + std::string(r.findings.size() > 1 ? "s" : "") +
-                                                  " above; nothing was written";
+      if (profile::has_errors(r.findings))
+        return "REFUSED by the rule" + std::string(r.findings.size() > 1 ? "s" : "") +
+               " above; nothing was written";
       return "REFUSED: " + r.reason + nothing;
     case Outcome::Failed: return "NOT DONE: " + r.reason + nothing;
     case Outcome::FaultsRemain: break;

@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/exceptions.h>
 
+#include <CLI/CLI.hpp>
 #include <iostream>
 
 #include "lbp/error.hpp"
@@ -26,9 +27,22 @@ int report_current_exception(const char* program) {
   } catch (const std::exception& e) {
     // Not one of the toolkit's own errors: a defect, at a point nobody planned for, so
     // nothing can be claimed about the card. Say so rather than guess.
-    return print(program, "internal error", std::string(e.what()) + " (a defect: please report it; the card's "
-                 "state is not known, check it with `i20 dump`)", kCardState);
+    return print(program, "internal error",
+                 std::string(e.what()) +
+                     " (a defect: please report it; the card's "
+                     "state is not known, check it with `i20 dump`)",
+                 kCardState);
   }
+}
+
+}  // namespace i20::app
+
+namespace i20::app {
+
+int report_parse_error(const CLI::App& app, const CLI::ParseError& e, const char* program) {
+  if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+  std::cerr << program << ": error: " << e.what() << " (`" << program << " --help` explains the options)\n";
+  return kBadInput;
 }
 
 }  // namespace i20::app

@@ -8,16 +8,29 @@ namespace i20::app {
 
 enum ExitCode : int {
   kOk = ops::kExitOk,
-  kFailure = ops::kExitFailed,              // failed before anything was written (card not reached)
-  kBadInput = ops::kExitBadInput,           // bad arguments, files or values: nothing was sent
-  kRefused = ops::kExitRefused,             // a safety rule refused: nothing was written
-  kCardState = ops::kExitUncertain,         // state uncertain or rolled back: cells named
-  kFaultsRemain = ops::kExitFaultsRemain,   // clear-faults: faults could not be cleared
+  kFailure = ops::kExitFailed,             // failed before anything was written (card not reached)
+  kBadInput = ops::kExitBadInput,          // bad arguments, files or values: nothing was sent
+  kRefused = ops::kExitRefused,            // a safety rule refused: nothing was written
+  kCardState = ops::kExitUncertain,        // state uncertain or rolled back: cells named
+  kFaultsRemain = ops::kExitFaultsRemain,  // clear-faults: faults could not be cleared
   kInterrupted = ops::kExitInterrupted,
 };
 
 // Prints "PROGRAM: LABEL: MESSAGE" (one line) to stderr and returns the exit code for the
 // exception. Call from a catch (...) block.
 int report_current_exception(const char* program);
+
+}  // namespace i20::app
+
+namespace CLI {
+class App;
+class ParseError;
+}  // namespace CLI
+
+namespace i20::app {
+
+// A command-line mistake CLI11 found, as one line: "PROGRAM: error: WHAT (`PROGRAM --help`
+// explains the options)", exit 2. --help and --version print their text and return 0.
+int report_parse_error(const CLI::App& app, const CLI::ParseError& e, const char* program);
 
 }  // namespace i20::app

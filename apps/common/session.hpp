@@ -49,6 +49,10 @@ class Session {
   // The card, opened and identified on first use (Ctrl-C is its cancel input).
   ops::Card& card();
   bool card_open() const { return card_ != nullptr; }
+  // Ends the session's work on the card: a mode the line may have left on is left now
+  // (ops::Card::settle); throws CardStateError when the card does not confirm. Prints a
+  // note to stderr when it had to leave one.
+  void settle(const char* program);
   // Drops the card so the next use opens it again (after an adapter was unplugged and
   // replugged, or the card reset).
   void reconnect();

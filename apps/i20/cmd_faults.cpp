@@ -51,7 +51,7 @@ std::string readings_line(const Readings& r) {
     line += buf;
   }
   if (r.temperature_c) {
-    std::snprintf(buf, sizeof buf, ", card %.2f C", *r.temperature_c);
+    std::snprintf(buf, sizeof buf, ", card %.2f degC", *r.temperature_c);
     line += buf;
   }
   return line + ", brake " + (brake_on(r) ? "on" : "off");
@@ -85,6 +85,7 @@ void run_faults(Context& ctx) {
   std::cout << "8I20 on " << source->describe() << ": " << readings_line(r) << "\n\n";
   RenderOptions options;
   options.live = &r;
+  options.clear_command = "i20 " + ctx.target_flags() + " clear-faults";
   print_fault_report(std::cout, fault, options);
   std::cout << "\n";
   print_status_report(std::cout, status);
@@ -168,10 +169,12 @@ void print_mask_result(const F::BitInfo& bit, bool masked, const ops::MaskResult
               << "; nothing written\n";
   else if (written)
     std::cout << "FAULTMASK " << lbp::hex_value(m.before, 4) << " -> " << lbp::hex_value(m.wanted, 4) << ": "
-              << bit.name << " (bit " << bit.bit << ") " << (masked ? "masked" : "unmasked") << ", verified\n";
+              << bit.name << " (bit " << bit.bit << ") " << (masked ? "masked" : "unmasked")
+              << ", verified\n";
   std::cout << fault_output_text(F::fault_report(after.fault, after.faultmask)) << "\n";
   if (masked)
-    std::cout << "A " << bit.slug << " fault no longer switches the fault output off. Unmask it before running "
+    std::cout << "A " << bit.slug
+              << " fault no longer switches the fault output off. Unmask it before running "
               << "the machine: `i20 " << flags << " faults mask " << bit.slug << " off`\n"
               << "FAULTMASK is a working (RAM) register with no NV twin: set it again after a reset or power "
                  "cycle\n";

@@ -265,7 +265,7 @@ class PlainView : public View {
     const auto& r = s.r;
     const auto mark = [&](bool changed) { return previous && changed ? "*" : ""; };
     std::cout << clock_text(s.when, false) << "  BUSV " << fixed(r.busv_v, " V") << "  TEMP "
-              << fixed(r.temperature_c, " C") << "  brake " << (brake_on(r) ? "on" : "off")
+              << fixed(r.temperature_c, " degC") << "  brake " << (brake_on(r) ? "on" : "off")
               << mark(previous && brake_on(*previous) != brake_on(r)) << "  STATUS "
               << lbp::hex_value(r.status, 4) << mark(previous && previous->status != r.status) << "  FAULT "
               << lbp::hex_value(r.fault, 4) << mark(previous && previous->fault != r.fault) << "  output "
@@ -413,7 +413,7 @@ void AnsiView::draw_values(std::vector<std::string>& lines) const {
   const auto& r = last_->r;
   const bool on = output_on(r);
   lines.push_back("  Bus voltage   " + fixed(r.busv_v, " V"));
-  lines.push_back("  Temperature   " + fixed(r.temperature_c, " C"));
+  lines.push_back("  Temperature   " + fixed(r.temperature_c, " degC"));
   lines.push_back("  Brake         " + fresh(kBrake, brake_on(r) ? "ON" : "off") +
                   ((r.status & (1u << 2)) ? "  (has been on: BRAKEWASONSTATUS)" : ""));
   const std::string fault =

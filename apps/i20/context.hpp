@@ -23,6 +23,10 @@ struct Context {
   ops::Card& card() { return session().card(); }
   // The options that name the target, for advice lines ("--port /dev/ttyUSB0").
   std::string target_flags() { return session().endpoint().flags(); }
+  // The card left as it must be (no NV/RPC memory mode on) before the program ends.
+  void settle() {
+    if (session_) session_->settle("i20");
+  }
   // Prints JSON documents the same way everywhere.
   void print_json(const app::Json& json) const;
   // Asks "question [y/N]" on the terminal; false without a terminal (use --yes there).

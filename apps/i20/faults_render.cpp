@@ -33,7 +33,7 @@ std::string volts(double v) {
 
 std::string celsius(double c) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2f C", c);
+  std::snprintf(buf, sizeof buf, "%.2f degC", c);
   return buf;
 }
 
@@ -55,8 +55,8 @@ CauseNow temperature_cause(const Readings& r) {
   if (!r.temperature_c) return {};
   if (*r.temperature_c > kOverTempLimitC)
     return present("TEMPERATURE is " + celsius(*r.temperature_c) +
-                   ", above the 85 C limit: let the card cool");
-  return gone("TEMPERATURE is " + celsius(*r.temperature_c) + ", below the 85 C limit");
+                   ", above the 85 degC limit: let the card cool");
+  return gone("TEMPERATURE is " + celsius(*r.temperature_c) + ", below the 85 degC limit");
 }
 
 CauseNow bus_low_cause(const Readings& r) {
@@ -98,14 +98,14 @@ void print_list(std::ostream& out, const char* heading, const std::vector<std::s
   }
 }
 
-std::string now_text(const F::ReportLine& line, const Readings& live) {
+std::string now_text(const F::ReportLine& line, const Readings& live, const std::string& clear) {
   const CauseNow c = cause_now(line.bit, live);
   if (c.state == CauseNow::Present)
     return "cause still present: " + c.evidence + "; it cannot be cleared until that is fixed";
-  if (c.state == CauseNow::Gone) return "cause gone (" + c.evidence + "): `i20 clear-faults` should clear it";
+  if (c.state == CauseNow::Gone) return "cause gone (" + c.evidence + "): `" + clear + "` should clear it";
   if (line.clears_while_cause_persists)
-    return "latched event: `i20 clear-faults` clears it unless it happens again at once";
-  return "`i20 clear-faults` clears it once the cause is gone";
+    return "latched event: `" + clear + "` clears it unless it happens again at once";
+  return "`" + clear + "` clears it once the cause is gone";
 }
 
 // "(bit 8, bus-under-voltage, maskable, masked)".
@@ -124,7 +124,7 @@ void print_fault_line(std::ostream& out, const F::ReportLine& line, const Render
   // The name a LinuxCNC user sees in halshow, after hm2_<board>.<n>.8i20.<port>.<channel>.
   if (!line.linuxcnc_pin.empty()) out << "  LinuxCNC HAL pin: " << line.linuxcnc_pin << "\n";
   out << "  " << line.meaning << "\n";
-  if (o.live && !line.reserved) out << "  now: " << now_text(line, *o.live) << "\n";
+  if (o.live && !line.reserved) out << "  now: " << now_text(line, *o.live, o.clear_command) << "\n";
   print_list(out, "likely causes:", line.causes, false);
   print_list(out, "check:", line.checks, true);
 }

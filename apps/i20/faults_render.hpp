@@ -38,7 +38,8 @@ CauseNow cause_now(unsigned fault_bit, const Readings& r);
 std::string bit_label(const faults::ReportLine& line);
 
 struct RenderOptions {
-  const Readings* live = nullptr;  // adds a "now:" line per fault (cause present or gone)
+  const Readings* live = nullptr;                  // adds a "now:" line per fault (cause present or gone)
+  std::string clear_command = "i20 clear-faults";  // as the "now:" lines advise it, with the target
 };
 
 // The full answer for a FAULT report: title, fault output, each bit with meaning, causes

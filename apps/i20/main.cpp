@@ -13,17 +13,28 @@ namespace {
 
 // "unknown command 'inof': did you mean info?" when the first unexpected word looks like a
 // mistyped subcommand; empty otherwise (CLI11's own message then).
-std::string unknown_command(const CLI::App& app, const CLI::ExtrasError& e) {
-  const std::string what = e.what();
-  const auto colon = what.find(": ");
-  if (colon == std::string::npos) return {};
-  std::string word = what.substr(colon + 2);
+// CLI11 says "The following arguments were not expected: inof" when another word came
+// first, and "A subcommand is required" when the mistyped word was the only one.
+std::string unknown_command(const CLI::App& app, const CLI::ParseError& e) {
+  std::string word;
+  if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr && app.get_subcommands().empty()) {
+    const std::string what = e.what();
+    const auto colon = what.find(": ");
+    if (colon == std::string::npos) return {};
+    word = what.substr(colon + 2);
+  } else if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && app.get_subcommands().empty() &&
+             !app.remaining().empty()) {
+    word = app.remaining().front();
+  } else {
+    return {};
+  }
   word = word.substr(0, word.find_first_of(" ,"));
   if (word.empty() || word.front() == '-' || word.find_first_of("/.:=") != std::string::npos) return {};
   std::vector<i20::params::Candidate> names;
   for (const auto* sub : app.get_subcommands({})) names.push_back({sub->get_name(), {sub->get_name()}});
   const auto near = i20::params::closest(word, names, 1);
-  return "unknown command '" + word + "'" + (near.empty() ? "; `i20 --help` lists them" : ": did you mean " + near.front() + "?");
+  return "unknown command '" + word + "'" +
+         (near.empty() ? "; `i20 --help` lists them" : ": did you mean " + near.front() + "?");
 }
 
 }  // namespace
@@ -52,14 +63,13 @@ int main(int argc, char** argv) {
   app::install_interrupt_handler();
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ExtrasError& e) {
+    ctx.settle();
+  } catch (const CLI::ParseError& e) {
     if (const auto hint = unknown_command(app, e); !hint.empty()) {
       std::cerr << "i20: error: " << hint << "\n";
       return app::kBadInput;
     }
-    return app.exit(e) == 0 ? app::kOk : app::kBadInput;
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? app::kOk : app::kBadInput;
+    return app::report_parse_error(app, e, "i20");
   } catch (...) {
     ctx.print_notes();
     return app::report_current_exception("i20");

@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return cli.exit(e) == 0 ? 0 : app::kBadInput;
+    return app::report_parse_error(cli, e, "rpd");
   }
   app::install_interrupt_handler();
   try {
@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
     auto& card = session.card();
     const auto policy = allow_unverified ? ops::Unconfirmed::Read : ops::Unconfirmed::Skip;
     const auto reading = ops::read_values(card, std::vector<std::string>{param.name}, policy).front();
+    session.settle("rpd");  // an NV read the line cut short must not leave NV mode on unsaid
     if (!reading.raw) {
       std::cerr << "rpd: refused: " << reading.param->name << " is " << ops::unknown_text(reading)
                 << "; run `i20 " << card.endpoint().flags() << " discover`, or pass --allow-unverified\n";
@@ -62,7 +63,8 @@ int main(int argc, char** argv) {
       std::cout << *reading.raw << "\n";
     } else {
       const auto mask = p.width_bits == 32 ? 0xFFFFFFFFull : (1ull << p.width_bits) - 1;
-      std::printf("%0*llX\n", static_cast<int>(p.width_bits / 4), static_cast<unsigned long long>(*reading.raw) & mask);
+      std::printf("%0*llX\n", static_cast<int>(p.width_bits / 4),
+                  static_cast<unsigned long long>(*reading.raw) & mask);
     }
     return app::kOk;
   } catch (...) {

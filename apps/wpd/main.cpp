@@ -42,7 +42,8 @@ int report(const ops::TargetRun& run, const params::ParamDb& db) {
     if (!p.unit.empty()) std::cout << " (" << row.profile_text << ")";
     std::cout << (r.plan.steps.empty() ? " already; nothing written" : " written and verified");
     if (p.is_nv() && (!r.plan.steps.empty() || !run.not_live.empty()))
-      std::cout << " in EEPROM; takes effect after the 8I20 is reset (i20 " << run.target.flags() << " reset)";
+      std::cout << " in EEPROM; takes effect after the 8I20 is reset (i20 " << run.target.flags()
+                << " reset)";
     std::cout << "\n";
     for (const auto& event : r.events) std::cout << "note: " << event << "\n";
     return run.exit_code();
@@ -82,15 +83,16 @@ int main(int argc, char** argv) {
   cli.add_option("VALUE", value_text, "Raw integer value")->required();
   cli.add_flag("--allow-unverified", write.allow_unverified,
                "Write a working (RAM) address the database does not confirm for this firmware");
-  cli.add_flag("--force", write.force,
-               "Write a guarded parameter (NVBAUDRATE, setpoints), or a threshold at or below the measured bus "
-               "voltage; read why first");
+  cli.add_flag(
+      "--force", write.force,
+      "Write a guarded parameter (NVBAUDRATE, setpoints), or a threshold at or below the measured bus "
+      "voltage; read why first");
   app::add_target_options(cli, options);
   app::add_database_options(cli, options);
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return cli.exit(e) == 0 ? 0 : app::kBadInput;
+    return app::report_parse_error(cli, e, "wpd");
   }
   app::install_interrupt_handler();
   try {
@@ -101,7 +103,11 @@ int main(int argc, char** argv) {
     const auto raw = params::parse_raw(param, value_text);
     // The manual's "WPD FAULT 0 would clear the FAULT parameter": FAULT itself is not
     // writable, the card clears faults through CLEARFAULT.
-    if (param.name == "FAULT" && raw == 0) return clear_faults(session, write);
+    if (param.name == "FAULT" && raw == 0) {
+      const int code = clear_faults(session, write);
+      session.settle("wpd");
+      return code;
+    }
     const auto profile = ops::profile_from_value(name, value_text, db, ops::ValueSyntax::Raw);
     ops::precheck(profile, db, write);  // before the link is even opened
     auto& card = session.card();
@@ -110,7 +116,7 @@ int main(int argc, char** argv) {
     job.db = &card.db();
     job.write = write;
     job.transaction.cancel = card.cancel();
-    return report(ops::run_apply_on(card, job), card.db());
+    return report(ops::run_apply_on(card, job), card.db());  // run_apply_on settles the card itself
   } catch (...) {
     return app::report_current_exception("wpd");
   }

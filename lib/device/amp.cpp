@@ -77,7 +77,8 @@ void Amp8i20::throw_if_cancelled() const {
 
 std::uint16_t Amp8i20::identify() {
   const auto& revision = db_.get("SWREVISION");
-  return static_cast<std::uint16_t>(params::raw_from_bytes(revision, link_.execute_one(read_command(revision))));
+  return static_cast<std::uint16_t>(
+      params::raw_from_bytes(revision, link_.execute_one(read_command(revision))));
 }
 
 bool working_map_confirmed(const params::ParamDb& db) {
@@ -122,10 +123,12 @@ CardInfo Amp8i20::info() {
 
 std::vector<std::string> Amp8i20::leave_modes() {
   namespace L = lbp::local;
-  const std::vector<lbp::Command> batch{lbp::local_read(L::kGetNvAccess), lbp::local_read(L::kGetRpcMemAccess),
-                                        lbp::set_nv_access(L::NvAccess::Ram), lbp::local_write(L::kSetRpcMemAccess, 0),
-                                        lbp::local_read(L::kGetNvAccess), lbp::local_read(L::kGetRpcMemAccess)};
+  const std::vector<lbp::Command> batch{
+      lbp::local_read(L::kGetNvAccess),     lbp::local_read(L::kGetRpcMemAccess),
+      lbp::set_nv_access(L::NvAccess::Ram), lbp::local_write(L::kSetRpcMemAccess, 0),
+      lbp::local_read(L::kGetNvAccess),     lbp::local_read(L::kGetRpcMemAccess)};
   const auto r = link_.execute(batch);
+  unsettled_mode_.clear();  // confirmed below, or thrown
   std::vector<std::string> left;
   if (r[0].at(0) != static_cast<lbp::Byte>(L::NvAccess::Ram)) left.push_back("NV access mode");
   if (r[1].at(0) != 0) left.push_back("RPC memory access");
@@ -168,7 +171,7 @@ std::vector<Value> Amp8i20::read(std::span<const Param* const> params) {
   }
 
   std::optional<ModeGuard> guard;
-  if (any_nv) guard.emplace(link_, leave, "NV (EEPROM) access mode");
+  if (any_nv) guard.emplace(link_, leave, "NV (EEPROM) access mode", &unsettled_mode_);
   const auto replies = link_.execute(commands);
   if (guard) {
     guard->disarm();
@@ -258,7 +261,7 @@ std::vector<WriteReport> Amp8i20::write_nv(std::span<const Assignment> batch) {
   namespace L = lbp::local;
   const auto leave = lbp::set_nv_access(L::NvAccess::Ram);
   const auto mode = lbp::local_read(L::kGetNvAccess);
-  ModeGuard guard(link_, leave, "NV (EEPROM) access mode");
+  ModeGuard guard(link_, leave, "NV (EEPROM) access mode", &unsettled_mode_);
   const std::vector<lbp::Command> enter{lbp::set_nv_access(L::NvAccess::Eeprom), mode};
   require_nv_mode(link_.execute(enter)[1], "before " + batch.front().param->name + " was to be written");
   std::vector<WriteReport> reports;
@@ -351,7 +354,7 @@ lbp::Bytes Amp8i20::read_memory(Space space, std::uint16_t address, std::size_t 
   if (space == Space::Eeprom) {
     commands.insert(commands.begin(), lbp::set_nv_access(lbp::local::NvAccess::Eeprom));
     commands.push_back(lbp::set_nv_access(lbp::local::NvAccess::Ram));
-    guard.emplace(link_, commands.back(), "NV (EEPROM) access mode");
+    guard.emplace(link_, commands.back(), "NV (EEPROM) access mode", &unsettled_mode_);
   }
   auto replies = link_.execute(commands);
   if (guard) {
@@ -367,7 +370,8 @@ lbp::Bytes Amp8i20::read_memory(Space space, std::uint16_t address, std::size_t 
 lbp::Bytes Amp8i20::read_rpc_table() {
   throw_if_cancelled();
   namespace L = lbp::local;
-  const std::vector<lbp::Command> sizes{lbp::local_read(L::kGetRpcSizeLow), lbp::local_read(L::kGetRpcSizeHigh)};
+  const std::vector<lbp::Command> sizes{lbp::local_read(L::kGetRpcSizeLow),
+                                        lbp::local_read(L::kGetRpcSizeHigh)};
   const auto r = link_.execute(sizes);
   return read_rpc_table(0, r[0].at(0) | (r[1].at(0) << 8));
 }
@@ -377,14 +381,15 @@ lbp::Bytes Amp8i20::read_rpc_table(std::size_t offset, std::size_t count) {
   namespace L = lbp::local;
   if (count == 0) return {};
   const auto leave = lbp::local_write(L::kSetRpcMemAccess, 0);
-  ModeGuard guard(link_, leave, "RPC memory access mode");
+  ModeGuard guard(link_, leave, "RPC memory access mode", &unsettled_mode_);
   auto commands = chunked_reads(static_cast<std::uint16_t>(offset), count, link_.max_data_bytes());
   commands.insert(commands.begin(), lbp::local_write(L::kSetRpcMemAccess, 1));
   commands.push_back(leave);
   const auto replies = link_.execute(commands);
   guard.disarm();
   lbp::Bytes table;
-  for (std::size_t i = 1; i + 1 < replies.size(); ++i) table.insert(table.end(), replies[i].begin(), replies[i].end());
+  for (std::size_t i = 1; i + 1 < replies.size(); ++i)
+    table.insert(table.end(), replies[i].begin(), replies[i].end());
   return table;
 }
 

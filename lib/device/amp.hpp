@@ -26,9 +26,9 @@
 namespace i20::device {
 
 struct CardInfo {
-  std::string card_name;  // "8I20"
+  std::string card_name;                                       // "8I20"
   lbp::local::NvAccess nv_access = lbp::local::NvAccess::Ram;  // as found (0xCC)
-  bool rpcmem = false;                                          // RPC memory access as found (0xCA)
+  bool rpcmem = false;                                         // RPC memory access as found (0xCA)
   lbp::Byte unit_address = 0;
   lbp::Byte unit_id = 0;
   lbp::Byte lbp_version = 0;
@@ -148,6 +148,9 @@ class Amp8i20 {
   link::Link& link() { return link_; }
   const params::ParamDb& db() const { return db_; }
   void set_cancel(const std::atomic<bool>* cancel) { cancel_ = cancel; }
+  // A mode (NV access, RPC memory access) the card may still be in because leaving it
+  // failed when the line died; "" when none. leave_modes() settles it.
+  const std::string& unsettled_mode() const { return unsettled_mode_; }
 
  private:
   void throw_if_cancelled() const;
@@ -158,6 +161,7 @@ class Amp8i20 {
   link::Link& link_;
   const params::ParamDb& db_;
   const std::atomic<bool>* cancel_;
+  std::string unsettled_mode_;
 };
 
 }  // namespace i20::device

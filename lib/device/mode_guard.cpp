@@ -4,8 +4,8 @@
 
 namespace i20::device {
 
-ModeGuard::ModeGuard(link::Link& link, lbp::Command leave, std::string what)
-    : link_(link), leave_(std::move(leave)), what_(std::move(what)) {}
+ModeGuard::ModeGuard(link::Link& link, lbp::Command leave, std::string what, std::string* unsettled)
+    : link_(link), leave_(std::move(leave)), what_(std::move(what)), unsettled_(unsettled) {}
 
 ModeGuard::~ModeGuard() {
   if (!armed_) return;
@@ -23,11 +23,13 @@ void ModeGuard::leave() {
     try {
       link_.execute_one(leave_);
       armed_ = false;
+      settled();
       return;
     } catch (const link::LinkError&) {
     }
   }
   armed_ = false;
+  if (unsettled_) *unsettled_ = what_;
   throw CardStateError("could not take the 8I20 out of " + what_ + " on " + link_.describe() +
                        ": reset it (i20 reset) or cycle its logic power before using it");
 }

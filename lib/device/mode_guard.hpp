@@ -13,14 +13,20 @@ namespace i20::device {
 class ModeGuard {
  public:
   // The guard is armed: the caller has sent (or is about to send, in the same batch)
-  // the command that enters the mode. `leave` is the command that ends it.
-  ModeGuard(link::Link& link, lbp::Command leave, std::string what);
+  // the command that enters the mode. `leave` is the command that ends it. When leaving
+  // fails (also from the destructor, which cannot throw), the mode's name goes to
+  // `unsettled`, so whoever owns the card can say the card may still be in it.
+  ModeGuard(link::Link& link, lbp::Command leave, std::string what, std::string* unsettled = nullptr);
   ~ModeGuard();
   ModeGuard(const ModeGuard&) = delete;
   ModeGuard& operator=(const ModeGuard&) = delete;
 
-  // The leave command went out in a batch that completed: nothing left to do.
-  void disarm() { armed_ = false; }
+  // The leave command went out in a batch that completed: nothing left to do (and an
+  // earlier failure to leave this mode is settled by it).
+  void disarm() {
+    armed_ = false;
+    settled();
+  }
   // Leaves the mode now; throws CardStateError if the card does not confirm.
   void leave();
 
@@ -28,6 +34,11 @@ class ModeGuard {
   link::Link& link_;
   lbp::Command leave_;
   std::string what_;
+  void settled() {
+    if (unsettled_ && *unsettled_ == what_) unsettled_->clear();
+  }
+
+  std::string* unsettled_;
   bool armed_ = true;
 };
 

@@ -135,6 +135,8 @@ std::vector<lbp::Bytes> UdpClient::transact(std::span<const lbp16::Command> comm
   const std::size_t prefix = options_.sequence_tags ? 2 : 0;
 
   std::vector<std::uint16_t> tags;  // of this transaction's attempts: any of them is a valid reply
+  const auto foreign_before = stats_.foreign_ignored;
+  const auto stale_before = stats_.stale_ignored;
   for (unsigned attempt = 0; attempt < attempts; ++attempt) {
     if (attempt > 0) ++stats_.resends;
     stats_.stale_ignored += impl_->drain();
@@ -177,6 +179,13 @@ std::vector<lbp::Bytes> UdpClient::transact(std::span<const lbp16::Command> comm
   std::string message = "no reply from " + impl_->name + " within " +
                         std::to_string(options_.timeout.count()) + " ms (" + std::to_string(attempts) +
                         (attempts == 1 ? " attempt" : " attempts") + ")";
+  // What did arrive says where to look: another host or a NAT answering, or a late card.
+  if (const auto n = stats_.foreign_ignored - foreign_before; n > 0)
+    message += "; ignored " + std::to_string(n) + " datagram" + (n == 1 ? "" : "s") +
+               " from another address or port";
+  if (const auto n = stats_.stale_ignored - stale_before; n > 0)
+    message +=
+        "; ignored " + std::to_string(n) + " stale repl" + (n == 1 ? "y" : "ies") + " to earlier packets";
   if (writes && !may_resend)
     message += "; the packet held writes and was not resent, so they may or may not have taken effect";
   throw link::TimeoutError(message);

@@ -11,6 +11,7 @@
 
 #include "faults/fault_table.hpp"
 #include "params/data_file.hpp"
+#include "params/yaml_problem.hpp"
 
 namespace i20::faults {
 namespace {
@@ -230,7 +231,7 @@ YAML::Node parse_yaml(std::string_view yaml, const std::string& source) {
   try {
     return YAML::Load(std::string(yaml));
   } catch (const YAML::Exception& e) {
-    throw FaultFileError(source + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
+    throw FaultFileError(source + ":" + std::to_string(e.mark.line + 1) + ": " + params::yaml_problem(e));
   }
 }
 

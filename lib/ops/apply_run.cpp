@@ -29,8 +29,9 @@ std::optional<std::int64_t> sticky_status(Card& c) {
 
 std::string reset_names(std::int64_t bits) {
   std::string names;
-  const std::pair<std::int64_t, const char*> all[] = {
-      {kStatusWdto, "WDTO, DSP watchdog"}, {kStatusSwr, "SWR, software reset"}, {kStatusExtr, "EXTR, power-up"}};
+  const std::pair<std::int64_t, const char*> all[] = {{kStatusWdto, "WDTO, DSP watchdog"},
+                                                      {kStatusSwr, "SWR, software reset"},
+                                                      {kStatusExtr, "EXTR, power-up"}};
   for (const auto& [bit, name] : all)
     if (bits & bit) names += (names.empty() ? "" : "; ") + std::string(name);
   return names;
@@ -58,7 +59,8 @@ void reload_restored_values(Card& c, TargetRun& run) {
   try {
     c.amp().reset();
     run.result->events.push_back(
-        "after restoring the EEPROM the tool reset the card once more, so its working values are the restored "
+        "after restoring the EEPROM the tool reset the card once more, so its working values are the "
+        "restored "
         "ones, not the half-written EEPROM's it had reloaded by itself");
     run.card_reset.clear();
   } catch (const Error& e) {
@@ -89,6 +91,19 @@ void check_live(Card& c, const ApplyJob& job, TargetRun& run) {
   }
 }
 
+// A read after the change (the checks above) may have died with NV mode on: the outcome is
+// not "done" while the card may still be in it.
+void settle(Card& card, TargetRun& run) {
+  try {
+    if (const auto mode = card.settle(); !mode.empty())
+      run.result->events.push_back("the line failed while the card was in " + mode +
+                                   "; it answered again and left it");
+  } catch (const Error& e) {
+    run.outcome = Outcome::Uncertain;
+    run.result->reason += (run.result->reason.empty() ? "" : "; ") + std::string(e.what());
+  }
+}
+
 }  // namespace
 
 TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity) {
@@ -99,8 +114,8 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
   auto options = job.transaction;
   options.force = options.force || job.write.force;  // one --force: guards and the measured-bus rules
   if (options.backup_label.empty())
-    options.backup_label =
-        job.profile->name + "-unit" + lbp::hex_value(card.identity().info.unit_number.value_or(0), 8).substr(2);
+    options.backup_label = job.profile->name + "-unit" +
+                           lbp::hex_value(card.identity().info.unit_number.value_or(0), 8).substr(2);
   {
     DeviceCardAccess access(card, job.write, activity);
     run.result = run_transaction(*job.profile, card.db(), access, options);
@@ -114,6 +129,7 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
     check_card_reset(card, status_before, run);  // last: a reset during the checks is seen too
     if (!run.card_reset.empty() && run.outcome == Outcome::RolledBack) reload_restored_values(card, run);
   }
+  settle(card, run);
   run.retries = card.retries();
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return run;
@@ -147,7 +163,8 @@ TargetRun run_opened(const Endpoint& target, const ApplyJob& job, const Activity
 }  // namespace
 
 TargetRun run_apply(const Endpoint& target, const ApplyJob& job, const Activity& activity) {
-  return run_opened(target, job, activity, [&] { return Card::open(target, *job.db, job.open, job.transaction.cancel); });
+  return run_opened(target, job, activity,
+                    [&] { return Card::open(target, *job.db, job.open, job.transaction.cancel); });
 }
 
 TargetRun run_apply_over(std::unique_ptr<link::Link> link, const Endpoint& target, const ApplyJob& job,

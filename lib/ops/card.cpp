@@ -23,7 +23,8 @@ std::vector<params::ParamDb::Evidence> rpc_evidence(const device::RpcEvidence& d
 std::string printable(const std::string& name) {
   std::string out;
   for (unsigned char c : name)
-    out += (c >= 0x20 && c < 0x7F) ? std::string(1, static_cast<char>(c)) : "\\x" + lbp::hex_value(c, 2).substr(2);
+    out += (c >= 0x20 && c < 0x7F) ? std::string(1, static_cast<char>(c))
+                                   : "\\x" + lbp::hex_value(c, 2).substr(2);
   return out;
 }
 
@@ -104,6 +105,24 @@ std::vector<params::ParamDb::Evidence> Card::read_rpc_evidence(const params::Par
     return {};
   }
   return rpc_evidence(decoded, identity_.rpc_note);
+}
+
+std::string Card::settle() {
+  const std::string mode = amp_->unsettled_mode();
+  if (mode.empty()) return {};
+  for (unsigned attempt = 1; attempt <= retry_.attempts; ++attempt) {
+    try {
+      amp_->leave_modes();
+      return mode;
+    } catch (const Error&) {
+      ++retries_;
+    }
+  }
+  throw device::CardStateError(
+      "the 8I20 on " + endpoint_.text + " stopped answering while in " + mode +
+      " and may still be in it: when it answers again, run any i20 command on it (it leaves "
+      "the mode first), or `i20 " +
+      endpoint_.flags() + " reset`, before the machine uses it");
 }
 
 std::string Card::describe() const {

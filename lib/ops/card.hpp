@@ -40,7 +40,8 @@ class Card {
                                     const OpenOptions& options, Cancel cancel = {});
   // The same over a link the caller opened (tests, the simulator with injected faults).
   static std::unique_ptr<Card> attach(std::unique_ptr<link::Link> link, Endpoint endpoint,
-                                      const params::ParamDb& loaded, RetryPolicy retry = {}, Cancel cancel = {});
+                                      const params::ParamDb& loaded, RetryPolicy retry = {},
+                                      Cancel cancel = {});
 
   const Identity& identity() const { return identity_; }
   // The database resolved for this card: every address a command uses comes from here.
@@ -86,6 +87,12 @@ class Card {
     }
   }
   std::size_t retries() const { return retries_; }
+
+  // When the line died while the card was in NV access or RPC memory mode and leaving it
+  // failed, asks the card again to leave (per the retry policy, Ctrl-C or not). Returns the
+  // mode it left, "" when there was none; throws CardStateError (exit 4) naming the mode
+  // and the way back when the card still does not confirm. Every use case ends with it.
+  std::string settle();
   void count_retry() { ++retries_; }
 
  private:

@@ -74,15 +74,16 @@ class Transaction {
     try {
       snapshot_ = card_.read(names);
     } catch (const std::exception& e) {
-      stop(Outcome::Failed, std::string("cannot read the card's current values, so nothing was written: ") +
-                                e.what());
+      stop(Outcome::Failed,
+           std::string("cannot read the card's current values, so nothing was written: ") + e.what());
       return false;
     }
     for (const auto& name : names)
       if (!snapshot_.contains(name)) {
-        stop(Outcome::Refused, "the card cannot read " + name +
-                                   " as a fact (its address is not confirmed for this card's firmware: run `i20 "
-                                   "discover`, or pass --allow-unverified if you know better)");
+        stop(Outcome::Refused,
+             "the card cannot read " + name +
+                 " as a fact (its address is not confirmed for this card's firmware: run `i20 "
+                 "discover`, or pass --allow-unverified if you know better)");
         return false;
       }
     read_context();
@@ -125,14 +126,20 @@ class Transaction {
     return true;
   }
 
+  // The first error in full, the others by rule, so a one-line report still names them all.
   std::string first_error() const {
-    std::size_t errors = 0;
-    const profile::Finding* first = nullptr;
+    std::vector<const profile::Finding*> errors;
     for (const auto& f : result_.findings)
-      if (f.severity == Severity::Error && errors++ == 0) first = &f;
-    std::string text = first->key.empty() ? first->message : first->key + ": " + first->message;
-    text += " [" + first->rule + "]";
-    if (errors > 1) text += " (and " + std::to_string(errors - 1) + " more)";
+      if (f.severity == Severity::Error) errors.push_back(&f);
+    const auto& first = *errors.front();
+    std::string text = first.key.empty() ? first.message : first.key + ": " + first.message;
+    text += " [" + first.rule + "]";
+    if (errors.size() > 1) {
+      text += " (and " + std::to_string(errors.size() - 1) + " more:";
+      for (std::size_t i = 1; i < errors.size(); ++i)
+        text += " " + errors[i]->key + " [" + errors[i]->rule + "]";
+      text += ")";
+    }
     return text;
   }
 
@@ -187,8 +194,8 @@ class Transaction {
       try {
         card_.check_write(step.cell, step.profile_raw);
       } catch (const std::exception& e) {
-        stop(Outcome::Refused, "the card would refuse " + step.cell + " = " + step.profile_text + ": " + e.what() +
-                                   "; nothing was written");
+        stop(Outcome::Refused, "the card would refuse " + step.cell + " = " + step.profile_text + ": " +
+                                   e.what() + "; nothing was written");
         return false;
       }
     }
@@ -201,7 +208,8 @@ class Transaction {
     for (const auto& w : writes_) names.push_back(w.cell);
     profile::SaveOptions save;
     save.name = "backup before " + profile_.name;
-    save.notes = "The card's values before applying " + profile_.source + ". Apply this file to restore them.";
+    save.notes =
+        "The card's values before applying " + profile_.source + ". Apply this file to restore them.";
     save.when = options_.when;
     try {
       const auto before = profile::profile_from_values(snapshot_, names, db_, result_.card, save);
@@ -251,8 +259,8 @@ class Transaction {
       const auto it = now.find(step.cell);
       if (it == now.end() || it->second != step.profile_raw)
         mismatches += (mismatches.empty() ? "" : ", ") + step.cell + " reads " +
-                      (it == now.end() ? std::string("nothing") : text(step.cell, it->second)) + " instead of " +
-                      step.profile_text;
+                      (it == now.end() ? std::string("nothing") : text(step.cell, it->second)) +
+                      " instead of " + step.profile_text;
     }
     if (!mismatches.empty()) return "verify failed: " + mismatches;
     for (const auto& step : result_.plan.steps)
@@ -307,7 +315,8 @@ class Transaction {
       if (!step.nv) continue;
       const auto one = read_one(step.cell);
       if (one.value != step.profile_raw) {
-        result_.reset_error += (result_.reset_error.empty() ? "after the reset " : ", ") + step.cell + " reads " +
+        result_.reset_error += (result_.reset_error.empty() ? "after the reset " : ", ") + step.cell +
+                               " reads " +
                                (one.value ? text(step.cell, *one.value) : "unknown (" + one.error + ")");
         result_.outcome = Outcome::Uncertain;
       }
@@ -397,8 +406,8 @@ const char* to_string(CellStatus status) {
   return "?";
 }
 
-TransactionResult run_transaction(const profile::Profile& profile, const params::ParamDb& db, CardAccess& card,
-                                  const TransactionOptions& options) {
+TransactionResult run_transaction(const profile::Profile& profile, const params::ParamDb& db,
+                                  CardAccess& card, const TransactionOptions& options) {
   TransactionResult result;
   Transaction(profile, db, card, options, result).run();
   return result;

@@ -46,6 +46,7 @@ struct Param {
   Provenance provenance;
   std::string guard;           // non-empty: writing needs --force, and this says why
   bool self_clearing = false;  // the card resets it itself (CLEARFAULT): no read-back verify
+  bool hex = false;            // shown as 0x and width/4 digits (bit registers: FAULT, STATUS)
   std::string origin;          // "file:line" of the entry (or of its last override)
   std::vector<Alias> aliases;  // other names, matched case-insensitively like the name
 

@@ -14,6 +14,7 @@
 #include "params/data_file.hpp"
 #include "params/text.hpp"
 #include "params/value.hpp"
+#include "params/yaml_problem.hpp"
 
 namespace i20::params {
 namespace {
@@ -21,7 +22,7 @@ namespace {
 const std::set<std::string> kParamKeys{"name",   "space",         "address", "width",       "signed",
                                        "unit",   "scale",         "min",     "max",         "allowed",
                                        "access", "default",       "twin",    "description", "provenance",
-                                       "guard",  "self_clearing", "aliases"};
+                                       "guard",  "self_clearing", "aliases", "format"};
 const std::set<std::string> kRequiredNewKeys{"name",   "space",  "address",     "width",
                                              "signed", "access", "description", "provenance"};
 const std::set<std::string> kBaseTopKeys{"schema", "device", "simulator_swrevision", "parameters"};
@@ -146,7 +147,6 @@ std::vector<Alias> read_aliases(const Reader& r, const YAML::Node& node) {
   return aliases;
 }
 
-
 // The bits a value has on the wire: 8, 16 or 32, checked before anything shifts by it.
 unsigned read_width(const Reader& r, const YAML::Node& node) {
   const auto w = r.integer(node, "width");
@@ -225,6 +225,10 @@ void read_fields(const Reader& r, const YAML::Node& node, Param& p) {
       p.self_clearing = r.boolean(v, key);
     } else if (key == "aliases") {
       p.aliases = read_aliases(r, v);
+    } else if (key == "format") {
+      const auto f = r.text(v, key);
+      if (f != "hex" && f != "decimal") r.fail(v, "'format' must be hex or decimal, not '" + f + "'");
+      p.hex = f == "hex";
     }
   }
   p.origin = r.where(node);
@@ -240,26 +244,27 @@ YAML::Node parse_yaml(std::string_view yaml, const std::string& source) {
   try {
     return YAML::Load(std::string(yaml));
   } catch (const YAML::Exception& e) {
-    throw ParamFileError(source + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
+    throw ParamFileError(source + ":" + std::to_string(e.mark.line + 1) + ": " + yaml_problem(e));
   }
 }
 
 }  // namespace
 
 UnknownParameter::UnknownParameter(const std::string& name, std::vector<std::string> suggestions)
-    : Error([&] {
-        std::string msg = "unknown parameter '" + name + "'";
-        if (!suggestions.empty()) {
-          msg += ": did you mean ";
-          for (std::size_t i = 0; i < suggestions.size(); ++i)
-            msg += (i ? (i + 1 == suggestions.size() ? " or " : ", ") : "") + suggestions[i];
-          msg += "?";
-        } else {
-          msg += " (list them all with `i20 dump` or see params/8i20.yaml)";
-        }
-        return msg;
-      }(),
-            ErrorKind::BadInput),
+    : Error(
+          [&] {
+            std::string msg = "unknown parameter '" + name + "'";
+            if (!suggestions.empty()) {
+              msg += ": did you mean ";
+              for (std::size_t i = 0; i < suggestions.size(); ++i)
+                msg += (i ? (i + 1 == suggestions.size() ? " or " : ", ") : "") + suggestions[i];
+              msg += "?";
+            } else {
+              msg += " (list them all with `i20 dump` or see params/8i20.yaml)";
+            }
+            return msg;
+          }(),
+          ErrorKind::BadInput),
       suggestions_(std::move(suggestions)) {}
 
 ParamDb ParamDb::load_file(const std::filesystem::path& path) {

@@ -9,6 +9,7 @@
 #include <limits>
 #include <optional>
 
+#include "lbp/bytes.hpp"
 #include "params/text.hpp"
 
 namespace i20::params {
@@ -228,6 +229,8 @@ int decimals(const Param& param) {
 }
 
 std::string format_engineering(const Param& param, std::int64_t raw) {
+  if (param.hex && param.unit.empty() && param.scale == 1.0 && raw >= 0)
+    return lbp::hex_value(static_cast<std::uint64_t>(raw), static_cast<int>(param.width_bits / 4));
   if (param.scale == 1.0)
     return param.unit.empty() ? std::to_string(raw) : std::to_string(raw) + " " + param.unit;
   char buf[64];

@@ -8,6 +8,7 @@
 #include "params/data_file.hpp"
 #include "params/text.hpp"
 #include "params/value.hpp"
+#include "params/yaml_problem.hpp"
 #include "profile/error.hpp"
 #include "profile/quantity.hpp"
 
@@ -17,8 +18,8 @@ namespace {
 using params::iequals;
 using params::trim;
 
-const std::set<std::string> kTopKeys{"schema", "name",  "description", "motor",
-                                     "supply", "notes", "target",      "parameters",
+const std::set<std::string> kTopKeys{"schema", "name", "description", "motor", "supply", "notes", "target",
+                                     "parameters",
                                      // `i20 report` files: the profile loader reads their parameters only
                                      "report"};
 const std::set<std::string> kMotorKeys{
@@ -134,7 +135,10 @@ std::int64_t read_value(const Reader& r, const YAML::Node& node, const params::P
     if (!p.unit.empty()) require_unit(r, node, p, text);
     return params::parse_value(p, text);
   } catch (const params::ValueError& e) {
-    r.fail(node, p.name, "value", e.what());
+    // The parser's message starts with the name the error line already gives.
+    std::string why = e.what();
+    if (why.starts_with(p.name + ": ")) why.erase(0, p.name.size() + 2);
+    r.fail(node, p.name, "value", why);
   }
 }
 
@@ -177,8 +181,7 @@ YAML::Node parse_yaml(std::string_view yaml, const std::string& source) {
   try {
     return YAML::Load(std::string(yaml));
   } catch (const YAML::Exception& e) {
-    throw ProfileError(source + ":" + std::to_string(e.mark.line + 1), "", "yaml",
-                       "not valid YAML: " + e.msg);
+    throw ProfileError(source + ":" + std::to_string(e.mark.line + 1), "", "yaml", params::yaml_problem(e));
   }
 }
 

@@ -37,6 +37,9 @@ fs::path locate_profile(const std::string& name_or_path, const std::vector<Searc
     for (const auto& s : search)
       for (const auto& path : candidates(s.dir, name_or_path))
         if (is_file(path)) return path;
+  // Something that is there but no file (a directory, /dev/zero): the reader says why it
+  // is refused, which helps more than "not found".
+  if (std::error_code ec; fs::exists(name_or_path, ec)) return name_or_path;
   if (!bare_name) throw ProfileNotFound("profile file '" + name_or_path + "' does not exist");
   throw ProfileNotFound(tried_text(name_or_path, search));
 }

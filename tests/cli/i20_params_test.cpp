@@ -40,10 +40,20 @@ TEST_F(I20Cli, GetPrintsEngineeringRawAndHex) {
   EXPECT_NE(r.out.find("\"unit\": \"degC\""), std::string::npos) << r.out;
 }
 
+TEST_F(I20Cli, BitRegistersPrintInHexEverywhere) {
+  sim.control("enable off");  // NOENABLEFAULT (FAULT bit 1), NOENABLESTATUS (STATUS bit 8)
+  const auto r = i20({"get", "FAULT", "FAULTMASK"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "FAULT = 0x0002\nFAULTMASK = 0xFFFF\n");
+  EXPECT_EQ(i20({"get", "--raw", "FAULT"}).out, "FAULT = 2\n") << "--raw stays the wire integer";
+  const auto dump = i20({"dump"});
+  EXPECT_NE(dump.out.find("FAULTMASK       0xFFFF"), std::string::npos) << dump.out;
+  EXPECT_NE(dump.out.find("STATUS          0x0140"), std::string::npos) << dump.out;
+}
+
 TEST_F(I20Cli, SetAcceptsUnitsAndRawAndSaysWhenAResetIsNeeded) {
   sim.control("busv 300");  // below the new 320 V brake-on
-  const auto r =
-      i20({"set", "NVBRAKEONV=320V", "NVBRAKEOFFV=300V", "NVMAXCURRENT=7.5A", "BRAKEOFFV=34000"});
+  const auto r = i20({"set", "NVBRAKEONV=320V", "NVBRAKEOFFV=300V", "NVMAXCURRENT=7.5A", "BRAKEOFFV=34000"});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("NVBRAKEONV    360.00 V  320.00 V"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("APPLIED AND VERIFIED: 3 values written, reset needed"), std::string::npos) << r.out;

@@ -208,7 +208,7 @@ TEST(EthCli, TemperatureIsInTheManualsUnitsEndToEnd) {
   SimProcess card({"--temp", "47"}, Transport::Eth);
   const auto r = run_i20(eth(card), {"watch", "--count", "2", "--plain", "--interval", "30"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("TEMP 47.00 C"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("TEMP 47.00 degC"), std::string::npos) << r.out;
 }
 
 TEST(EthCli, ControlFifoIsCreatedReadAndRemoved) {

@@ -214,7 +214,7 @@ TEST_F(FaultsCli, HealthyCardHasNoFaults) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(has(r.out, "8I20 on " + sim.port() + ": FAULT 0x0000, STATUS 0x0040, FAULTMASK 0xFFFF"))
       << r.out;
-  EXPECT_TRUE(has(r.out, "bus 320.00 V, card 35.00 C, brake off")) << r.out;
+  EXPECT_TRUE(has(r.out, "bus 320.00 V, card 35.00 degC, brake off")) << r.out;
   EXPECT_TRUE(has(r.out, "FAULT 0x0000 (FAULTMASK 0xFFFF): no faults")) << r.out;
   EXPECT_TRUE(has(r.out, "EXTR (bit 6)")) << r.out;
   EXPECT_TRUE(has(r.out, "No faults latched.")) << r.out;
@@ -270,11 +270,11 @@ TEST_F(FaultsCli, OverTemperatureAndCurrentLimiting) {
   sim.control("temp 90");
   const auto r = i20({"faults"});
   EXPECT_TRUE(has(r.out, "OVERTEMPFAULT (bit 2, over-temperature)")) << r.out;
-  EXPECT_TRUE(has(r.out, "TEMPERATURE is 90.00 C, above the 85 C limit")) << r.out;
+  EXPECT_TRUE(has(r.out, "TEMPERATURE is 90.00 degC, above the 85 degC limit")) << r.out;
   EXPECT_TRUE(has(r.out, "ILIMITEDSTATUS (bit 0), warning")) << r.out;
   const auto stuck = i20({"clear-faults"});
   EXPECT_EQ(stuck.exit_code, 5);
-  EXPECT_TRUE(has(stuck.out, "why:   the cause is still present: TEMPERATURE is 90.00 C")) << stuck.out;
+  EXPECT_TRUE(has(stuck.out, "why:   the cause is still present: TEMPERATURE is 90.00 degC")) << stuck.out;
   sim.control("temp 60");
   EXPECT_EQ(i20({"clear-faults"}).exit_code, 0);
   EXPECT_EQ(fault(), "0");

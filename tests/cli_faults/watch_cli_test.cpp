@@ -89,8 +89,8 @@ TEST_F(WatchCli, CountPrintsOneLinePerSampleAndASummary) {
   const auto r = watch({"--count", "3", "--plain"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(has(r.out, "watching the 8I20 on " + sim.port() + " every 50 ms; Ctrl-C stops")) << r.out;
-  EXPECT_EQ(count(r.out, "  BUSV 320.00 V  TEMP 35.00 C  brake off  STATUS 0x0040  FAULT 0x0000  output ON"),
-            3u)
+  EXPECT_EQ(
+      count(r.out, "  BUSV 320.00 V  TEMP 35.00 degC  brake off  STATUS 0x0040  FAULT 0x0000  output ON"), 3u)
       << r.out;
   EXPECT_TRUE(has(r.out, "watch: 3 samples in")) << r.out;
   EXPECT_FALSE(has(r.out, "\x1b[")) << "no ANSI codes in plain output";

@@ -1,0 +1,21 @@
+// The reason yaml-cpp gave for rejecting a file, in words a user can act on. Shared by the
+// loaders of parameter overlays, profiles and fault tables.
+#pragma once
+
+#include <yaml-cpp/depthguard.h>
+#include <yaml-cpp/exceptions.h>
+
+#include <string>
+
+namespace i20::params {
+
+// "not valid YAML: REASON". yaml-cpp stops nesting at 2000 levels with the bare message
+// "bad file"; a real file nests three or four deep, so say what it was.
+inline std::string yaml_problem(const YAML::Exception& e) {
+  if (const auto* deep = dynamic_cast<const YAML::DeepRecursion*>(&e))
+    return "not valid YAML: nested " + std::to_string(deep->depth()) +
+           " levels deep, more than the parser takes (a real file nests a few levels)";
+  return "not valid YAML: " + e.msg;
+}
+
+}  // namespace i20::params
