@@ -289,7 +289,7 @@ void register_param_commands(CLI::App& app, Context& ctx) {
   auto set_options = std::make_shared<SetOptions>();
   auto* set = app.add_subcommand(
       "set",
-      "Write parameters: NAME=VALUE with units (NVBRAKEONV=320V, NVMAXCURRENT=7.5A) or raw integers "
+      "Write parameters: NAME=VALUE with units (NVBRAKEONV=370V, NVMAXCURRENT=7.5A) or raw integers "
       "(NVMAXCURRENT=750), as one transaction: every value is checked against its range and the manual's rules "
       "using the card's other values, cells that already hold their value are skipped, the rest are written in "
       "an order that keeps the thresholds consistent, read back, and restored if anything fails. NV writes take "

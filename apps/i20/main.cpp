@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
       "faults, apply motor profiles. Talks to the card over a serial RS-422 adapter (3I21/3I22, jumper\n"
       "W6 down = setup mode, 115200 baud), over Ethernet through a 7I96S/7I92T, or to the built-in\n"
       "simulator (--sim), which is the way to try everything without hardware.\n\n"
-      "Try:  i20 --sim info   |   i20 --sim dump   |   i20 --sim set NVBRAKEONV=320V"};
+      "Try:  i20 --sim info   |   i20 --sim dump   |   i20 --sim set NVBRAKEONV=370V"};
   app.set_version_flag("--version", "i20 " + std::string(build::kVersion), "Print the version and exit");
   app.require_subcommand(1);
   app.fallthrough();  // global options may follow the subcommand

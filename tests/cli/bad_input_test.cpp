@@ -480,18 +480,6 @@ class BadInputTable : public ::testing::TestWithParam<BadInput> {
  protected:
   BadInputTable() : sim_({"--eeprom", (dir_ / "card.eeprom").string()}) { write_bad_files(dir_); }
 
-  // Write commands (LBP header 011x xxxx) the card received, from the simulator's trace.
-  std::size_t writes_seen() const {
-    std::size_t n = 0;
-    std::istringstream in(sim_.trace());
-    for (std::string line; std::getline(in, line);) {
-      const auto pos = line.find(": ");
-      if (pos == std::string::npos || line.find(" -> ") == std::string::npos) continue;
-      if ((std::stoi(line.substr(pos + 2, 2), nullptr, 16) & 0xE0) == 0x60) ++n;
-    }
-    return n;
-  }
-
   TempDir dir_;
   SimProcess sim_;
 };
@@ -515,7 +503,7 @@ TEST_P(BadInputTable, OneLineErrorExitCodeAndNothingWritten) {
 
   EXPECT_EQ(r.exit_code, c.exit_code) << r.out << r.err;
   EXPECT_EQ(r.err, expand(c.error, sim_.port(), dir) + "\n");
-  EXPECT_EQ(writes_seen(), 0u) << sim_.trace();
+  EXPECT_EQ(sim_.writes_seen(), 0u) << sim_.trace();
   EXPECT_EQ(read_file(dir_ / "card.eeprom"), eeprom_before) << "the EEPROM image changed";
   if (c.sends_nothing) {
     EXPECT_EQ(sim_.commands_seen(), commands_before) << "bad input reached the card";

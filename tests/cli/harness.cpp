@@ -217,4 +217,15 @@ std::size_t SimProcess::commands_seen() const {
   return count;
 }
 
+std::size_t SimProcess::writes_seen() const {
+  std::istringstream in(trace());
+  std::size_t count = 0;
+  for (std::string line; std::getline(in, line);) {
+    const auto pos = line.find(": ");
+    if (pos == std::string::npos || line.find(" -> ") == std::string::npos) continue;
+    if ((std::stoi(line.substr(pos + 2, 2), nullptr, 16) & 0xE0) == 0x60) ++count;
+  }
+  return count;
+}
+
 }  // namespace i20::test

@@ -65,6 +65,8 @@ class SimProcess {
   std::string trace() const;
   // Number of commands the card has executed so far (from the trace).
   std::size_t commands_seen() const;
+  // Of those, data writes (LBP header 011x xxxx): 0 proves nothing was written.
+  std::size_t writes_seen() const;
 
  private:
   int pid_ = -1;

@@ -19,19 +19,6 @@ class LegacyTools : public ::testing::Test {
   }
   Result rpd(const std::vector<std::string>& args) { return run("rpd", args, env()); }
   Result wpd(const std::vector<std::string>& args) { return run("wpd", args, env()); }
-  // Data writes (header 01 1x xxxx) the card received, from the simulator's trace.
-  std::size_t writes_seen() const {
-    std::size_t n = 0;
-    std::istringstream in(sim.trace());
-    for (std::string line; std::getline(in, line);) {
-      const auto pos = line.find(": ");
-      if (pos == std::string::npos || line.find(" -> ") == std::string::npos) continue;
-      const auto header = std::stoi(line.substr(pos + 2, 2), nullptr, 16);
-      if ((header & 0xE0) == 0x60) ++n;
-    }
-    return n;
-  }
-
   SimProcess sim;
 };
 
@@ -78,7 +65,7 @@ TEST_F(LegacyTools, WpdRefusesAnOverVoltageAtOrBelowTheMeasuredBus) {
   EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
   EXPECT_NE(r.err.find("320.00 V the card measures"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("--force"), std::string::npos) << r.err;
-  EXPECT_EQ(writes_seen(), 0u) << sim.trace();
+  EXPECT_EQ(sim.writes_seen(), 0u) << sim.trace();
   EXPECT_EQ(sim.control("get BUSOVERV"), "38500");
 }
 
@@ -113,7 +100,7 @@ TEST_F(LegacyTools, BadValuesAndNamesAreOneLineErrors) {
   r = rpd({"NVBRAKEON"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("did you mean NVBRAKEONV"), std::string::npos) << r.err;
-  EXPECT_EQ(writes_seen(), 0u);
+  EXPECT_EQ(sim.writes_seen(), 0u);
 }
 
 TEST_F(LegacyTools, EnvironmentIsCheckedLikeWpd) {

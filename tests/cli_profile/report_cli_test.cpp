@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <fstream>
-#include <sstream>
 
 #include "harness.hpp"
 
@@ -34,18 +33,6 @@ YAML::Node value_entry(const YAML::Node& report, const std::string& name) {
   return {};
 }
 
-// LBP write commands (header 011x xxxx) in a simulator's trace.
-std::size_t writes_in(const std::string& trace) {
-  std::size_t n = 0;
-  std::istringstream in(trace);
-  for (std::string line; std::getline(in, line);) {
-    const auto pos = line.find(": ");
-    if (pos == std::string::npos || line.find(" -> ") == std::string::npos) continue;
-    if ((std::stoi(line.substr(pos + 2, 2), nullptr, 16) & 0xE0) == 0x60) ++n;
-  }
-  return n;
-}
-
 class Report : public ::testing::Test {
  protected:
   // A card with a latched NOENABLEFAULT and an NV value written but not yet live.
@@ -67,7 +54,7 @@ TEST_F(Report, SaysWhatTheCardHoldsAndWritesNothing) {
   const auto file = (dir / "card.yaml").string();
   const auto r = i20({"report", "-o", file}, sim);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_EQ(writes_in(sim.trace()), 0u) << "a report is read-only";
+  EXPECT_EQ(sim.writes_seen(), 0u) << "a report is read-only";
 
   const YAML::Node y = YAML::LoadFile(file);
   const auto rep = y["report"];
@@ -111,7 +98,7 @@ TEST_F(Report, AppliedToAnotherCardGivesItTheSameNvSetup) {
   // Applying the report to the card it came from has nothing to do.
   const auto again = i20({"profile", "apply", file, "--yes"}, sim);
   EXPECT_EQ(again.exit_code, 0) << again.out << again.err;
-  EXPECT_EQ(writes_in(sim.trace()), 0u) << "every cell already held its value";
+  EXPECT_EQ(sim.writes_seen(), 0u) << "every cell already held its value";
 }
 
 TEST_F(Report, JsonCarriesTheSameFacts) {
