@@ -55,8 +55,7 @@ void run(fuzz::Input& in) {
     if (split != std::string::npos) db.apply_overlay_string(text.substr(split + 1), "second.yaml");
   }
   check(db);
-  db.select_firmware(revision);
-  check(db);
+  check(db.for_firmware(revision));
 }
 
 }  // namespace
