@@ -141,6 +141,8 @@ void print_next_steps(std::ostream& out, const TargetRun& run) {
   if (r.outcome == Outcome::Interrupted && !r.writes.empty())
     out << "Stopped by Ctrl-C: every value written was restored and read back.\n";
   if (r.outcome == Outcome::Uncertain && !r.rollback.empty()) print_rollback_failed(out, run);
+  if (!run.mode_left_on.empty() && outcome_line(run).find(run.mode_left_on) == std::string::npos)
+    out << "WARNING: " << run.mode_left_on << "\n";
   if (run.retries > 0)
     out << "note: " << plural(run.retries, "read or write was", "reads or writes were")
         << " repeated after lost or garbled replies\n";
@@ -300,7 +302,11 @@ std::string outcome_line(const TargetRun& run) {
 std::string error_line(const TargetRun& run) {
   const bool refused = run.outcome == Outcome::Refused || run.outcome == Outcome::BadInput;
   if (refused && run.result) return "refused: " + run.result->reason;
-  return outcome_line(run);
+  // The cell table goes to stdout; a mode left on must be on the one line too.
+  std::string line = outcome_line(run);
+  if (!run.mode_left_on.empty() && line.find(run.mode_left_on) == std::string::npos)
+    line += "; and " + run.mode_left_on;
+  return line;
 }
 
 void print_run(std::ostream& out, const TargetRun& run, const params::ParamDb& db, const std::string& source,

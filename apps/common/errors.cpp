@@ -35,10 +35,6 @@ int report_current_exception(const char* program) {
   }
 }
 
-}  // namespace i20::app
-
-namespace i20::app {
-
 int report_parse_error(const CLI::App& app, const CLI::ParseError& e, const char* program) {
   if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
   std::cerr << program << ": error: " << e.what() << " (`" << program << " --help` explains the options)\n";

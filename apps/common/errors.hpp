@@ -4,6 +4,11 @@
 
 #include "ops/outcome.hpp"
 
+namespace CLI {
+class App;
+class ParseError;
+}  // namespace CLI
+
 namespace i20::app {
 
 enum ExitCode : int {
@@ -19,15 +24,6 @@ enum ExitCode : int {
 // Prints "PROGRAM: LABEL: MESSAGE" (one line) to stderr and returns the exit code for the
 // exception. Call from a catch (...) block.
 int report_current_exception(const char* program);
-
-}  // namespace i20::app
-
-namespace CLI {
-class App;
-class ParseError;
-}  // namespace CLI
-
-namespace i20::app {
 
 // A command-line mistake CLI11 found, as one line: "PROGRAM: error: WHAT (`PROGRAM --help`
 // explains the options)", exit 2. --help and --version print their text and return 0.

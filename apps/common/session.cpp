@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "errors.hpp"
 #include "interrupt.hpp"
 
 namespace i20::app {
@@ -90,6 +91,18 @@ void Session::settle(const char* program) {
   if (const auto mode = card_->settle(); !mode.empty())
     std::cerr << program << ": note: the line failed while the card was in " << mode
               << "; it answered again and left it\n";
+}
+
+int Session::report_failure(const char* program) {
+  int code = report_current_exception(program);
+  if (!card_) return code;
+  try {
+    settle(program);
+  } catch (const Error& e) {
+    std::cerr << program << ": card state: " << e.what() << "\n";
+    code = kCardState;
+  }
+  return code;
 }
 
 void Session::reconnect() {

@@ -53,6 +53,11 @@ class Session {
   // (ops::Card::settle); throws CardStateError when the card does not confirm. Prints a
   // note to stderr when it had to leave one.
   void settle(const char* program);
+  // From a catch (...) block, with the session still alive: reports the exception (one line,
+  // its exit code), then settles the card, because a line that died may have left NV access
+  // or RPC memory mode on. When the card does not confirm, a second line says so and the
+  // exit code becomes 4 (the card's state is uncertain).
+  int report_failure(const char* program);
   // Drops the card so the next use opens it again (after an adapter was unplugged and
   // replugged, or the card reset).
   void reconnect();

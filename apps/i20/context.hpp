@@ -27,6 +27,11 @@ struct Context {
   void settle() {
     if (session_) session_->settle("i20");
   }
+  // The one-line report of the exception being handled, and the card settled (see
+  // app::Session::report_failure). Call from a catch (...) block.
+  int report_failure() {
+    return session_ ? session_->report_failure("i20") : app::report_current_exception("i20");
+  }
   // Prints JSON documents the same way everywhere.
   void print_json(const app::Json& json) const;
   // Asks "question [y/N]" on the terminal; false without a terminal (use --yes there).

@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
     return app::report_parse_error(app, e, "i20");
   } catch (...) {
     ctx.print_notes();
-    return app::report_current_exception("i20");
+    return ctx.report_failure();
   }
   ctx.print_notes();
   return ctx.exit_code;

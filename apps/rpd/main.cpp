@@ -45,28 +45,32 @@ int main(int argc, char** argv) {
   try {
     app::apply_legacy_environment(options, true);
     app::Session session(options);
-    const auto& param = session.db().get(name);  // unknown names fail before the link opens
-    auto& card = session.card();
-    const auto policy = allow_unverified ? ops::Unconfirmed::Read : ops::Unconfirmed::Skip;
-    const auto reading = ops::read_values(card, std::vector<std::string>{param.name}, policy).front();
-    session.settle("rpd");  // an NV read the line cut short must not leave NV mode on unsaid
-    if (!reading.raw) {
-      std::cerr << "rpd: refused: " << reading.param->name << " is " << ops::unknown_text(reading)
-                << "; run `i20 " << card.endpoint().flags() << " discover`, or pass --allow-unverified\n";
-      return app::kRefused;
+    try {
+      const auto& param = session.db().get(name);  // unknown names fail before the link opens
+      auto& card = session.card();
+      const auto policy = allow_unverified ? ops::Unconfirmed::Read : ops::Unconfirmed::Skip;
+      const auto reading = ops::read_values(card, std::vector<std::string>{param.name}, policy).front();
+      session.settle("rpd");  // an NV read the line cut short must not leave NV mode on unsaid
+      if (!reading.raw) {
+        std::cerr << "rpd: refused: " << reading.param->name << " is " << ops::unknown_text(reading)
+                  << "; run `i20 " << card.endpoint().flags() << " discover`, or pass --allow-unverified\n";
+        return app::kRefused;
+      }
+      if (!reading.confirmed)
+        std::cerr << "rpd: warning: " << reading.param->name << " read at an address " << reading.reason
+                  << "; the value may belong to another parameter\n";
+      const auto& p = *reading.param;
+      if (hex.empty()) {
+        std::cout << *reading.raw << "\n";
+      } else {
+        const auto mask = p.width_bits == 32 ? 0xFFFFFFFFull : (1ull << p.width_bits) - 1;
+        std::printf("%0*llX\n", static_cast<int>(p.width_bits / 4),
+                    static_cast<unsigned long long>(*reading.raw) & mask);
+      }
+      return app::kOk;
+    } catch (...) {
+      return session.report_failure("rpd");  // the card settled too: a mode may be on
     }
-    if (!reading.confirmed)
-      std::cerr << "rpd: warning: " << reading.param->name << " read at an address " << reading.reason
-                << "; the value may belong to another parameter\n";
-    const auto& p = *reading.param;
-    if (hex.empty()) {
-      std::cout << *reading.raw << "\n";
-    } else {
-      const auto mask = p.width_bits == 32 ? 0xFFFFFFFFull : (1ull << p.width_bits) - 1;
-      std::printf("%0*llX\n", static_cast<int>(p.width_bits / 4),
-                  static_cast<unsigned long long>(*reading.raw) & mask);
-    }
-    return app::kOk;
   } catch (...) {
     return app::report_current_exception("rpd");
   }

@@ -98,25 +98,29 @@ int main(int argc, char** argv) {
   try {
     app::apply_legacy_environment(options, true);
     app::Session session(options);
-    const auto& db = session.db();
-    const auto& param = db.get(name);
-    const auto raw = params::parse_raw(param, value_text);
-    // The manual's "WPD FAULT 0 would clear the FAULT parameter": FAULT itself is not
-    // writable, the card clears faults through CLEARFAULT.
-    if (param.name == "FAULT" && raw == 0) {
-      const int code = clear_faults(session, write);
-      session.settle("wpd");
-      return code;
+    try {
+      const auto& db = session.db();
+      const auto& param = db.get(name);
+      const auto raw = params::parse_raw(param, value_text);
+      // The manual's "WPD FAULT 0 would clear the FAULT parameter": FAULT itself is not
+      // writable, the card clears faults through CLEARFAULT.
+      if (param.name == "FAULT" && raw == 0) {
+        const int code = clear_faults(session, write);
+        session.settle("wpd");
+        return code;
+      }
+      const auto profile = ops::profile_from_value(name, value_text, db, ops::ValueSyntax::Raw);
+      ops::precheck(profile, db, write);  // before the link is even opened
+      auto& card = session.card();
+      ops::ApplyJob job;
+      job.profile = &profile;
+      job.db = &card.db();
+      job.write = write;
+      job.transaction.cancel = card.cancel();
+      return report(ops::run_apply_on(card, job), card.db());  // run_apply_on settles the card itself
+    } catch (...) {
+      return session.report_failure("wpd");  // the card settled too: a mode may be on
     }
-    const auto profile = ops::profile_from_value(name, value_text, db, ops::ValueSyntax::Raw);
-    ops::precheck(profile, db, write);  // before the link is even opened
-    auto& card = session.card();
-    ops::ApplyJob job;
-    job.profile = &profile;
-    job.db = &card.db();
-    job.write = write;
-    job.transaction.cancel = card.cancel();
-    return report(ops::run_apply_on(card, job), card.db());  // run_apply_on settles the card itself
   } catch (...) {
     return app::report_current_exception("wpd");
   }

@@ -157,6 +157,7 @@ std::vector<Value> Amp8i20::read(std::span<const Param* const> params) {
       commands.push_back(read_command(*params[i]));
     }
   const auto leave = lbp::set_nv_access(lbp::local::NvAccess::Ram);
+  const auto nv_mode = lbp::local_read(lbp::local::kGetNvAccess);
   const bool any_nv = std::ranges::any_of(params, &Param::is_nv);
   if (any_nv) {
     commands.push_back(lbp::set_nv_access(lbp::local::NvAccess::Eeprom));
@@ -166,16 +167,17 @@ std::vector<Value> Amp8i20::read(std::span<const Param* const> params) {
         commands.push_back(read_command(*params[i]));
       }
     // As for writes: if the card reset inside the batch, the NV reads came from RAM.
-    commands.push_back(lbp::local_read(lbp::local::kGetNvAccess));
+    commands.push_back(nv_mode);
     commands.push_back(leave);
+    commands.push_back(nv_mode);  // the reply that proves it left
   }
 
   std::optional<ModeGuard> guard;
-  if (any_nv) guard.emplace(link_, leave, "NV (EEPROM) access mode", &unsettled_mode_);
+  if (any_nv) guard.emplace(link_, leave, nv_mode, "NV (EEPROM) access mode", &unsettled_mode_);
   const auto replies = link_.execute(commands);
   if (guard) {
-    guard->disarm();
-    if (replies[replies.size() - 2].at(0) != static_cast<lbp::Byte>(lbp::local::NvAccess::Eeprom))
+    guard->disarm(replies.back());
+    if (replies[replies.size() - 3].at(0) != static_cast<lbp::Byte>(lbp::local::NvAccess::Eeprom))
       throw CardStateError(
           "the 8I20 on " + link_.describe() +
           " left NV access mode during the read (it reset?): NV values not shown; read again");
@@ -261,7 +263,7 @@ std::vector<WriteReport> Amp8i20::write_nv(std::span<const Assignment> batch) {
   namespace L = lbp::local;
   const auto leave = lbp::set_nv_access(L::NvAccess::Ram);
   const auto mode = lbp::local_read(L::kGetNvAccess);
-  ModeGuard guard(link_, leave, "NV (EEPROM) access mode", &unsettled_mode_);
+  ModeGuard guard(link_, leave, mode, "NV (EEPROM) access mode", &unsettled_mode_);
   const std::vector<lbp::Command> enter{lbp::set_nv_access(L::NvAccess::Eeprom), mode};
   require_nv_mode(link_.execute(enter)[1], "before " + batch.front().param->name + " was to be written");
   std::vector<WriteReport> reports;
@@ -273,13 +275,9 @@ std::vector<WriteReport> Amp8i20::write_nv(std::span<const Assignment> batch) {
     const bool last = i + 1 == batch.size();
     if (last) commands.insert(commands.end(), {leave, mode});
     const auto replies = link_.execute(commands);
-    if (last) guard.disarm();
     check_nv_cell(a, replies);
     reports.push_back({a.param, a.raw, true, true});
-    if (last && replies[4].at(0) != static_cast<lbp::Byte>(L::NvAccess::Ram))
-      throw CardStateError("the 8I20 on " + link_.describe() +
-                           " did not leave NV access mode after the EEPROM write (it was verified): reset it "
-                           "(i20 reset) or cycle its logic power");
+    if (last) guard.disarm(replies[4]);  // throws if the card did not leave NV mode (the cell is verified)
   }
   return reports;
 }
@@ -352,15 +350,17 @@ lbp::Bytes Amp8i20::read_memory(Space space, std::uint16_t address, std::size_t 
   auto commands = chunked_reads(address, count, link_.max_data_bytes());
   std::optional<ModeGuard> guard;
   if (space == Space::Eeprom) {
+    const auto leave = lbp::set_nv_access(lbp::local::NvAccess::Ram);
+    const auto nv_mode = lbp::local_read(lbp::local::kGetNvAccess);
     commands.insert(commands.begin(), lbp::set_nv_access(lbp::local::NvAccess::Eeprom));
-    commands.push_back(lbp::set_nv_access(lbp::local::NvAccess::Ram));
-    guard.emplace(link_, commands.back(), "NV (EEPROM) access mode", &unsettled_mode_);
+    commands.insert(commands.end(), {leave, nv_mode});
+    guard.emplace(link_, leave, nv_mode, "NV (EEPROM) access mode", &unsettled_mode_);
   }
   auto replies = link_.execute(commands);
   if (guard) {
-    guard->disarm();
+    guard->disarm(replies.back());
     replies.erase(replies.begin());
-    replies.pop_back();
+    replies.resize(replies.size() - 2);
   }
   lbp::Bytes out;
   for (const auto& r : replies) out.insert(out.end(), r.begin(), r.end());
@@ -381,14 +381,15 @@ lbp::Bytes Amp8i20::read_rpc_table(std::size_t offset, std::size_t count) {
   namespace L = lbp::local;
   if (count == 0) return {};
   const auto leave = lbp::local_write(L::kSetRpcMemAccess, 0);
-  ModeGuard guard(link_, leave, "RPC memory access mode", &unsettled_mode_);
+  const auto rpc_mode = lbp::local_read(L::kGetRpcMemAccess);
+  ModeGuard guard(link_, leave, rpc_mode, "RPC memory access mode", &unsettled_mode_);
   auto commands = chunked_reads(static_cast<std::uint16_t>(offset), count, link_.max_data_bytes());
   commands.insert(commands.begin(), lbp::local_write(L::kSetRpcMemAccess, 1));
-  commands.push_back(leave);
+  commands.insert(commands.end(), {leave, rpc_mode});
   const auto replies = link_.execute(commands);
-  guard.disarm();
+  guard.disarm(replies.back());
   lbp::Bytes table;
-  for (std::size_t i = 1; i + 1 < replies.size(); ++i)
+  for (std::size_t i = 1; i + 2 < replies.size(); ++i)
     table.insert(table.end(), replies[i].begin(), replies[i].end());
   return table;
 }

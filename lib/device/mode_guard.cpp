@@ -4,34 +4,50 @@
 
 namespace i20::device {
 
-ModeGuard::ModeGuard(link::Link& link, lbp::Command leave, std::string what, std::string* unsettled)
-    : link_(link), leave_(std::move(leave)), what_(std::move(what)), unsettled_(unsettled) {}
+ModeGuard::ModeGuard(link::Link& link, lbp::Command leave, lbp::Command confirm, std::string what,
+                     std::string* unsettled)
+    : link_(link),
+      leave_(std::move(leave)),
+      confirm_(std::move(confirm)),
+      what_(std::move(what)),
+      unsettled_(unsettled) {}
 
 ModeGuard::~ModeGuard() {
   if (!armed_) return;
-  // Destructors must not throw; a failure here is reported by leave() callers that
-  // care, and the card's reset clears the mode anyway.
+  // Destructors must not throw; a failure here is recorded in `unsettled` for the card's
+  // owner to report, and the card's reset clears the mode anyway.
   try {
     leave();
   } catch (...) {
   }
 }
 
+void ModeGuard::disarm(const lbp::Bytes& confirmed) {
+  armed_ = false;
+  if (confirmed.empty() || confirmed.at(0) != 0) still_on();
+  settled();
+}
+
+void ModeGuard::still_on() {
+  armed_ = false;
+  if (unsettled_) *unsettled_ = what_;
+  throw CardStateError("the 8I20 on " + link_.describe() + " did not confirm that it left " + what_ +
+                       ": reset it (i20 reset) or cycle its logic power before using it");
+}
+
 void ModeGuard::leave() {
   // Two attempts: the first may fail right after the error that brought us here.
   for (int attempt = 0; attempt < 2; ++attempt) {
     try {
-      link_.execute_one(leave_);
+      const auto replies = link_.execute(std::vector<lbp::Command>{leave_, confirm_});
+      if (replies.at(1).at(0) != 0) continue;  // told to leave, still in it: once more
       armed_ = false;
       settled();
       return;
     } catch (const link::LinkError&) {
     }
   }
-  armed_ = false;
-  if (unsettled_) *unsettled_ = what_;
-  throw CardStateError("could not take the 8I20 out of " + what_ + " on " + link_.describe() +
-                       ": reset it (i20 reset) or cycle its logic power before using it");
+  still_on();
 }
 
 }  // namespace i20::device

@@ -13,27 +13,30 @@ namespace i20::device {
 class ModeGuard {
  public:
   // The guard is armed: the caller has sent (or is about to send, in the same batch)
-  // the command that enters the mode. `leave` is the command that ends it. When leaving
-  // fails (also from the destructor, which cannot throw), the mode's name goes to
-  // `unsettled`, so whoever owns the card can say the card may still be in it.
-  ModeGuard(link::Link& link, lbp::Command leave, std::string what, std::string* unsettled = nullptr);
+  // the command that enters the mode. `leave` is the command that ends it, `confirm` the
+  // local read that answers 0 once the mode is off: a local write has no reply, so only the
+  // read after it proves the card acted on it. When leaving fails (also from the
+  // destructor, which cannot throw), the mode's name goes to `unsettled`, so whoever owns
+  // the card can say the card may still be in it.
+  ModeGuard(link::Link& link, lbp::Command leave, lbp::Command confirm, std::string what,
+            std::string* unsettled = nullptr);
   ~ModeGuard();
   ModeGuard(const ModeGuard&) = delete;
   ModeGuard& operator=(const ModeGuard&) = delete;
 
-  // The leave command went out in a batch that completed: nothing left to do (and an
-  // earlier failure to leave this mode is settled by it).
-  void disarm() {
-    armed_ = false;
-    settled();
-  }
+  // The leave command and its confirming read went out in a batch that completed, and
+  // `confirmed` is that read's reply: the mode is settled (an earlier failure to leave it
+  // too), or, when the card still reports the mode, CardStateError.
+  void disarm(const lbp::Bytes& confirmed);
   // Leaves the mode now; throws CardStateError if the card does not confirm.
   void leave();
 
  private:
   link::Link& link_;
   lbp::Command leave_;
+  lbp::Command confirm_;
   std::string what_;
+  [[noreturn]] void still_on();
   void settled() {
     if (unsettled_ && *unsettled_ == what_) unsettled_->clear();
   }

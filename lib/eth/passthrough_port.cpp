@@ -232,6 +232,19 @@ PassthroughPort::~PassthroughPort() {
 }
 
 void PassthroughPort::start_setup() {
+  // In a take-over the other host's DOITs can land inside our setup start and make a
+  // channel that is there look silent: start again a few times before saying so.
+  const int attempts = options_.running_host.take_over ? 4 : 1;
+  for (int attempt = 1;; ++attempt) {
+    try {
+      return start_setup_once();
+    } catch (const DiscoveryError&) {
+      if (attempt >= attempts) throw;
+    }
+  }
+}
+
+void PassthroughPort::start_setup_once() {
   sslbp_->stop_all();
   const std::uint8_t failed = sslbp_->start_setup(mask_);
   const auto regs = sslbp_->read_channels(mask_);

@@ -202,6 +202,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   struct PacketResult;
 
   void start_setup();
+  void start_setup_once();
   void resync();
   void run(std::vector<Channel>& channels);
   // The rounds of the next packet under the packing rules, at most `max_doits` (0: no limit).

@@ -100,6 +100,7 @@ void settle(Card& card, TargetRun& run) {
                                    "; it answered again and left it");
   } catch (const Error& e) {
     run.outcome = Outcome::Uncertain;
+    run.mode_left_on = e.what();
     run.result->reason += (run.result->reason.empty() ? "" : "; ") + std::string(e.what());
   }
 }

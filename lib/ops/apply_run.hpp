@@ -39,6 +39,9 @@ struct TargetRun {
   // The card reset itself while the profile was being applied (STATUS sticky bits), so
   // its working values were reloaded from the EEPROM as it was at that moment.
   std::string card_reset;
+  // The line failed with NV access or RPC memory mode on and the card did not confirm it
+  // left: why, and the way back (the outcome is then Uncertain).
+  std::string mode_left_on;
   bool refused_by_card = false;  // the device layer's safety rules refused a planned write
   std::size_t retries = 0;       // reads/writes repeated after lost or garbled replies
   double seconds = 0;

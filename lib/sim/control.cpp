@@ -270,18 +270,30 @@ std::string control_help() {
   return kHelp;
 }
 
+namespace {
+const char* nv_access_name(lbp::local::NvAccess mode) {
+  switch (mode) {
+    case lbp::local::NvAccess::Ram: return "ram";
+    case lbp::local::NvAccess::Eeprom: return "eeprom";
+    case lbp::local::NvAccess::Flash: return "flash";
+  }
+  return "?";
+}
+}  // namespace
+
 std::string describe_state(Virtual8i20& card) {
   const auto& s = card.world().settings();
   const auto& amp = card.amplifier();
-  char buf[256];
+  char buf[384];
   std::snprintf(buf, sizeof buf,
                 "power=%s mode=%s baud=%u busv=%.2fV temp=%.2fC enable=%s fault=%s status=%s "
-                "lbp_status=0x%02X fault_output=%s brake=%s crc_errors=%u",
+                "lbp_status=0x%02X fault_output=%s brake=%s crc_errors=%u nv_access=%s rpcmem=%s",
                 card.powered() ? "on" : "off", card.mode() == FramingMode::Setup ? "setup" : "operate",
                 card.baud(), s.bus_volts, s.temperature_c, s.enable ? "on" : "off",
                 lbp::hex_value(amp.fault(), 4).c_str(), lbp::hex_value(amp.status(), 4).c_str(),
                 card.lbp_registers().status, amp.fault_output_active() ? "fault" : "ok",
-                amp.brake_on() ? "on" : "off", card.lbp_registers().crc_errors);
+                amp.brake_on() ? "on" : "off", card.lbp_registers().crc_errors,
+                nv_access_name(card.lbp_registers().nv_access), card.lbp_registers().rpcmem ? "on" : "off");
   return buf;
 }
 

@@ -145,3 +145,39 @@ TEST(LegacyToolsUnconfirmed, WorkingWritesOnAnUnknownFirmwareNeedAllowUnverified
   r = run("wpd", {"NVBRAKEONV", "37000"}, env);
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }
+
+// A card that stops answering after N commands: during identification (RPC memory mode on
+// to read the RPC table), inside NV access mode, and later. The tool never ends with the
+// card still in either mode unsaid: then it exits 4 and names the mode and the way back.
+// The N were read off the simulator's trace of both programs (rpd: RPC memory at commands
+// 17-26, NV access at 27-30; wpd the same, then NV access again around its write).
+TEST(LegacyToolsMute, AModeLeftOnIsAlwaysSaid) {
+  for (const char* program : {"rpd", "wpd"}) {
+    int left_on = 0;
+    for (int n : {18, 28, 29, 30, 45}) {
+      SCOPED_TRACE(std::string(program) + " mute-after " + std::to_string(n));
+      SimProcess sim({"--busv", "160"});
+      sim.control("mute-after " + std::to_string(n));
+      const std::vector<std::string> args = std::string(program) == "rpd"
+                                                ? std::vector<std::string>{"NVMAXCURRENT"}
+                                                : std::vector<std::string>{"NVMAXCURRENT", "1200"};
+      const auto r = run(program, args,
+                         {{"COMPORT", sim.port()},
+                          {"I20_PARAMS", ""},
+                          {"XDG_CONFIG_HOME", "/nonexistent"},
+                          {"XDG_STATE_HOME", "/tmp"}});
+      sim.control("mute-after off");
+      const auto state = sim.control("show");
+      const bool nv_on = state.find("nv_access=eeprom") != std::string::npos;
+      const bool rpc_on = state.find("rpcmem=on") != std::string::npos;
+      if (nv_on || rpc_on) {
+        ++left_on;
+        EXPECT_EQ(r.exit_code, 4) << r.err;
+        EXPECT_NE(r.err.find(nv_on ? "NV (EEPROM) access mode and may still be in it" : "may still be in it"),
+                  std::string::npos)
+            << r.err;
+      }
+    }
+    EXPECT_GT(left_on, 0) << program << ": no mute landed inside a mode; the test proves nothing";
+  }
+}

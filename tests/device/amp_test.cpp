@@ -48,12 +48,14 @@ TEST_F(AmpTest, NvReadsHappenInsideNvModeAndLeaveIt) {
   card.put(40, 19000, 2, /*nv=*/true);
   EXPECT_EQ(amp.read("NVBRAKEONV").raw, 19000);
   // One exchange: the NV read in NV mode, then a check that the card is still in NV mode
-  // (it did not reset meanwhile), then leaving it.
-  ASSERT_EQ(card.sent.size(), 4u);
+  // (it did not reset meanwhile), then leaving it, and a read that proves it left (0xEC
+  // has no reply: only the 0xCC after it shows the card acted on it).
+  ASSERT_EQ(card.sent.size(), 5u);
   EXPECT_EQ(card.sent[0].bytes, (lbp::Bytes{0xEC, 0x01}));
   EXPECT_EQ(card.sent[1].bytes, (lbp::Bytes{0x45, 0x28, 0x00}));  // NVBRAKEONV at 40
   EXPECT_EQ(card.sent[2].bytes, (lbp::Bytes{0xCC}));
-  EXPECT_EQ(card.sent.back().bytes, (lbp::Bytes{0xEC, 0x00}));
+  EXPECT_EQ(card.sent[3].bytes, (lbp::Bytes{0xEC, 0x00}));
+  EXPECT_EQ(card.sent[4].bytes, (lbp::Bytes{0xCC}));
   EXPECT_EQ(card.nv_mode, 0);
 }
 
@@ -75,9 +77,9 @@ TEST_F(AmpTest, NvWriteEntersWritesReadsBackAndLeaves) {
   EXPECT_EQ(card.sent[2].bytes, (lbp::Bytes{0x65, 0x02, 0x00, 0xC4, 0x09}));  // 2-byte write at 2
   EXPECT_TRUE(card.sent[2].barrier);
   EXPECT_EQ(card.sent[3].bytes, (lbp::Bytes{0x45, 0x02, 0x00}));  // read back
-  EXPECT_EQ(card.sent[4].bytes, (lbp::Bytes{0xCC}));             // still in NV mode?
+  EXPECT_EQ(card.sent[4].bytes, (lbp::Bytes{0xCC}));              // still in NV mode?
   EXPECT_EQ(card.sent[5].bytes, (lbp::Bytes{0xEC, 0x00}));
-  EXPECT_EQ(card.sent[6].bytes, (lbp::Bytes{0xCC}));             // and out of it again
+  EXPECT_EQ(card.sent[6].bytes, (lbp::Bytes{0xCC}));  // and out of it again
 }
 
 TEST_F(AmpTest, NvModeIsLeftEvenWhenTheWriteFails) {
@@ -85,7 +87,9 @@ TEST_F(AmpTest, NvModeIsLeftEvenWhenTheWriteFails) {
   card.fail_at = 2;  // enter NV and the mode check succeed, the write times out
   EXPECT_THROW(amp.write("NVBRAKEONV", 32000, {}), link::TimeoutError);
   EXPECT_EQ(card.nv_mode, 0) << "the guard must take the card out of NV mode";
-  EXPECT_EQ(card.sent.back().bytes, (lbp::Bytes{0xEC, 0x00}));
+  ASSERT_GE(card.sent.size(), 2u);
+  EXPECT_EQ(card.sent[card.sent.size() - 2].bytes, (lbp::Bytes{0xEC, 0x00}));
+  EXPECT_EQ(card.sent.back().bytes, (lbp::Bytes{0xCC})) << "and see it confirmed";
 }
 
 TEST_F(AmpTest, NvModeIsLeftWhenReadBackDisagrees) {
