@@ -79,7 +79,9 @@ class Generator {
     std::uniform_int_distribution<std::size_t> d(0, items.size() - 1);
     return *(items.begin() + d(rng_));
   }
-  std::int64_t between(std::int64_t lo, std::int64_t hi) { return std::uniform_int_distribution<std::int64_t>(lo, hi)(rng_); }
+  std::int64_t between(std::int64_t lo, std::int64_t hi) {
+    return std::uniform_int_distribution<std::int64_t>(lo, hi)(rng_);
+  }
   bool chance(double p) { return std::bernoulli_distribution(p)(rng_); }
 
   // Thresholds that fit the bus (with margins, so they pass the measured-bus rules), a
@@ -87,22 +89,31 @@ class Generator {
   // rule on purpose, to see it refused with nothing written.
   void targets(Scenario& s) {
     const std::int64_t bus = static_cast<std::int64_t>(s.busv * 100);
-    const std::int64_t on = std::min<std::int64_t>(38500, std::max<std::int64_t>(bus + 2000, between(6000, 38500)));
+    const std::int64_t on =
+        std::min<std::int64_t>(38500, std::max<std::int64_t>(bus + 2000, between(6000, 38500)));
     const std::int64_t off = std::max<std::int64_t>(bus + 500, on - between(1000, 3000));
     const std::int64_t over = std::min<std::int64_t>(40000, on + between(0, 1500));
-    const std::int64_t under = std::max<std::int64_t>(0, std::min<std::int64_t>(bus - 1000, between(2000, 9000)));
-    std::vector<std::pair<std::string, std::int64_t>> pool{{"NVBRAKEONV", on}, {"NVBRAKEOFFV", off},
-                                                           {"NVBUSOVERV", over}, {"NVBUSUNDERV", under},
+    const std::int64_t under =
+        std::max<std::int64_t>(0, std::min<std::int64_t>(bus - 1000, between(2000, 9000)));
+    std::vector<std::pair<std::string, std::int64_t>> pool{{"NVBRAKEONV", on},
+                                                           {"NVBRAKEOFFV", off},
+                                                           {"NVBUSOVERV", over},
+                                                           {"NVBUSUNDERV", under},
                                                            {"NVMAXCURRENT", between(100, 3000)}};
     const std::int64_t kp = between(20, 200);
     pool.insert(pool.end(), {{"NVKQP", kp}, {"NVKDP", kp}});
-    if (chance(0.3)) pool.insert(pool.end(), {{"BRAKEONV", on}, {"BRAKEOFFV", off}, {"MAXCURRENT", between(100, 3000)}});
+    if (chance(0.3))
+      pool.insert(pool.end(), {{"BRAKEONV", on}, {"BRAKEOFFV", off}, {"MAXCURRENT", between(100, 3000)}});
     std::shuffle(pool.begin(), pool.end(), rng_);
-    const std::size_t n = s.path == Path::Wpd ? 1 : static_cast<std::size_t>(between(1, static_cast<std::int64_t>(pool.size())));
+    const std::size_t n = s.path == Path::Wpd
+                              ? 1
+                              : static_cast<std::size_t>(between(1, static_cast<std::int64_t>(pool.size())));
     s.values.assign(pool.begin(), pool.begin() + static_cast<long>(n));
-    if (chance(0.1)) s.values.front().second = s.values.front().first.find("MAXCURRENT") != std::string::npos ? 4500 : 39000;
+    if (chance(0.1))
+      s.values.front().second = s.values.front().first.find("MAXCURRENT") != std::string::npos ? 4500 : 39000;
     s.both = s.path == Path::Apply && chance(0.3);
-    if (s.path == Path::Fleet) std::erase_if(s.values, [](const auto& v) { return v.first.rfind("NV", 0) != 0; });
+    if (s.path == Path::Fleet)
+      std::erase_if(s.values, [](const auto& v) { return v.first.rfind("NV", 0) != 0; });
     if (s.values.empty()) s.values.push_back({"NVMAXCURRENT", between(100, 3000)});
   }
 
@@ -207,31 +218,41 @@ Judged judge(const sim::RegisterMap& map, const sim::GroundTruth& before, const 
   std::vector<std::string> named;
   for (const auto& [cell, raw] : wanted) named.push_back(cell);
   j.stray = sim::unexplained_changes(map, before, after, named);
-  for (const auto& c : sim::crossed_thresholds(map, after))
-  {
+  for (const auto& c : sim::crossed_thresholds(map, after)) {
     const auto already = sim::crossed_thresholds(map, before);
     if (std::find(already.begin(), already.end(), c) == already.end()) j.crossed.push_back(c);
   }
   j.modes_on = after.nv_access != lbp::local::NvAccess::Ram || after.rpcmem;
+  // A working cell the card reloaded at a reset is not the tool's doing when the tool said
+  // the card reset, or when the reset came after the reply to its last command (the host
+  // sent nothing after it: no tool can see that, as with a reset a second later).
   const bool said_reset = !run.card_reset.empty() || (run.result && !run.result->events.empty());
-  const auto changed = [&](const std::string& cell) { return held(map, before, cell) != held(map, after, cell); };
+  const bool reset = after.resets != before.resets;
+  const auto reloaded = [&](const std::string& cell) {
+    return map.at(cell).space == sim::Space::Ram && reset && (said_reset || after.quiet_since_reset) &&
+           sim::reloaded_by_reset(map, map.at(cell), after);
+  };
+  const auto changed = [&](const std::string& cell) {
+    return held(map, before, cell) != held(map, after, cell);
+  };
   switch (verdict(run.outcome)) {
     case Verdict::Applied:
       for (const auto& [cell, raw] : wanted)
-        if (held(map, after, cell) != static_cast<std::uint64_t>(raw) && !(said_reset && map.at(cell).space == sim::Space::Ram))
-          j.wrong.push_back(std::string("verified, yet ") + cell + " holds " + std::to_string(held(map, after, cell)) +
-                            " instead of " + std::to_string(raw));
+        if (held(map, after, cell) != static_cast<std::uint64_t>(raw) && !reloaded(cell))
+          j.wrong.push_back(std::string("verified, yet ") + cell + " holds " +
+                            std::to_string(held(map, after, cell)) + " instead of " + std::to_string(raw));
       break;
     case Verdict::Refused:
     case Verdict::NotReached:
       for (const auto& cell : named)
-        if (changed(cell) && !(said_reset && map.at(cell).space == sim::Space::Ram))
+        if (changed(cell) && !reloaded(cell))
           j.wrong.push_back(std::string("nothing written, yet ") + cell + " changed");
       break;
     case Verdict::RolledBack:
       for (const auto& cell : named)
-        if (changed(cell) && !(after.resets != before.resets && map.at(cell).space == sim::Space::Ram && said_reset))
-          j.wrong.push_back(std::string("restored, yet ") + cell + " holds " + std::to_string(held(map, after, cell)));
+        if (changed(cell) && !reloaded(cell))
+          j.wrong.push_back(std::string("restored, yet ") + cell + " holds " +
+                            std::to_string(held(map, after, cell)));
       break;
     case Verdict::Uncertain: {
       // Every cell that may differ must be named, and what the report says a cell holds
@@ -240,12 +261,13 @@ Judged judge(const sim::RegisterMap& map, const sim::GroundTruth& before, const 
       for (const auto& cell : named) {
         const auto it =
             std::find_if(cells.begin(), cells.end(), [&](const ops::CellState& c) { return c.cell == cell; });
-        if (changed(cell) && it == cells.end() && !(map.at(cell).space == sim::Space::Ram && said_reset))
+        if (changed(cell) && it == cells.end() && !reloaded(cell))
           j.wrong.push_back("uncertain, but " + cell + " changed and is not named");
         if (it != cells.end() && it->actual && after.powered &&
+            !(after.quiet_since_reset && reloaded(cell)) &&
             static_cast<std::uint64_t>(*it->actual) != held(map, after, cell))
-          j.wrong.push_back("uncertain, and " + cell + " reported as " + std::to_string(*it->actual) + " holds " +
-                            std::to_string(held(map, after, cell)));
+          j.wrong.push_back("uncertain, and " + cell + " reported as " + std::to_string(*it->actual) +
+                            " holds " + std::to_string(held(map, after, cell)));
       }
       break;
     }
@@ -268,7 +290,8 @@ profile::Profile profile_of(const Scenario& s, const params::ParamDb& db) {
   return p;
 }
 
-std::vector<std::pair<std::string, std::int64_t>> cells_written(const Scenario& s, const params::ParamDb& db) {
+std::vector<std::pair<std::string, std::int64_t>> cells_written(const Scenario& s,
+                                                                const params::ParamDb& db) {
   auto out = s.values;
   if (s.both)
     for (const auto& [cell, raw] : s.values)
@@ -276,7 +299,8 @@ std::vector<std::pair<std::string, std::int64_t>> cells_written(const Scenario& 
   return out;
 }
 
-void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun& run, const Judged& j, bool verbose) {
+void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun& run, const Judged& j,
+            bool verbose) {
   ++t.outcomes[verdict(run.outcome)];
   const bool exit0 = run.exit_code() == 0;
   if (!j.wrong.empty()) ++t.silently_wrong;
@@ -289,11 +313,12 @@ void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun
   all.insert(all.end(), j.crossed.begin(), j.crossed.end());
   if (j.modes_on && exit0) all.push_back("NV or RPC memory mode left on with exit 0");
   for (const auto& f : all)
-    t.findings.push_back("#" + std::to_string(index) + " " + path_name(s.path) + " / " + s.injection.label + " -> " +
-                         ops::to_string(run.outcome) + ": " + f);
+    t.findings.push_back("#" + std::to_string(index) + " " + path_name(s.path) + " / " + s.injection.label +
+                         " -> " + ops::to_string(run.outcome) + ": " + f);
   if (verbose)
-    std::cerr << "#" << index << " " << path_name(s.path) << " " << s.values.size() << " cells, " << s.injection.label
-              << " -> " << ops::to_string(run.outcome) << (all.empty() ? "" : "  FINDING") << "\n";
+    std::cerr << "#" << index << " " << path_name(s.path) << " " << s.values.size() << " cells, "
+              << s.injection.label << " -> " << ops::to_string(run.outcome)
+              << (all.empty() ? "" : "  FINDING") << "\n";
 }
 
 ops::ApplyJob job_for(const profile::Profile& p, const params::ParamDb& db, const std::atomic<bool>& cancel,
@@ -307,8 +332,8 @@ ops::ApplyJob job_for(const profile::Profile& p, const params::ParamDb& db, cons
   return job;
 }
 
-void run_single(const Scenario& s, std::size_t index, const params::ParamDb& db, const fs::path& dir, Tally& t,
-                bool verbose) {
+void run_single(const Scenario& s, std::size_t index, const params::ParamDb& db, const fs::path& dir,
+                Tally& t, bool verbose, bool trace) {
   sim::SimOptions options;
   options.device.map = sim::register_map_from(db);
   options.device.reset_time = s.injection.reset_time;
@@ -321,17 +346,24 @@ void run_single(const Scenario& s, std::size_t index, const params::ParamDb& db,
   const auto map = sim.with_card([](sim::Virtual8i20& c) { return c.amplifier().map(); });
   const auto profile = profile_of(s, db);
   const auto job = job_for(profile, db, cancel, dir, s.path);
-  auto link =
-      std::make_unique<CancellingLink>(std::make_unique<link::PipelinedLink>(std::move(stream), link_options), cancel);
+  auto link = std::make_unique<CancellingLink>(
+      std::make_unique<link::PipelinedLink>(std::move(stream), link_options), cancel);
   CancellingLink& ctrl_c = *link;
   std::unique_ptr<ops::Card> card;
   try {
     card = ops::Card::attach(std::move(link), ops::parse_endpoint("sim"), db, {}, ops::Cancel(cancel));
   } catch (const Error& e) {
-    t.findings.push_back("#" + std::to_string(index) + ": the card could not be opened without a fault: " + e.what());
+    t.findings.push_back("#" + std::to_string(index) +
+                         ": the card could not be opened without a fault: " + e.what());
     return;
   }
   const auto before = sim.with_card([](sim::Virtual8i20& c) { return sim::capture(c); });
+  if (trace)
+    sim.with_card([index](sim::Virtual8i20& c) {
+      c.set_trace(
+          [index](const std::string& line) { std::cerr << "  #" << index << " card: " << line << "\n"; });
+      return 0;
+    });
   for (const auto& line : s.injection.control) sim.control(line);
   if (s.injection.cancel_after) ctrl_c.arm(*s.injection.cancel_after);  // counted from here
   ops::TargetRun run;
@@ -342,7 +374,8 @@ void run_single(const Scenario& s, std::size_t index, const params::ParamDb& db,
     run.outcome = ops::outcome_of(e.kind());
     run.error = e.what();
   }
-  for (const char* off : {"corrupt 0", "drop 0", "reset-after off", "mute-after off", "eeprom-power-loss off"})
+  for (const char* off :
+       {"corrupt 0", "drop 0", "reset-after off", "mute-after off", "eeprom-power-loss off"})
     sim.control(off);
   const auto after = sim.with_card([](sim::Virtual8i20& c) { return sim::capture(c); });
   record(t, s, index, run, judge(map, before, after, run, cells_written(s, db)), verbose);
@@ -370,7 +403,8 @@ void run_fleet(const Scenario& s, std::size_t index, const params::ParamDb& db, 
   const auto profile = profile_of(s, db);
   auto job = job_for(profile, db, cancel, dir, s.path);
   job.open.link.sim_control = {"busv " + std::to_string(s.busv)};
-  job.open.link.sim_control.insert(job.open.link.sim_control.end(), s.injection.control.begin(), s.injection.control.end());
+  job.open.link.sim_control.insert(job.open.link.sim_control.end(), s.injection.control.begin(),
+                                   s.injection.control.end());
   // Ctrl-C after a while (the one scenario kind whose timing is not fixed by the seed).
   std::thread ctrl_c;
   if (s.injection.cancel_after)
@@ -395,8 +429,9 @@ void run_fleet(const Scenario& s, std::size_t index, const params::ParamDb& db, 
 
 void print(const Tally& t, std::size_t n, std::uint64_t seed, double seconds) {
   const auto count = [&](Verdict v) { return t.outcomes.count(v) ? t.outcomes.at(v) : 0; };
-  std::printf("i20-soak: %zu scenarios, seed %llu, %.1f s (in-process virtual 8I20; simulated, not hardware)\n", n,
-              static_cast<unsigned long long>(seed), seconds);
+  std::printf(
+      "i20-soak: %zu scenarios, seed %llu, %.1f s (in-process virtual 8I20; simulated, not hardware)\n", n,
+      static_cast<unsigned long long>(seed), seconds);
   std::printf("  card runs judged                 %zu (a fleet scenario is three cards)\n", t.scenarios);
   std::printf("  applied and verified             %zu\n", count(Verdict::Applied));
   std::printf("  refused (nothing written)        %zu\n", count(Verdict::Refused));
@@ -409,19 +444,42 @@ void print(const Tally& t, std::size_t n, std::uint64_t seed, double seconds) {
   std::printf("    unsafe states left             %zu\n", t.crossed);
   std::printf("    modes left on with exit 0      %zu\n", t.modes_on_exit0);
   std::printf("  (modes left on after a card went silent or dead, reported uncertain: %zu)\n", t.modes_on);
-  for (std::size_t i = 0; i < t.findings.size() && i < 30; ++i) std::printf("  FINDING %s\n", t.findings[i].c_str());
+  for (std::size_t i = 0; i < t.findings.size() && i < 30; ++i)
+    std::printf("  FINDING %s\n", t.findings[i].c_str());
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3) {
-    std::cerr << "usage: i20-soak N SEED [--verbose]   (N random write scenarios against the simulator)\n";
+  const auto usage = [] {
+    std::cerr << "usage: i20-soak N SEED [--verbose] [--trace] [--only K]...\n"
+                 "  N random write scenarios against the simulator; --only K runs just scenario K of them\n"
+                 "  (the same scenario as in the full run: the generator still draws all N);\n"
+                 "  --trace prints every command the virtual card executes (single-card scenarios)\n";
     return 2;
+  };
+  if (argc < 3) return usage();
+  std::size_t n = 0;
+  std::uint64_t seed = 0;
+  bool verbose = false, trace = false;
+  std::vector<std::size_t> only;
+  try {
+    n = std::stoul(argv[1]);
+    seed = std::stoull(argv[2]);
+    for (int a = 3; a < argc; ++a) {
+      const std::string arg = argv[a];
+      if (arg == "--verbose")
+        verbose = true;
+      else if (arg == "--trace")
+        trace = verbose = true;
+      else if (arg == "--only" && a + 1 < argc)
+        only.push_back(std::stoul(argv[++a]));
+      else
+        return usage();
+    }
+  } catch (const std::exception&) {
+    return usage();
   }
-  const std::size_t n = std::stoul(argv[1]);
-  const std::uint64_t seed = std::stoull(argv[2]);
-  const bool verbose = argc > 3 && std::string(argv[3]) == "--verbose";
   const auto db = params::ParamDb::builtin();
   const auto dir = fs::temp_directory_path() / ("i20-soak-" + std::to_string(::getpid()));
   fs::create_directories(dir);
@@ -430,14 +488,17 @@ int main(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < n; ++i) {
     const Scenario s = gen.next();
+    if (!only.empty() && std::find(only.begin(), only.end(), i) == only.end()) continue;
     if (s.path == Path::Fleet)
       run_fleet(s, i, db, dir, tally, verbose);
     else
-      run_single(s, i, db, dir, tally, verbose);
+      run_single(s, i, db, dir, tally, verbose, trace);
   }
   for (const auto& [v, c] : tally.outcomes) tally.scenarios += c;
   fs::remove_all(dir);
-  print(tally, n, seed, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  const bool clean = tally.silently_wrong == 0 && tally.stray == 0 && tally.crossed == 0 && tally.modes_on_exit0 == 0;
+  print(tally, only.empty() ? n : only.size(), seed,
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  const bool clean =
+      tally.silently_wrong == 0 && tally.stray == 0 && tally.crossed == 0 && tally.modes_on_exit0 == 0;
   return clean ? 0 : 1;
 }

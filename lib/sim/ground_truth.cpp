@@ -23,13 +23,6 @@ bool volatile_register(const std::string& name) {
   return std::ranges::any_of(kVolatile, [&](const char* v) { return name == v; });
 }
 
-// A reset loads every working register from its NV twin, or from its power-up default.
-bool reloaded_by_reset(const RegisterMap& map, const Register& r, const GroundTruth& after) {
-  const Register* nv = r.twin.empty() ? nullptr : map.find(r.twin);
-  if (nv && nv->space == Space::Eeprom) return value_in(after, r) == value_in(after, *nv);
-  return r.default_value && value_in(after, r) == static_cast<std::uint64_t>(*r.default_value);
-}
-
 }  // namespace
 
 GroundTruth capture(const Virtual8i20& card) {
@@ -42,6 +35,7 @@ GroundTruth capture(const Virtual8i20& card) {
   t.rpcmem = card.lbp_registers().rpcmem;
   t.powered = card.powered();
   t.resets = card.stats().resets;
+  t.quiet_since_reset = t.resets > 0 && card.stats().bytes_received == card.stats().bytes_received_at_reset;
   return t;
 }
 
@@ -53,8 +47,15 @@ std::uint64_t value_in(const GroundTruth& truth, const Register& reg) {
   return v;
 }
 
+bool reloaded_by_reset(const RegisterMap& map, const Register& r, const GroundTruth& after) {
+  const Register* nv = r.twin.empty() ? nullptr : map.find(r.twin);
+  if (nv && nv->space == Space::Eeprom) return value_in(after, r) == value_in(after, *nv);
+  return r.default_value && value_in(after, r) == static_cast<std::uint64_t>(*r.default_value);
+}
+
 std::vector<std::string> unexplained_changes(const RegisterMap& map, const GroundTruth& before,
-                                             const GroundTruth& after, const std::vector<std::string>& named) {
+                                             const GroundTruth& after,
+                                             const std::vector<std::string>& named) {
   std::vector<std::string> out;
   const bool reset = after.resets != before.resets;
   for (std::size_t a = 0; a < after.eeprom.size() && a < before.eeprom.size(); ++a) {
@@ -88,7 +89,8 @@ std::vector<std::string> crossed_thresholds(const RegisterMap& map, const Ground
     const Register* hi = map.find(high);
     if (!lo || !hi) continue;
     const auto l = value_in(truth, *lo), h = value_in(truth, *hi);
-    if (l >= h) out.push_back(std::string(low) + " " + std::to_string(l) + " >= " + high + " " + std::to_string(h));
+    if (l >= h)
+      out.push_back(std::string(low) + " " + std::to_string(l) + " >= " + high + " " + std::to_string(h));
   }
   return out;
 }

@@ -20,12 +20,19 @@ struct GroundTruth {
   bool rpcmem = false;
   bool powered = true;
   std::uint64_t resets = 0;  // processor resets so far (spontaneous, injected or asked for)
+  // The host sent nothing after the last reset: no tool could have seen it (a reset right
+  // after the reply to its last command is, to the host, a reset after the run).
+  bool quiet_since_reset = false;
 };
 
 GroundTruth capture(const Virtual8i20& card);
 
 // The raw value of a register in a snapshot.
 std::uint64_t value_in(const GroundTruth& truth, const Register& reg);
+
+// Whether working register `r` holds what a reset loads into it: its NV twin's value, or its
+// power-up default when it has no twin.
+bool reloaded_by_reset(const RegisterMap& map, const Register& r, const GroundTruth& after);
 
 // Every byte that changed from `before` to `after` that nothing explains: not a cell in
 // `named`, not a register the card changes itself (FAULT, STATUS, BUSV, TEMPERATURE,

@@ -74,6 +74,7 @@ bool Virtual8i20::deaf(Clock::time_point t) const {
 void Virtual8i20::receive(lbp::ByteView bytes, Clock::time_point now) {
   now = std::max(now, now_);
   for (lbp::Byte b : bytes) {
+    ++stats_.bytes_received;
     service(now);
     if (deaf(now)) {
       ++stats_.bytes_ignored;
@@ -173,6 +174,7 @@ void Virtual8i20::after_command(Clock::time_point t) {
 
 void Virtual8i20::reset_processor(Clock::time_point t, std::uint16_t sticky_cause) {
   ++stats_.resets;
+  stats_.bytes_received_at_reset = stats_.bytes_received;
   amplifier_.reset(t, sticky_cause);
   start_lbp(t);
   deaf_until_ = t + options_.reset_time;

@@ -4,6 +4,7 @@
 
 #include "bench.hpp"
 #include "sim/bits.hpp"
+#include "sim/ground_truth.hpp"
 
 namespace i20::sim::test {
 namespace {
@@ -77,6 +78,31 @@ TEST(SimInjection, ResetInTheMiddleOfABatch) {
   const auto st = b.read("STATUS");
   EXPECT_TRUE(st & status::kDspWatchdogReset) << "an unexpected reset shows as a DSP watchdog reset";
   EXPECT_EQ(b.send("DF"), reply("5A")) << "one-shot: the card works again";
+}
+
+// The soak's judge tells a reset the host could have seen (it sent bytes after it) from
+// one right after the reply to its last command, which no tool can see.
+TEST(SimInjection, GroundTruthSaysWhetherTheHostSpokeAfterAReset) {
+  DeviceOptions o;
+  o.injection.reset_after_commands = 1;
+  Bench b(o);
+  EXPECT_FALSE(capture(b.card).quiet_since_reset) << "no reset yet";
+  EXPECT_EQ(b.send("DF"), reply("5A")) << "answered, then reset";
+  EXPECT_EQ(capture(b.card).resets, 1u);
+  EXPECT_TRUE(capture(b.card).quiet_since_reset) << "nothing sent since the reset";
+  b.send("DF");  // lost or not, the host spoke after the reset
+  EXPECT_FALSE(capture(b.card).quiet_since_reset);
+}
+
+TEST(SimInjection, ReloadedByResetMeansTheNvTwinsValue) {
+  Bench b;
+  const auto truth = capture(b.card);
+  const auto& map = b.card.amplifier().map();
+  EXPECT_TRUE(reloaded_by_reset(map, map.at("BRAKEOFFV"), truth))
+      << "at power-up the working set is the NV set";
+  b.write16(b.address_of("BRAKEOFFV"),
+            static_cast<std::uint16_t>(value_in(truth, map.at("NVBRAKEOFFV")) - 100));
+  EXPECT_FALSE(reloaded_by_reset(map, map.at("BRAKEOFFV"), capture(b.card)));
 }
 
 TEST(SimInjection, ClearfaultStuck) {
