@@ -228,11 +228,9 @@ std::vector<std::string> read_notes(const Reader& r, const YAML::Node& root, con
 }
 
 YAML::Node parse_yaml(std::string_view yaml, const std::string& source) {
-  try {
-    return YAML::Load(std::string(yaml));
-  } catch (const YAML::Exception& e) {
-    throw FaultFileError(source + ":" + std::to_string(e.mark.line + 1) + ": " + params::yaml_problem(e));
-  }
+  return params::load_yaml(yaml, source, [](const std::string& where, const std::string& problem) {
+    throw FaultFileError(where + ": " + problem);
+  });
 }
 
 }  // namespace

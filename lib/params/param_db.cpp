@@ -241,11 +241,9 @@ std::string read_text_file(const std::filesystem::path& path) {
 }
 
 YAML::Node parse_yaml(std::string_view yaml, const std::string& source) {
-  try {
-    return YAML::Load(std::string(yaml));
-  } catch (const YAML::Exception& e) {
-    throw ParamFileError(source + ":" + std::to_string(e.mark.line + 1) + ": " + yaml_problem(e));
-  }
+  return params::load_yaml(yaml, source, [](const std::string& where, const std::string& problem) {
+    throw ParamFileError(where + ": " + problem);
+  });
 }
 
 }  // namespace

@@ -178,11 +178,9 @@ void read_parameters(const Reader& r, const YAML::Node& node, const params::Para
 }
 
 YAML::Node parse_yaml(std::string_view yaml, const std::string& source) {
-  try {
-    return YAML::Load(std::string(yaml));
-  } catch (const YAML::Exception& e) {
-    throw ProfileError(source + ":" + std::to_string(e.mark.line + 1), "", "yaml", params::yaml_problem(e));
-  }
+  return params::load_yaml(yaml, source, [](const std::string& where, const std::string& problem) {
+    throw ProfileError(where, "", "yaml", problem);
+  });
 }
 
 }  // namespace
