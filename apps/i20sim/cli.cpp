@@ -209,7 +209,10 @@ std::optional<int> parse_command_line(int argc, char** argv, Invocation& out) {
     apply(out, raw);
     for (const auto& f : raw.faults) out.startup_control.push_back("fault " + f + " on");
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // One line and exit 2, as every program of the toolkit answers bad arguments.
+    std::cerr << "i20sim: error: " << e.what() << " (`i20sim --help` explains the options)" << std::endl;
+    return 2;
   } catch (const Error& e) {  // unreadable --params / --address-map, bad map
     std::cerr << "i20sim: " << e.what() << std::endl;
     return 2;

@@ -15,7 +15,7 @@ namespace {
 
 struct BadInput {
   std::string name;
-  std::string program;  // i20, wpd or rpd
+  std::string program;  // i20, wpd, rpd or i20sim
   std::vector<std::string> args;
   std::map<std::string, std::string> env;  // on top of COMPORT={PORT}, BAUDRATE, PROTOCOL
   int exit_code;
@@ -473,6 +473,27 @@ std::vector<BadInput> table() {
        {},
        2,
        "i20: error: FILE: profile file '{DIR}/none.yaml' does not exist" + kCli},
+      // The simulator answers bad arguments as the tools do: one line, exit 2.
+      {"SimulatorUnknownOption",
+       "i20sim",
+       {"--pty", "--frob"},
+       {},
+       2,
+       "i20sim: error: The following argument was not expected: --frob (`i20sim --help` explains the "
+       "options)"},
+      {"SimulatorBadNumber",
+       "i20sim",
+       {"--pty", "--reset-ms", "soon"},
+       {},
+       2,
+       "i20sim: error: Could not convert: --reset-ms = soon (`i20sim --help` explains the options)"},
+      {"SimulatorNothingToServe",
+       "i20sim",
+       {},
+       {},
+       2,
+       "i20sim: error: nothing to do: give --pty or --eth ADDR to serve (or --print-map) (`i20sim --help` "
+       "explains the options)"},
   };
 }
 
