@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "device/errors.hpp"
 #include "errors.hpp"
 #include "interrupt.hpp"
 
@@ -86,18 +87,38 @@ ops::Card& Session::card() {
   return *card_;
 }
 
-void Session::settle(const char* program) {
-  if (!card_) return;
-  if (const auto mode = card_->settle(); !mode.empty())
-    std::cerr << program << ": note: the line failed while the card was in " << mode
-              << "; it answered again and left it\n";
+int Session::settle(const char* program) {
+  if (!card_) return kOk;
+  const bool said = card_->unsettled_said();
+  try {
+    if (const auto mode = card_->settle(); !mode.empty())
+      std::cerr << program << ": note: the line failed while the card was in " << mode
+                << "; it answered again and left it\n";
+  } catch (const device::CardStateError&) {
+    if (!said) throw;
+    return kCardState;
+  }
+  return kOk;
 }
+
+namespace {
+bool handling_card_state_error() {
+  try {
+    throw;
+  } catch (const device::CardStateError&) {
+    return true;
+  } catch (...) {
+    return false;
+  }
+}
+}  // namespace
 
 int Session::report_failure(const char* program) {
   int code = report_current_exception(program);
-  if (!card_) return code;
+  // A CardStateError is the settle's own verdict (or a mode already named): not again.
+  if (!card_ || handling_card_state_error()) return code;
   try {
-    settle(program);
+    if (settle(program) != kOk) code = kCardState;
   } catch (const Error& e) {
     std::cerr << program << ": card state: " << e.what() << "\n";
     code = kCardState;

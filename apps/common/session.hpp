@@ -51,8 +51,9 @@ class Session {
   bool card_open() const { return card_ != nullptr; }
   // Ends the session's work on the card: a mode the line may have left on is left now
   // (ops::Card::settle); throws CardStateError when the card does not confirm. Prints a
-  // note to stderr when it had to leave one.
-  void settle(const char* program);
+  // note to stderr when it had to leave one. Returns kCardState, saying nothing more, when
+  // the card still does not confirm and the command's own report already said so.
+  [[nodiscard]] int settle(const char* program);
   // From a catch (...) block, with the session still alive: reports the exception (one line,
   // its exit code), then settles the card, because a line that died may have left NV access
   // or RPC memory mode on. When the card does not confirm, a second line says so and the

@@ -25,7 +25,7 @@ struct Context {
   std::string target_flags() { return session().endpoint().flags(); }
   // The card left as it must be (no NV/RPC memory mode on) before the program ends.
   void settle() {
-    if (session_) session_->settle("i20");
+    if (session_ && session_->settle("i20") != app::kOk && exit_code == app::kOk) exit_code = app::kCardState;
   }
   // The one-line report of the exception being handled, and the card settled (see
   // app::Session::report_failure). Call from a catch (...) block.

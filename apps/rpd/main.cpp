@@ -50,7 +50,8 @@ int main(int argc, char** argv) {
       auto& card = session.card();
       const auto policy = allow_unverified ? ops::Unconfirmed::Read : ops::Unconfirmed::Skip;
       const auto reading = ops::read_values(card, std::vector<std::string>{param.name}, policy).front();
-      session.settle("rpd");  // an NV read the line cut short must not leave NV mode on unsaid
+      // An NV read the line cut short must not leave NV mode on unsaid.
+      if (session.settle("rpd") != app::kOk) return app::kCardState;
       if (!reading.raw) {
         std::cerr << "rpd: refused: " << reading.param->name << " is " << ops::unknown_text(reading)
                   << "; run `i20 " << card.endpoint().flags() << " discover`, or pass --allow-unverified\n";

@@ -106,8 +106,7 @@ int main(int argc, char** argv) {
       // writable, the card clears faults through CLEARFAULT.
       if (param.name == "FAULT" && raw == 0) {
         const int code = clear_faults(session, write);
-        session.settle("wpd");
-        return code;
+        return session.settle("wpd") != app::kOk && code == app::kOk ? app::kCardState : code;
       }
       const auto profile = ops::profile_from_value(name, value_text, db, ops::ValueSyntax::Raw);
       ops::precheck(profile, db, write);  // before the link is even opened

@@ -109,6 +109,7 @@ std::vector<params::ParamDb::Evidence> Card::read_rpc_evidence(const params::Par
 
 std::string Card::settle() {
   const std::string mode = amp_->unsettled_mode();
+  unsettled_said_ = false;
   if (mode.empty()) return {};
   for (unsigned attempt = 1; attempt <= retry_.attempts; ++attempt) {
     try {
@@ -118,6 +119,7 @@ std::string Card::settle() {
       ++retries_;
     }
   }
+  unsettled_said_ = true;
   throw device::CardStateError(
       "the 8I20 on " + endpoint_.text + " stopped answering while in " + mode +
       " and may still be in it: when it answers again, run any i20 command on it (it leaves "

@@ -93,6 +93,9 @@ class Card {
   // mode it left, "" when there was none; throws CardStateError (exit 4) naming the mode
   // and the way back when the card still does not confirm. Every use case ends with it.
   std::string settle();
+  // The last settle() threw: its warning has been given (in a run's report or an error
+  // line), so a later one that fails the same way need not say it again.
+  bool unsettled_said() const { return unsettled_said_; }
   void count_retry() { ++retries_; }
 
  private:
@@ -108,6 +111,7 @@ class Card {
   std::unique_ptr<params::ParamDb> db_;
   std::unique_ptr<device::Amp8i20> amp_;
   std::size_t retries_ = 0;
+  bool unsettled_said_ = false;
   bool uninterruptible_ = false;
 };
 

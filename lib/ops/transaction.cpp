@@ -18,6 +18,7 @@ using profile::Severity;
 struct ReadOne {
   std::optional<std::int64_t> value;
   std::string error;
+  bool link_failed = false;  // the card did not answer (not: the address is no fact here)
 };
 
 class Transaction {
@@ -86,14 +87,14 @@ class Transaction {
                  "discover`, or pass --allow-unverified if you know better)");
         return false;
       }
-    read_context();
-    return true;
+    return read_context();
   }
 
-  // The other values the rules compare against, and the measured bus. Not required: a
-  // cell that cannot be read is judged by its database default, as validate() does
-  // without a card.
-  void read_context() {
+  // The other values the rules compare against, and the measured bus. A cell whose address
+  // is not a fact on this firmware is judged by its database default, as validate() does
+  // without a card; a cell the card fails to answer for stops the transaction, since the
+  // rules (the measured-bus ones above all) would otherwise be judged on a guess.
+  bool read_context() {
     std::vector<std::string> names;
     for (const auto& base : rule_parameters()) {
       const params::Param* p = db_.find(base);
@@ -106,11 +107,20 @@ class Transaction {
       for (const auto& [name, raw] : card_.read(names)) context_[name] = raw;
     } catch (const std::exception&) {
       // One unreadable cell fails the batch: take the others one by one.
-      for (const auto& name : names)
-        if (const auto one = read_one(name); one.value) context_[name] = *one.value;
+      for (const auto& name : names) {
+        const auto one = read_one(name);
+        if (one.value) context_[name] = *one.value;
+        if (one.link_failed) {
+          stop(Outcome::Failed,
+               "cannot read " + name +
+                   ", which the safety rules compare against, so nothing was written: " + one.error);
+          return false;
+        }
+      }
     }
     for (const auto& [name, raw] : context_)
       if (name != "BUSV") snapshot_.try_emplace(name, raw);
+    return true;
   }
 
   bool check() {
@@ -342,7 +352,7 @@ class Transaction {
       if (it == values.end()) return {std::nullopt, "not readable as a fact on this card"};
       return {it->second, {}};
     } catch (const std::exception& e) {
-      return {std::nullopt, e.what()};
+      return {std::nullopt, e.what(), true};
     }
   }
 

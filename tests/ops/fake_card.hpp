@@ -32,6 +32,7 @@ class FakeCard : public CardAccess {
     RawValues out;
     for (const auto& name : names) {
       if (fail_reads_of.contains(name)) throw Error("injected: no reply reading " + name);
+      if (unconfirmed.contains(name)) continue;  // an honest read leaves out what is no fact
       const auto it = values.find(name);
       if (it == values.end()) throw Error("fake card has no " + name);
       out[name] = it->second;
@@ -77,6 +78,7 @@ class FakeCard : public CardAccess {
   bool failed_write_lands = false;                     // a failing write still changes the cell
   std::map<std::string, std::int64_t> corrupt_writes;  // next write silently stores this instead
   std::set<std::string> fail_reads_of;
+  std::set<std::string> unconfirmed;  // addresses not confirmed for this firmware: never read
   std::set<std::string> refuse_writes_to;  // check_write() refuses these
   bool fail_reset = false;
   std::function<void(const std::string&, int)> before_write;

@@ -113,12 +113,34 @@ TEST_F(ProfileApply, ValidationErrorsStopBeforeAnyWrite) {
   EXPECT_TRUE(backups().empty());
 }
 
-TEST_F(ProfileApply, UnreadableContextFallsBackToDefaults) {
-  // KDP is only needed to judge kp-match; without it the default (50) is used.
-  card_.fail_reads_of = {"NVKDP"};
+TEST_F(ProfileApply, ContextNotConfirmedOnThisFirmwareFallsBackToDefaults) {
+  // KDP is only needed to judge kp-match; its address is no fact here, so the default (50)
+  // is used, as `profile validate` does without a card.
+  card_.unconfirmed = {"NVKDP"};
   const auto r = run(with_params("  NVKQP: 60\n"));
   EXPECT_EQ(r.outcome, Outcome::Done) << r.reason;
   EXPECT_TRUE(has_rule(r.findings, "kp-match", Severity::Warning));
+}
+
+TEST_F(ProfileApply, ContextTheCardDoesNotAnswerForStopsBeforeAnyWrite) {
+  // NVBRAKEOFFV = 170 V is fine against the default brake-on (360 V), but this card's real
+  // brake-on could be lower: judged on a guess, the pair could end up inverted.
+  card_.fail_reads_of = {"NVBRAKEONV"};
+  const auto r = run(with_params("  NVBRAKEOFFV: 170 V\n"));
+  EXPECT_EQ(r.outcome, Outcome::Failed) << r.reason;  // exit 1: nothing was written
+  EXPECT_NE(r.reason.find("cannot read NVBRAKEONV, which the safety rules compare against"), std::string::npos)
+      << r.reason;
+  EXPECT_EQ(card_.write_calls, 0);
+}
+
+TEST_F(ProfileApply, AnUnansweredBusReadStopsBeforeAnyWrite) {
+  // Without the measured bus, a brake-on below it (the resistor would take the supply's
+  // power) could not be refused.
+  card_.fail_reads_of = {"BUSV"};
+  const auto r = run(with_params("  NVBRAKEONV: 190 V\n  NVBRAKEOFFV: 170 V\n"));
+  EXPECT_EQ(r.outcome, Outcome::Failed) << r.reason;
+  EXPECT_NE(r.reason.find("cannot read BUSV"), std::string::npos) << r.reason;
+  EXPECT_EQ(card_.write_calls, 0);
 }
 
 TEST_F(ProfileApply, ValidatesAgainstTheCardsCurrentValues) {
