@@ -169,6 +169,12 @@ bool reads(const SimProcess& sim, const std::string& name, const std::string& ex
 
 TEST(EthCli, ScanIsRefusedBesideARunningMachineAndForceSaysWhatItDid) {
   SimProcess card({"--running-host"}, Transport::Eth);  // a LinuxCNC stand-in, DOITs every 1 ms
+  // Until the stand-in runs (it starts on its own thread; a loaded machine delays it).
+  const auto host_runs = [&] {
+    const auto host = card.control("host");
+    return host.find(" DOITs") != std::string::npos && host.find(" 0 DOITs") == std::string::npos;
+  };
+  for (int i = 0; i < 250 && !host_runs(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
   auto r = run_i20(eth(card), {"scan"});
   EXPECT_NE(r.exit_code, 0);

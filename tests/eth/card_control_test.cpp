@@ -68,16 +68,13 @@ TEST(EthCardControl, TheHostStandInStartsRunsAndStops) {
   EXPECT_EQ(ethsim::apply_card_control(server, "host on 2")
                 .rfind("ok: normal mode on SSERIAL port 0 ch 0, every 2 ms", 0),
             0u);
-  // The stand-in runs on its own thread: wait (up to 5 s, for a loaded machine) until it
-  // has started the channel and run DOITs, rather than for a fixed time.
+  // The stand-in runs on its own thread: wait until it has started the channel and run DOITs.
   const auto running = [&] {
     const bool normal = server.with_card(
         [](ethsim::VirtualCard& c) { return c.sslbp(0).mode(0) == ethsim::ChannelMode::Normal; });
     return normal && ethsim::apply_card_control(server, "host").find(" 0 DOITs") == std::string::npos;
   };
-  const auto deadline = std::chrono::steady_clock::now() + 5s;
-  while (!running() && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(10ms);
-  EXPECT_TRUE(running()) << ethsim::apply_card_control(server, "host");
+  EXPECT_TRUE(test::eventually(running)) << ethsim::apply_card_control(server, "host");
   EXPECT_EQ(ethsim::apply_card_control(server, "host off"), "ok");
   server.with_card(
       [](ethsim::VirtualCard& c) { EXPECT_EQ(c.sslbp(0).mode(0), ethsim::ChannelMode::Stopped); });
