@@ -180,7 +180,8 @@ class CancellingLink final : public link::Link {
 enum class Verdict { Applied, Refused, NotReached, RolledBack, Uncertain };
 struct Tally {
   std::map<Verdict, std::size_t> outcomes;
-  std::size_t scenarios = 0, silently_wrong = 0, stray = 0, crossed = 0, modes_on_exit0 = 0, modes_on = 0;
+  std::size_t scenarios = 0, silently_wrong = 0, stray = 0, crossed = 0, modes_on_exit0 = 0, modes_on = 0,
+              unseen_resets = 0;
   std::vector<std::string> findings;
 };
 
@@ -205,6 +206,7 @@ struct Judged {
   std::vector<std::string> stray;
   std::vector<std::string> crossed;
   bool modes_on = false;
+  bool unseen_reset = false;  // a cell was excused by a reset after the tool's last reply
 };
 
 // What each named cell holds, before and after, by the simulator's memory.
@@ -228,9 +230,13 @@ Judged judge(const sim::RegisterMap& map, const sim::GroundTruth& before, const 
   // sent nothing after it: no tool can see that, as with a reset a second later).
   const bool said_reset = !run.card_reset.empty() || (run.result && !run.result->events.empty());
   const bool reset = after.resets != before.resets;
+  // Called only for a cell that would otherwise be a finding.
   const auto reloaded = [&](const std::string& cell) {
-    return map.at(cell).space == sim::Space::Ram && reset && (said_reset || after.quiet_since_reset) &&
-           sim::reloaded_by_reset(map, map.at(cell), after);
+    const bool excused = map.at(cell).space == sim::Space::Ram && reset &&
+                         (said_reset || after.quiet_since_reset) &&
+                         sim::reloaded_by_reset(map, map.at(cell), after);
+    if (excused && !said_reset) j.unseen_reset = true;
+    return excused;
   };
   const auto changed = [&](const std::string& cell) {
     return held(map, before, cell) != held(map, after, cell);
@@ -264,8 +270,8 @@ Judged judge(const sim::RegisterMap& map, const sim::GroundTruth& before, const 
         if (changed(cell) && it == cells.end() && !reloaded(cell))
           j.wrong.push_back("uncertain, but " + cell + " changed and is not named");
         if (it != cells.end() && it->actual && after.powered &&
-            !(after.quiet_since_reset && reloaded(cell)) &&
-            static_cast<std::uint64_t>(*it->actual) != held(map, after, cell))
+            static_cast<std::uint64_t>(*it->actual) != held(map, after, cell) &&
+            !(after.quiet_since_reset && reloaded(cell)))
           j.wrong.push_back("uncertain, and " + cell + " reported as " + std::to_string(*it->actual) +
                             " holds " + std::to_string(held(map, after, cell)));
       }
@@ -307,6 +313,7 @@ void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun
   if (!j.stray.empty()) ++t.stray;
   if (!j.crossed.empty()) ++t.crossed;
   if (j.modes_on) ++t.modes_on;
+  if (j.unseen_reset) ++t.unseen_resets;
   if (j.modes_on && exit0) ++t.modes_on_exit0;
   std::vector<std::string> all = j.wrong;
   all.insert(all.end(), j.stray.begin(), j.stray.end());
@@ -444,6 +451,8 @@ void print(const Tally& t, std::size_t n, std::uint64_t seed, double seconds) {
   std::printf("    unsafe states left             %zu\n", t.crossed);
   std::printf("    modes left on with exit 0      %zu\n", t.modes_on_exit0);
   std::printf("  (modes left on after a card went silent or dead, reported uncertain: %zu)\n", t.modes_on);
+  std::printf("  (reset right after the tool's last reply, unseeable, working values reloaded: %zu)\n",
+              t.unseen_resets);
   for (std::size_t i = 0; i < t.findings.size() && i < 30; ++i)
     std::printf("  FINDING %s\n", t.findings[i].c_str());
 }
