@@ -49,6 +49,9 @@ TEST_F(I20Cli, BitRegistersPrintInHexEverywhere) {
   const auto dump = i20({"dump"});
   EXPECT_NE(dump.out.find("FAULTMASK       0xFFFF"), std::string::npos) << dump.out;
   EXPECT_NE(dump.out.find("STATUS          0x0140"), std::string::npos) << dump.out;
+  // The identity registers too, as `info` and every error message spell them.
+  EXPECT_NE(dump.out.find("SWREVISION      0xE120"), std::string::npos) << dump.out;
+  EXPECT_EQ(i20({"get", "UNITNUMBER"}).out, "UNITNUMBER = 0x00012345\n");
 }
 
 TEST_F(I20Cli, SetAcceptsUnitsAndRawAndSaysWhenAResetIsNeeded) {
