@@ -232,21 +232,8 @@ PassthroughPort::~PassthroughPort() {
 }
 
 void PassthroughPort::start_setup() {
-  // In a take-over the other host's DOITs can land inside our setup start and make a
-  // channel that is there look silent: start again a few times before saying so.
-  const int attempts = options_.running_host.take_over ? 4 : 1;
-  for (int attempt = 1;; ++attempt) {
-    try {
-      return start_setup_once();
-    } catch (const DiscoveryError&) {
-      if (attempt >= attempts) throw;
-    }
-  }
-}
-
-void PassthroughPort::start_setup_once() {
   sslbp_->stop_all();
-  const std::uint8_t failed = sslbp_->start_setup(mask_);
+  const std::uint8_t failed = sslbp_->start_setup(mask_, options_.running_host.setup_start_attempts());
   const auto regs = sslbp_->read_channels(mask_);
   const auto channels = channels_of(mask_);
   for (std::size_t i = 0; i < channels.size(); ++i) {

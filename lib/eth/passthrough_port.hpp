@@ -202,7 +202,6 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   struct PacketResult;
 
   void start_setup();
-  void start_setup_once();
   void resync();
   void run(std::vector<Channel>& channels);
   // The rounds of the next packet under the packing rules, at most `max_doits` (0: no limit).

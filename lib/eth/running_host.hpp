@@ -46,6 +46,9 @@ struct RunningHostCheck {
   // use. One stray exchange (a mesaflash query from another PC) is tolerated; LinuxCNC's
   // servo loop moves both counters every millisecond, a 10 ms `i20 watch` every 10 ms.
   unsigned foreign_packet_limit = 2;
+  // Setup starts to try before a channel counts as silent: in a take-over the other host's
+  // DOITs can land inside ours and fail a channel that is there.
+  unsigned setup_start_attempts() const { return take_over ? 4 : 1; }
 };
 
 struct BusyCommand {

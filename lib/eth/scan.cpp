@@ -21,13 +21,7 @@ PortReport scan_port(Lbp16Transport& bus, const SserialPort& port, bool timer_sp
   const unsigned count = std::min<unsigned>(report.parameters.channels, lbp::hm2::kMaxChannelsPerPort);
   if (count == 0) return report;
   const auto mask = static_cast<std::uint8_t>((1u << count) - 1);
-  std::uint8_t failed = sslbp.start_setup(mask);
-  // In a take-over the other host's DOITs can land inside our setup start and fail a
-  // channel that is there: start again a few times before calling it silent.
-  for (int retry = 0; options.running_host.take_over && failed != 0 && retry < 3; ++retry) {
-    sslbp.stop_all();
-    failed = sslbp.start_setup(mask);
-  }
+  const std::uint8_t failed = sslbp.start_setup(mask, options.running_host.setup_start_attempts());
   const auto regs = sslbp.read_channels(mask);
   for (unsigned ch = 0; ch < count; ++ch) {
     const ChannelRegisters& r = regs[ch];

@@ -139,6 +139,15 @@ std::uint8_t SslbpPort::start_setup(std::uint8_t mask) {
   return run(sslbp::start_setup(mask));
 }
 
+std::uint8_t SslbpPort::start_setup(std::uint8_t mask, unsigned attempts) {
+  std::uint8_t failed = start_setup(mask);
+  for (unsigned attempt = 1; failed != 0 && attempt < attempts; ++attempt) {
+    stop_all();
+    failed = start_setup(mask);
+  }
+  return failed;
+}
+
 std::uint8_t SslbpPort::start_normal(std::uint8_t mask) {
   return run(sslbp::start_normal(mask));
 }

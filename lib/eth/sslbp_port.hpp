@@ -91,6 +91,9 @@ class SslbpPort {
   void stop_all();
   // Return DATA: a set bit marks a channel that failed to start.
   std::uint8_t start_setup(std::uint8_t mask);
+  // start_setup, and while a channel failed, stop_all and start again: `attempts` starts in
+  // all (RunningHostCheck::setup_start_attempts).
+  std::uint8_t start_setup(std::uint8_t mask, unsigned attempts);
   std::uint8_t start_normal(std::uint8_t mask);
 
   std::uint8_t read_local(std::uint16_t address);
