@@ -2,7 +2,6 @@
 
 #include <yaml-cpp/exceptions.h>
 
-#include <CLI/CLI.hpp>
 #include <iostream>
 
 #include "lbp/error.hpp"
@@ -33,12 +32,6 @@ int report_current_exception(const char* program) {
                      "state is not known, check it with `i20 dump`)",
                  kCardState);
   }
-}
-
-int report_parse_error(const CLI::App& app, const CLI::ParseError& e, const char* program) {
-  if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-  std::cerr << program << ": error: " << e.what() << " (`" << program << " --help` explains the options)\n";
-  return kBadInput;
 }
 
 }  // namespace i20::app

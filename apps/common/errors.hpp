@@ -3,11 +3,7 @@
 #pragma once
 
 #include "ops/outcome.hpp"
-
-namespace CLI {
-class App;
-class ParseError;
-}  // namespace CLI
+#include "parse_error.hpp"
 
 namespace i20::app {
 
@@ -24,9 +20,5 @@ enum ExitCode : int {
 // Prints "PROGRAM: LABEL: MESSAGE" (one line) to stderr and returns the exit code for the
 // exception. Call from a catch (...) block.
 int report_current_exception(const char* program);
-
-// A command-line mistake CLI11 found, as one line: "PROGRAM: error: WHAT (`PROGRAM --help`
-// explains the options)", exit 2. --help and --version print their text and return 0.
-int report_parse_error(const CLI::App& app, const CLI::ParseError& e, const char* program);
 
 }  // namespace i20::app

@@ -5,6 +5,7 @@
 
 #include "ethsim/card_control.hpp"
 #include "params/param_db.hpp"
+#include "parse_error.hpp"
 #include "sim/control.hpp"
 #include "sim/param_map.hpp"
 #include "version/build_info.hpp"
@@ -209,10 +210,7 @@ std::optional<int> parse_command_line(int argc, char** argv, Invocation& out) {
     apply(out, raw);
     for (const auto& f : raw.faults) out.startup_control.push_back("fault " + f + " on");
   } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-    // One line and exit 2, as every program of the toolkit answers bad arguments.
-    std::cerr << "i20sim: error: " << e.what() << " (`i20sim --help` explains the options)" << std::endl;
-    return 2;
+    return i20::app::report_parse_error(app, e, "i20sim");
   } catch (const Error& e) {  // unreadable --params / --address-map, bad map
     std::cerr << "i20sim: " << e.what() << std::endl;
     return 2;

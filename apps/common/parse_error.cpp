@@ -1,0 +1,16 @@
+#include "parse_error.hpp"
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "ops/outcome.hpp"
+
+namespace i20::app {
+
+int report_parse_error(const CLI::App& app, const CLI::ParseError& e, const char* program) {
+  if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+  std::cerr << program << ": error: " << e.what() << " (`" << program << " --help` explains the options)\n";
+  return ops::kExitBadInput;
+}
+
+}  // namespace i20::app
