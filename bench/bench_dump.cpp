@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Issue 4's figures: `i20 dump` against the simulator with wire-time emulation at 115200
 // baud and 1 ms turnaround per reply burst, against the wire-time bound for the same
 // bytes, and against reading the same parameters with one `rpd` process each.

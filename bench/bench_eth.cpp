@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Issue 12's figures: UDP request packets per operation through a 7I96S/7I92T's SSLBP
 // setup-mode passthrough, one LBP command per packet (before batching) beside the
 // batched link, and the serial time the DOITs take at the remote's baud. Measured against

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The benchmarks' simulator: `i20sim ARGS...` in the background, its first stdout line
 // (the pty path, or the Ethernet card's ADDR:PORT) kept, stopped at the end.
 #pragma once

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 # What `cmake --install` puts where (GNU layout under CMAKE_INSTALL_PREFIX, /usr/local by
 # default, /usr for the Debian package):
 #   bin/                                  i20, wpd, rpd, i20sim

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 # A Debian package (cpack -G DEB) of what Install.cmake installs.
 #   cmake -S . -B build-release -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DCMAKE_INSTALL_PREFIX=/usr
 #   cmake --build build-release && (cd build-release && cpack -G DEB)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 # Instrumented builds, each in its own build folder:
 #
 #   I20_SANITIZE=ON  AddressSanitizer + UndefinedBehaviorSanitizer on everything (the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 # Warnings policy. The warnings are always on; turning them into errors is for
 # developers and CI (scripts/build, .ci/run pass -DI20_WERROR=ON), not for a packager or a
 # user on a newer compiler, whose build must not break on a warning we have not seen yet.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The virtual 7I96S/7I92T (lib/ethsim) fed arbitrary UDP payloads: LBP16 to every space,
 // HostMot2 registers, SSLBP commands and the virtual 8I20s behind them. Like the real
 // card it answers (or ignores) any payload; nothing may throw, and a reply is never

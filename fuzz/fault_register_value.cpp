@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Register values as users paste them into `i20 faults decode` (lib/faults/
 // register_value): hex, h-suffixed hex, binary with '_' groups, decimal. Refused text
 // throws BadRegisterValue; an accepted value reads back from its own hex form, and the

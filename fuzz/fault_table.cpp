@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The fault and status knowledge base loader (lib/faults, params/faults.yaml format),
 // and decoding every register value against a table it accepted.
 #include "faults/fault_table.hpp"

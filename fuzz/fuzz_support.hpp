@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // What every fuzz target shares: the contract for bad input and a reader of the fuzzer's
 // bytes.
 //

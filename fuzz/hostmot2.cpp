@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // HostMot2 identification (docs/facts.md s5; 7I96S/7I92T manuals, "HOSTMOT2"): the
 // IDROM, module and pin parsers and SSERIAL register location, directly and through
 // discovery (eth::read_hostmot2) against a card whose space 0 reads are the fuzzer's

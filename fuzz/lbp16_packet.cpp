@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // LBP16 packet decoding (7I96S/7I92T manuals, "LBP16 COMMANDS", "INFO AREA"): the card
 // side's request parser, the host side's reply splitter, and the info/board-info parsers,
 // on arbitrary bytes. A request that parses re-encodes to the same bytes.

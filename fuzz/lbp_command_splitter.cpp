@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The card-side LBP splitter (manual "FRAMING": pre-parsing) and the RPC list codec it
 // relies on ("RPC COMMANDS"), fed an RPC table and a byte stream in arbitrary pieces.
 //

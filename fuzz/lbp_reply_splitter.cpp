@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The host-side reply splitter (lib/lbp preparse): expected reply sizes and the bytes
 // that came back, in arbitrary pieces. Replies are cut exactly at the sizes asked for,
 // whatever arrives, and the byte accounting adds up.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Writes the seed corpora in fuzz/corpus/ from real traffic and the toolkit's own
 // encoders, so the fuzzers start from inputs the code accepts: the bytes `i20 dump` and
 // an NV write put on the line (recorded against the virtual 8I20), the UDP packets of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The parameter database loader with overlays (lib/params): a whole database, an overlay
 // on the shipped one (now, or waiting for a firmware revision), or two overlays in a row.
 // Whatever it accepts must be a consistent database: every range fits its width, every

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The profile loader (lib/profile/loader) and what runs on an accepted profile before
 // any card is touched: validation, the write plan against the database defaults, and
 // saving it back as YAML, which must load again to the same settings.

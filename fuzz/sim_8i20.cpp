@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The virtual 8I20 (lib/sim) fed arbitrary bytes with arbitrary gaps, in setup mode
 // (pre-parse framing) or operate mode (timing framing), with or without fault
 // injection. The card answers any bytes on the line, so nothing may throw; and it must

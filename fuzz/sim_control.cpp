@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The simulator's control language (lib/sim/control: i20sim's stdin and --control FIFO),
 // one line at a time, with time passing and a little LBP traffic in between so world
 // changes reach the card. A line it does not understand throws ControlError; nothing

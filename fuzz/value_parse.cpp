@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Value and quantity parsing (lib/params/value, lib/profile/quantity): what users type
 // after `i20 set NAME=` and in profiles. Bad text is refused with ValueError (or a reason
 // string); text that is accepted means exactly what it says:

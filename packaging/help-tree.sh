@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 # Reads the command tree of a CLI11 program from its --help output, so the man pages and
 # the bash completion are generated from the programs themselves and cannot miss a
 # subcommand or an option. Sourced by gen-man-pages and gen-completion.

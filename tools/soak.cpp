@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20-soak N SEED: N random write scenarios against the in-process virtual 8I20, each with
 // one injected fault, every one judged by the simulator's own memory (EEPROM image, RAM,
 // NV access and RPC memory flags), never by what the tool reports. Prints one table; the

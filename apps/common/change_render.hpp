@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Text and JSON for every command that changes a card (set, wpd, faults mask, profile apply,
 // fleets): findings, diff and plan tables, the report with its one-line final state, and the
 // fleet's result table. Text shows

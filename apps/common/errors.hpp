@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The one-line error report every app prints, and the exit codes (lib/ops/outcome.hpp owns
 // the map; these names are the apps' spelling of it).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Ctrl-C handling: SIGINT/SIGTERM set a flag that the device layer polls between
 // exchanges, so NV mode and RPC memory access are always left before the process ends.
 // A second Ctrl-C while cleanup runs restores the default action.

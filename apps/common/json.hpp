@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // A minimal JSON value for --json output (objects keep insertion order, so output is
 // stable and diffable). Only what the apps print; not a parser.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The environment Mesa's WPD/RPD read (manual, "SETUP COMMUNICATION WITH 8I20"):
 // COMPORT (COM1 or, here, a device path or eth:// URL), BAUDRATE (115200), PROTOCOL (LBP).
 #pragma once

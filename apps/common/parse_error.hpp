@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The one-line answer to a command-line mistake, shared by every program (i20, wpd, rpd and
 // i20sim, which links nothing else of the apps' common code).
 #pragma once

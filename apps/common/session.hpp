@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // What every app shares: the global options (where the 8I20 is, which database), and a
 // session that loads the database and opens and identifies the card on first use, through
 // lib/ops (the one endpoint policy).

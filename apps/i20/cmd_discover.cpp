@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 discover: find the working (RAM) addresses of the connected card, read-only.
 #include <unistd.h>
 

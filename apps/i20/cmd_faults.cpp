@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 faults | faults decode | faults mask | clear-faults (watch: cmd_watch.cpp)
 //
 // The field question is "why did the axis drop out, and what do I check?": every command

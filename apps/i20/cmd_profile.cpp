@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 profile validate | diff | apply | save  (and `i20 tune`, cmd_tune.cpp)
 #include <unistd.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 profile export FILE --hal | --setsserial [--device hm2_7i96s.0.8i20.0.0] [-o OUT]
 //
 // Turns a profile's EEPROM values into what LinuxCNC sets them with (lib/profile/export):

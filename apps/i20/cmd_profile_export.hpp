@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 profile export FILE --hal | --setsserial: a profile's NV values for LinuxCNC.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 report [-o FILE] [--json]: a field-service snapshot of one card, read-only, in one
 // file a forum post or a support call can take as it is. Its `parameters` section is a
 // profile: `i20 profile apply REPORT` writes the card's NV setup back.

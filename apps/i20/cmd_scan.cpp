@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 scan --eth IP: the card, its SSERIAL ports and channels, and which 8I20s answer,
 // with the eth:// target and the LinuxCNC hostmot2 name of each. Refused while another
 // host runs the card, unless --force.

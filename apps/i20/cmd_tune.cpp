@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 tune: KQP/KDP/KQI/KDI for a motor, what they mean (a simulated current step as an SVG
 // and a terminal plot), and a tuning profile ready to validate and apply. Needs no card.
 #include "cmd_tune.hpp"

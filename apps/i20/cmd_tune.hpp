@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 tune: current-loop gains from the motor's R and L (see profiles/TUNING.md).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 watch: a live view of bus voltage, card temperature, brake, STATUS and FAULT.
 //
 // Made for standing at the machine while the axis runs: every change of FAULT, STATUS or

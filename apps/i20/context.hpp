@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // State shared by the i20 subcommands: global options and a lazily opened session.
 #pragma once
 

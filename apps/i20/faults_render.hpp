@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Shared by `i20 faults`, `i20 clear-faults` and `i20 watch`: reading the fault-related
 // registers in one pipelined pass, telling from live readings whether a fault's cause is
 // still there, and rendering lib/faults reports as text a person can act on or as JSON.

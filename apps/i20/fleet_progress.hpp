@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The fleet's live status block on stderr: one line per target, redrawn in place while the
 // worker threads run (for a terminal only).
 #pragma once

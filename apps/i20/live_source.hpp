@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Where live FAULT/STATUS/BUSV/TEMPERATURE come from, for `watch` and `faults`:
 //  - a card reached by register reads (serial port, simulator, Ethernet passthrough), at
 //    addresses confirmed for its firmware (the card's RPC table names them on any card);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20: the umbrella CLI for Mesa 8I20 servo amplifiers.
 #include <CLI/CLI.hpp>
 #include <iostream>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Where `i20 profile ... NAME` looks for NAME: the path itself, then $I20_PROFILE_PATH
 // (colon-separated directories), then the installed share/i20tools/profiles, then the
 // source tree's profiles/ when the program runs from its build tree.

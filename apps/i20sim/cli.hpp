@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20sim's command line: every switch of the simulator, with examples in --help.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Where i20sim's control lines come from besides stdin: a FIFO (--control PATH), created
 // when missing and removed again if we created it, and a splitter that turns the bytes
 // read from either into lines.

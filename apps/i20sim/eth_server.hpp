@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // `i20sim --eth ADDR[:PORT]`: the virtual 8I20(s) behind a virtual 7I96S/7I92T on UDP,
 // served until SIGINT/SIGTERM. Control lines on stdin and on the --control FIFO (created
 // if missing) go to ethsim::apply_card_control (ethsim/card_control.hpp): every line of

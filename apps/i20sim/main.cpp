@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20sim: the virtual 8I20 as a serial port. See `i20sim --help`.
 #include <algorithm>
 #include <cstdio>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // A pseudo-terminal pair for serving the simulator as if it were a serial port. The
 // slave side is put in raw mode so every byte passes untouched, and we keep our own
 // slave descriptor open so the pty does not hang up when a client disconnects.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Serves a virtual 8I20 on a pseudo-terminal until SIGINT/SIGTERM, taking control lines
 // (see sim/control.hpp) from stdin and an optional FIFO and answering them on stdout.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Owns a POSIX file descriptor: closed exactly once, on destruction or reset.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // rpd: read one 8I20 parameter by name, a drop-in for Mesa's RPD.
 //   rpd BUSV        -> 32000      (10 mV units: 320 V)
 //   rpd FAULT H     -> 0102       (hexadecimal word)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // wpd: write one 8I20 parameter by name, a drop-in for Mesa's WPD.
 //   wpd NVMAXCURRENT 2500   -> EEPROM full-scale current 25 A (after a reset)
 //   wpd BRAKEONV 30000      -> working brake-on voltage 300 V, live

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The 8I20 as the rest of the toolkit sees it: parameters by name, read and written
 // under the safety rules, over any Link.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Finding the working (RAM) addresses of a real 8I20 without writing to it (issue 4;
 // docs/facts.md s3 names both methods):
 //  1. the pre-loaded RPC table holds the commands SSLBP's normal mode runs every cycle

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Errors of the device layer. SafetyError means nothing was sent to the card.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 #include "device/mode_guard.hpp"
 
 #include "device/errors.hpp"

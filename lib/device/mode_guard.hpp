@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // RAII guards for the two card modes that must never outlive an operation: NV (EEPROM)
 // access (docs/facts.md s2: NV mode goes back to RAM access on every path, errors included) and
 // RPC memory access (manual: "The RPCMEM access flag must be clear for normal operation").

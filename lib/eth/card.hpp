@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // What an Ethernet Anything-I/O card is and what it carries: space 7 identification,
 // the HostMot2 IDROM with its modules and pins, and the SSERIAL ports among them.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Errors of the Ethernet transport. Transport failures are link::LinkError subclasses so
 // that SslbpPassthroughLink honours the Link contract; what is wrong with the card
 // itself (not a HostMot2 card, no SSERIAL module) is a plain i20::Error.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Live status of 8I20s over SSLBP normal mode (8I20 manual, "NORMAL MODE OPERATION",
 // "8I20 SPECIFIC INTERFACE REGISTER 0/1 DEFINITIONS"), for the CLI's watch and faults.
 //

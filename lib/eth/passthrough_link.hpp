@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // link::Link to one 8I20 behind an Ethernet card, through SSLBP's setup-mode passthrough:
 // a PassthroughPort (passthrough_port.hpp) of the target's SSERIAL port with only the
 // target's channel, which it owns. Opening refuses with RunningHostError when another

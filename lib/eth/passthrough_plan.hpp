@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // How one 8I20 LBP command travels through SSLBP's setup-mode passthrough (8I20 manual,
 // "SETUP MODE OPERATION"; docs/facts.md section 5):
 //

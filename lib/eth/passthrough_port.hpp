@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // One SSERIAL port of an Ethernet card held in SSLBP setup mode, so that the 8I20s on its
 // channels can be read and written through the passthrough (8I20 manual, "SETUP START",
 // "SETUP MODE OPERATION"). SslbpPassthroughLink is one channel of it; a fleet uses

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Is another host (LinuxCNC, most likely) running the card right now? Asked before any
 // operation that stops, starts or re-modes an SSERIAL port: on a running machine a stop
 // drops every axis on that port (their 8I20s see no DOIT for 40 ms and disable).

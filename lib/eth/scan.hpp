@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // "What is on this card?": card name and versions, HostMot2 board, SSERIAL ports and
 // which channels have an 8I20 answering. For the CLI's scan command; prints nothing.
 //

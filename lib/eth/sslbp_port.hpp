@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Host side of one SSERIAL port's SSLBP processor (8I20 manual, "SSLBP"): the COMMAND and
 // DATA registers, local parameters, and the per-channel CS/INTERFACE registers.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Where an 8I20 sits behind an Ethernet card, as the CLI names it.
 //
 // URL form (one argument, works wherever a serial device path is accepted):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The seam between the LBP16 users (discovery, SSLBP, passthrough, normal mode) and the
 // UDP socket: "send these LBP16 commands as one packet, give me each read's data".
 // Tests put fault-injecting transports here; production uses UdpClient.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // LBP16 over UDP to one card (7I96S/7I92T manuals, "HOST COMMUNICATION", "LBP16").
 //
 // Rules this client keeps:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // What the virtual card looks like from the network: its name and versions (space 7),
 // Ethernet EEPROM contents (space 2) and the HostMot2 configuration it presents (IDROM,
 // modules, pins, SSERIAL ports). Two presets:

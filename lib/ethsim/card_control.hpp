@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The simulator's control language with a virtual Ethernet card (i20sim --eth): every
 // line of sim/control.hpp, addressed to one 8I20 or to all of them, plus lines for the
 // card itself. One line in, one answer out.

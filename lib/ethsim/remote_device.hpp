@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // What the virtual card's SSLBP talks to on each channel: an LBP device on the far end
 // of an RS-422 line. The virtual card frames commands (CRC included) and parses the
 // replies itself, exactly as the SSLBP firmware does; the device only moves bytes.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The virtual card on the network: a UDP server that answers LBP16 like a 7I96S (or a
 // 7I92T) with virtual 8I20s behind its SSERIAL channels. Real clients work against it
 // unchanged: this toolkit, mesaflash, LinuxCNC's hm2_eth.

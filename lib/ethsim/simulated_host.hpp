@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Another host running the machine, for tests and demonstrations: it drives the virtual
 // card's 8I20s the way LinuxCNC's hm2_eth does, through the card's own LBP16 path, so a
 // client sees what it would see beside a running machine: the space 6 UDP counters move

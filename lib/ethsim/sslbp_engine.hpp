@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The SSLBP processor of one virtual SSERIAL port (8I20 manual, "SSLBP"): COMMAND and
 // DATA, local parameters, per-channel CS/INTERFACE0..2, stop / normal start / setup
 // start / DOIT / local read and write, in front of the remote devices on its channels.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 #include "ethsim/virtual_8i20_remote.hpp"
 
 #include <algorithm>

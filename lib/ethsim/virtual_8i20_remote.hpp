@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // A sim::Virtual8i20 behind one SSLBP channel of the virtual card.
 #pragma once
 

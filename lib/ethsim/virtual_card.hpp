@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The virtual Ethernet card: LBP16 request packets in, reply packets out, like a 7I96S
 // or 7I92T (manuals, "LBP16", "SUPPORTED MEMORY SPACES"). Pure logic driven by the time
 // you give it; CardServer adds the UDP socket.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // What changed between two readings of FAULT or STATUS, for `watch`-style monitoring:
 // a fault that rose is news, one that fell was cleared (or, for a live STATUS bit, went
 // away by itself).

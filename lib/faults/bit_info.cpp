@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 #include "faults/bit_info.hpp"
 
 namespace i20::faults {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // What the knowledge base says about one bit of the 8I20's FAULT or STATUS register.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Decoding a FAULT or STATUS reading into the bits that are set.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Typed errors of the fault knowledge base. Messages are one line a user can act on.
 #pragma once
 

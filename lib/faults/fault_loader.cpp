@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Strict loader of params/faults.yaml. Every rejection names file and line.
 #include <yaml-cpp/yaml.h>
 

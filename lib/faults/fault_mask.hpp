@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // FAULTMASK: which FAULT bits are kept off the fault output (TB1 pins 5 and 6).
 //
 // A 0 bit masks (manual, FAULT MASK), so "nothing masked" is 0xFFFF and masking bus

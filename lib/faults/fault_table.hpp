@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The fault and status knowledge base: every defined bit of the 8I20's FAULT and STATUS
 // registers, loaded from YAML (params/faults.yaml, compiled in).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 #include "faults/register_spec.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // A FAULT or STATUS value as a LinuxCNC user may have it: a number, or the bits that are set,
 // by name ("fault.no-enable,fault.bus-underv" from halshow, "no-enable+BUSLOVFAULT", a full
 // pin "hm2_7i96s.0.8i20.0.0.status.pid-on").

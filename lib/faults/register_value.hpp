@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Turns what a user pastes (from RPD, halshow, a log) into a 16-bit register value.
 //
 // Accepted: hex "0x0102" or "0102h", binary "0b100000010" ('_' may group digits), and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // A structured answer to "why did the axis drop out, and what do I check?".
 //
 // Plain data for the apps to render as text or JSON: a title line, one line per set bit

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Byte containers and little-endian helpers shared by every layer.
 #pragma once
 

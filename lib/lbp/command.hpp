@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Host-side LBP commands as values: the bytes to send (without CRC) and the number of
 // reply data bytes they produce (the reply on the wire adds one CRC byte).
 #pragma once

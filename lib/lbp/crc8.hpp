@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Dallas/Maxim 1-Wire CRC-8 (x^8+x^5+x^4+1, reflected, init 0, no final XOR).
 // The 8I20 appends it to every LBP command and every reply (manual, "CRC").
 #pragma once

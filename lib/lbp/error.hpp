@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Typed errors. Every message names what was wrong in words a user can act on.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // LBP command header bytes (manual, "LBP DATA READ/WRITE COMMAND", "LBP RPC COMMAND",
 // "LOCAL LBP COMMANDS").
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // HostMot2 identification and the SSERIAL/SSLBP register interface (docs/facts.md section 5,
 // 8I20 manual "SSLBP"). Pure data: parse what a card's registers hold, compute where
 // the SSERIAL registers live, encode the SSLBP command words. No I/O.

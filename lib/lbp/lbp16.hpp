@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // LBP16: the UDP register protocol of Mesa's Ethernet Anything-I/O cards (7I96S and
 // 7I92T manuals, "LBP16 COMMANDS", "INFO AREA", "SUPPORTED MEMORY SPACES").
 //

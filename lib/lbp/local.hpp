@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Local LBP commands 0xC0..0xFF (manual, "LOCAL LBP COMMANDS"), plus the NV access
 // command the manual lists as reserved (docs/facts.md section 2).
 // Reads (0xC0..0xDF) return one data byte. Writes (0xE0..0xFE) take one data byte;

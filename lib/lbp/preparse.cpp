@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 #include "lbp/preparse.hpp"
 
 #include "lbp/crc8.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Setup-mode framing by pre-parsing (manual, "FRAMING"): the header byte alone (and,
 // for an RPC, the stored list) says how long a command is and how long its reply is.
 #pragma once

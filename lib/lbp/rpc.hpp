@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Stored RPC lists (manual, "RPC COMMANDS", "EXAMPLE RPC COMMAND LIST").
 // RPC n starts at n * pitch in the RPC table; its list is a run of data read/write
 // commands (header, optional 2-byte address, data only when the header has RID set and

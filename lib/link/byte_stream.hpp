@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // A bidirectional byte pipe with deadlines: what a serial port, a pseudo-terminal and
 // the in-process simulator have in common. PipelinedLink builds LBP framing on top.
 #pragma once

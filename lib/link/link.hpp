@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The one narrow seam between the device layer and every transport:
 // "execute these LBP commands, give me their replies".
 //

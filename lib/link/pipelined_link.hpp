@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Setup-mode LBP over a byte stream (manual, "FRAMING"): the 8I20 frames commands by
 // pre-parsing, so a batch can go out back to back and the replies are cut apart by
 // their expected lengths. Two cautions bound the pipelining (docs/facts.md section 7): the

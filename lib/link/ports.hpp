@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Serial ports on Linux, from sysfs: which tty devices have real hardware behind them,
 // and for USB adapters (such as Mesa's 3I22) who made them. Helps a user pick the path
 // to pass to open_serial_link().

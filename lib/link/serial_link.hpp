@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The usual way to reach an 8I20 in setup mode from a PC: a serial port (USB adapter
 // such as the 3I22) at 115200 8N1, with pipelined setup-mode LBP on top.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // A serial port (RS-422 through a USB adapter such as Mesa's 3I22, or a pseudo-terminal
 // in tests) as a ByteStream: raw 8N1, no flow control, every call bounded by a deadline.
 #pragma once

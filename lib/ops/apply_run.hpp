@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // One profile applied to one card, from opening the link to the final state: what `i20
 // profile apply`, every fleet target, `i20 set`, `wpd` and `faults mask` run.
 #pragma once

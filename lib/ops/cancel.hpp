@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Cancellation is an input of every use case: a flag set from outside (a SIGINT handler in
 // the apps, a test) that the engine polls before the first write, between writes and
 // between exchanges. The engine decides what a stop means for the card; the flag only asks.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // One 8I20, open and identified: the one policy every command starts from.
 //
 // Opening a card (1) opens and locks the link, (2) reads its identity and the two modes a

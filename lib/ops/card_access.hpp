@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The seam between the write transaction and a real (or simulated, or fake) 8I20.
 //
 // DeviceCardAccess adapts an open ops::Card to it; tests use a fake with injected failures.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The single-target writes (`i20 set A=1 B=2`, `wpd NAME VALUE`, `faults mask`) as small
 // profiles for the one write transaction, and the checks that run before any link opens.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The transaction's CardAccess over an open ops::Card: the one place where the retry policy
 // meets writes, and where what the card did meanwhile (it reset itself, a stray write had
 // to be cleared) is recorded for the report.

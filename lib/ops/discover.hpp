@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // `i20 discover` as a use case: run the read-only discovery on an open card, then prove the
 // overlay it produced loads (for that SWREVISION) before saying it was written, and prove it
 // again from the file on disk.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Where an 8I20 is, in one place: every program parses its target here (--port, --sim,
 // --eth, eth:// URLs, COMn, fleet targets) and opens the link here.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The fault use cases: read the registers that explain a fault (honestly: FAULT and STATUS
 // only from confirmed addresses), clear faults through CLEARFAULT, and mask the one
 // maskable fault through the write transaction.

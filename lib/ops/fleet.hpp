@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // One profile, many cards: every independent line gets its own thread (with its own link,
 // resolved map and card client), so a slow or dead card delays nobody and one target
 // failing never changes what happens on another.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // One outcome model and one exit-code map for every program (README "Exit codes").
 //
 //   0   done and verified (or nothing to do, or a dry run)

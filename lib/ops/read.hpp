@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Honest reads: a value is shown as a fact only when its address is confirmed for the
 // card's firmware (a public fact, the card's own RPC table, or an overlay for that
 // SWREVISION). Anything else is "unknown", with the reason, unless the user asks to see

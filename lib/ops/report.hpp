@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // `i20 report`: everything a forum post or a support call needs about one card, gathered
 // read-only in one place: identity, firmware and whether its map is confirmed, every
 // parameter (a fact, or unknown and why), which NV values are not live yet, FAULT/STATUS,

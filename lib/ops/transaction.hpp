@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The one write transaction under every command that changes a card: `i20 set`, `wpd`,
 // `profile apply`, the fleet, `faults mask`. A command builds a profile (a small one for
 // `set A=1 B=2`, one cell for `wpd X V`) and the transaction:

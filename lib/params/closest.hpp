@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // "Did you mean ...?": ranking known names by closeness to what a user typed. Shared by
 // the parameter database and the fault table, so both suggest the same way.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Reading the YAML files users hand the toolkit (parameter overlays, profiles, fault
 // tables) with the checks that come before any parsing: a real one is a few KB of text,
 // so a wrong path (a directory, a disk image, /dev/zero, a 126 MB log) gets a one-line

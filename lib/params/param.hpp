@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // One parameter of the 8I20 as the database describes it.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 #include "params/param_db.hpp"
 
 #include <yaml-cpp/yaml.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The symbolic parameter database, loaded from YAML (params/8i20.yaml and overlays).
 //
 // The loader is strict: a bad file is rejected with "file:line: reason" (unknown keys,

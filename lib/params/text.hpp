@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Small text helpers the loaders and parsers share (names are case-insensitive,
 // values arrive with stray spaces).
 #pragma once

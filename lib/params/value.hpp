@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Converting between what a user types or reads ("320V", "7.5A", "0x7D00") and the raw
 // integers that travel on the wire, with the database's range as the gatekeeper.
 #pragma once

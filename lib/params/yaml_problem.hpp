@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The reason yaml-cpp gave for rejecting a file, in words a user can act on. Shared by the
 // loaders of parameter overlays, profiles and fault tables.
 #pragma once

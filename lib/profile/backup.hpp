@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The backup an apply writes before it touches the card: a plain profile YAML of the
 // values the card held, so anyone can diff it and re-apply it.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Profile against card: for every cell the profile writes, what the profile wants, what
 // the card holds, and whether they are equal.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // What each cell of the card will hold once a profile is applied: the profile's value if
 // it writes the cell, else the card's current value if known, else the database default.
 // Cross-parameter rules judge these, so a profile that sets only NVBRAKEONV is checked

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Typed errors of the profile layer. Every message is one line naming what was wrong.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // A profile's NV values as LinuxCNC sets them: HAL `setp` lines for hostmot2's smart-serial
 // parameters, or `loadrt setsserial cmd="set ..."` lines (docs/facts.md s2 and s6).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // One result of checking a profile: an error stops an apply before anything is written, a
 // warning is shown and the apply goes on.
 #pragma once

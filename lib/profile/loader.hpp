@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Strict profile loader: a bad profile is refused with "file:line: key: reason [rule]"
 // before anything talks to a card. The schema is described in profiles/README.md.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Finding a profile by name: `i20 profile apply line-120v` from any directory.
 //
 // Search order: the argument as a path, if that file exists; then each directory of the

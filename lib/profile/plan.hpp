@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // What an apply will write, and in which order.
 //
 // Only cells that differ from the card are written: EEPROM cells wear out and each write

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Axis arithmetic shared by the SVG and terminal plots.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // A motor / current-loop profile: who it is for (metadata) and the parameter values it sets.
 //
 // Values are held as the card's raw integers (already parsed from engineering units by the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Physical quantities in profile metadata ("2.7 A", "6.2 mH", "1.9 ohm", "170 V").
 //
 // Parameter values go through params::parse_value (the database knows their scale); these

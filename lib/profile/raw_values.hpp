@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Raw values by database name ("NVBRAKEONV" -> 36000): what a card holds, or will.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Reading a card into a profile: `save` for people, and the backup taken before an apply.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // A simulated current step of the 8I20's PI loop on the motor's R-L winding.
 //
 // Model (a locked rotor, so no back-EMF; one axis of the dq frame):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The step response as a standalone SVG image (plain text, no external resources): axes
 // with labels, a grid, the command and the response, rise time and overshoot marked.
 #pragma once

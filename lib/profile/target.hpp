@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Which cells of the card a profile entry writes.
 //
 // The 8I20 keeps two copies of each setup parameter: the working (RAM) value the drive uses

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The step response as a few lines of text for a terminal: the current as a bar chart of
 // block characters, the command level marked, and the metrics in one line.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // UTC timestamps for backup names and provenance comments.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Current-loop tuning calculator: card gains for a motor, scaled from a reference tuning.
 //
 // The 8I20's PI current loop works on normalised quantities: current as a fraction of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Between tuning and profiles: the request from a motor profile's metadata, and the
 // result as a profile ready to validate and apply.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Checks a profile against the parameter database and the manual's cross-parameter rules.
 // Rule ids and their sources are listed in profiles/README.md.
 #pragma once

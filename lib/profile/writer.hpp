@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Profiles back to YAML: what `save` and backups produce, in the schema the loader reads.
 // Values are written in engineering units ("360.00 V") so a person can read and diff them;
 // the text always loads back to exactly the same raw values.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The amplifier behind the LBP interface: working parameters in RAM, NV parameters in
 // EEPROM, and the FAULT / STATUS / brake logic driven by the simulated world
 // (manual "DRIVE PARAMETER SETUP", "FAULT CONDITIONS", "STATUS REGISTER", "MOTOR BRAKE").

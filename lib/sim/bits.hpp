@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // FAULT and STATUS register bits (manual "FAULT CONDITIONS", "STATUS REGISTER";
 // docs/facts.md s4 for the bits only LinuxCNC names).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The simulator's control language: one command per line, used by i20sim's stdin and
 // control FIFO and by SimStream::control(), so the world and the injection switches can
 // change while a client talks to the card. Replies are one line ("ok", values, or what

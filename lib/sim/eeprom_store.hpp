@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The simulated 8I20's EEPROM: a small byte image, optionally backed by a file so NV
 // values survive a restart of the simulator. Every write goes through to the file at
 // once (a real EEPROM keeps what it was given the moment the cell write completes).

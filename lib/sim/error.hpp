@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Errors the simulator raises on purpose: bad configuration (address maps, EEPROM
 // files, control lines) and host-side failures of the served streams.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Cuts the bytes arriving at the simulated card into commands (manual "FRAMING").
 //
 // Setup mode: pre-parsing (lbp::CommandSplitter) decides where a command ends, so gaps

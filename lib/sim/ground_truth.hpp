@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // What a virtual 8I20 really holds, byte for byte, and which differences between two such
 // snapshots nothing explains: the simulator's side of every "did the tool tell the truth"
 // check (tests/ops, the fault soak). Judges by memory, never by what a tool reports.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Fault-injection switches: ways the card, the cable or the USB adapter misbehave, so
 // tests prove the client copes. All random choices come from `seed`, so a failing test
 // replays exactly. Every switch can change while the simulator runs.

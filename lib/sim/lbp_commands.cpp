@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // What each LBP command does on the virtual 8I20 (manual "LBP", "LOCAL LBP COMMANDS",
 // "RPC COMMANDS"; docs/facts.md s2 for NV access).
 #include <algorithm>

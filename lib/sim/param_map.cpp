@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 #include "sim/param_map.hpp"
 
 namespace i20::sim {

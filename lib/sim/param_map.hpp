@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Builds the simulator's register map from the project's parameter database, so the
 // simulated card follows params/8i20.yaml (or any YAML given with --params).
 #pragma once

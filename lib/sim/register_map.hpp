@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Where the simulated 8I20 keeps each parameter: the only thing the simulator knows
 // about names. Built in (the i20sim map that params/8i20.yaml documents), loaded from a
 // ParamDb, overridden from a small text file, or shuffled, so that discovery code can be

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The 8I20's RPC table with the RPCs it ships with for current (torque) mode
 // (manual "RPC COMMANDS": "The 8I20 has some pre-loaded RPCs"; docs/facts.md s3: SSLBP's
 // normal mode uses them). Their addresses come from the register map, so a card with a

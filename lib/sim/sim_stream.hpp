@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The simulator as a link::ByteStream, in process: write() feeds the virtual card,
 // read_some() returns its replies, honouring deadlines and (optionally) wire time.
 // With PipelinedLink on top it is the toolkit's `--sim` link.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Time, framing and reply handling of the virtual 8I20. Command semantics live in
 // lbp_commands.cpp.
 #include "sim/virtual_8i20.hpp"

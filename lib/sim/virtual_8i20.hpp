@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The virtual 8I20: a strict, byte-level model of the card's LBP interface in front of
 // a simulated amplifier. It is pure logic driven by the bytes and the time you give it,
 // so tests control the clock; SimStream and i20sim add real time and transport.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Puts a virtual 8I20 at the end of a simulated serial line, in real (or any) time.
 // Without emulation bytes reach the card the moment they are written and replies are
 // readable as soon as the card produces them. With emulation each byte takes 10 bit

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The physical world around the simulated card: motor bus voltage, card temperature,
 // the enable input and fault causes that only hardware could produce (over-current,
 // module, serial line errors). Tests and the i20sim control channel change it at will.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // hostmot2 names on the command line (docs/facts.md s2): `i20 get nvmaxcurrent` reads
 // NVMAXCURRENT and says so; a 16-bit half of a 32-bit gain is refused before anything is sent.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The bad-input table: arguments, environment and files a user can get wrong, each run as a
 // process against `i20sim --pty`. Every case asserts the exact one-line error, the exit code
 // (2 bad input, 3 refused by a safety rule, 1 card not reached), and that nothing was

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Runs the toolkit's programs as processes, the way users do, against `i20sim --pty`.
 #pragma once
 

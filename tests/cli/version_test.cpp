@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Every program says which version it is, the CMake project's (`project(i20tools VERSION ...)`),
 // as help2man and bug reports expect: "PROGRAM VERSION" on one line, exit 0, even where a
 // subcommand or positional argument is otherwise required.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // wpd/rpd as drop-ins for Mesa's WPD/RPD (manual, "DRIVE PARAMETER SETUP"), run as
 // processes against i20sim --pty, including every refusal and proof that it sent nothing.
 #include <gtest/gtest.h>

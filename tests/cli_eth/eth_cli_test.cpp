@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Issue 7 end to end: the toolkit's commands work unchanged through a 7I96S's SSLBP
 // passthrough, and one EEPROM image is one amplifier whichever way it is reached.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The bad-input table's network rows: `i20 --eth` behind a proxy that spoils the virtual
 // 7I96S's replies from one packet on (an answer from another port, a truncated or oversized
 // datagram, a stale reply of an earlier packet). Each case asserts the one-line error, the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 faults / faults decode / faults mask / clear-faults as processes, against i20sim --pty.
 #include <gtest/gtest.h>
 

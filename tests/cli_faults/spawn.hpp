@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // A program running in the background while the test drives the simulator: `i20 watch`
 // has to be watching while the world changes, which harness.hpp's run() (run to
 // completion) cannot express. Output is collected whenever the test waits for it.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 watch as a process against i20sim --pty: plain output, CSV, JSON lines, live fault
 // changes, and surviving a power cycle, a reset, a power loss and an unplugged adapter.
 // Every wait is for a line to appear (generous deadline), never for a fixed time.

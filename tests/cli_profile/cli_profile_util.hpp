@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Shared by the i20 profile / tune end-to-end tests: running i20 against a simulator,
 // counting what reached the EEPROM, reading --json output, and the central check of the
 // fault-injection tests: what the command reported is what the card holds.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 profile export (HAL setp / setsserial lines for LinuxCNC) and profiles found by name,
 // as processes. Export is offline; the round trip reads a simulated card.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 profile apply against simulators that misbehave: garbled replies, a card that resets
 // itself mid-apply, power lost during an EEPROM write, a cell that does not take its value.
 // Every run must end applied and verified, or rolled back and reported, and what the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 profile apply --target T1 --target T2 ...: every card on its own thread and link; one
 // target failing never changes what happens on another; exit 0 only if all are verified.
 #include <gtest/gtest.h>

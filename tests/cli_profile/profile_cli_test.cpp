@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 profile validate | diff | apply | save as processes against i20sim --pty.
 #include <gtest/gtest.h>
 

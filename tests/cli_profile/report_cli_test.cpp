@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // `i20 report` as a field technician uses it, against `i20sim --pty`: the snapshot says
 // what the card holds (identity, firmware and map, every parameter, NV values not live yet,
 // FAULT/STATUS decoded, link figures), writes nothing, and its parameters section applied

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // i20 tune: the reference motor reproduces the manual's defaults, the step response is
 // drawn (SVG file and terminal), and --out writes a profile that validates and applies.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Safety rules of issue 4, enforced in the library: range, confirmation, guards, NV mode.
 #include "device/amp.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Discovery against the simulator started with a shuffled address map: what it finds must
 // come from the card, not from the database (issue 4).
 #include "device/discover.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // A Link that plays a minimal 8I20 memory model and records every command it was given,
 // so device-layer tests can assert what was (and was not) sent. The full-fidelity device
 // is the simulator (lib/sim); this fake keeps these tests independent of it.

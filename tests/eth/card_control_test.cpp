@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The simulator's control language with a virtual Ethernet card: per-channel prefixes,
 // "all", and the LinuxCNC stand-in (ethsim/card_control.hpp).
 #include "ethsim/card_control.hpp"

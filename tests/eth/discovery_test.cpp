@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Card identification, HostMot2 discovery and scan over UDP against the virtual card.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Test-only: serves the virtual card until killed (or for --seconds N), so that external
 // clients such as mesaflash can be pointed at it by hand.
 //   eth_test_server [ADDR[:PORT]] [--card 7i96s|7i92t] [--seconds N]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Shared test helpers: a virtual card on an ephemeral loopback port, and a scripted
 // "card" whose replies the test writes by hand (wrong sizes, wrong senders, silence).
 #pragma once

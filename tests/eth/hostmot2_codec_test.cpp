@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // HostMot2 identification, IDROM, module/pin descriptors and the SSERIAL register
 // addresses (docs/facts.md section 5), and the SSLBP command words (8I20 manual, "SSLBP").
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // LBP16 codec against the examples of the 7I96S/7I92T manuals ("LBP16", "INFO AREA
 // ACCESS", "SUPPORTED MEMORY SPACES", "ELBPCOM"), byte for byte.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The virtual card against Debian's real mesaflash (an independent LBP16 client).
 // mesaflash always talks to UDP port 27181, so the server binds 27181 on a loopback
 // address of its own (127.x.y.z, all of 127/8 is loopback on Linux) to stay clear of

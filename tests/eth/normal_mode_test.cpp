@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // NormalModeSession: live BUSV/TEMPERATURE/FAULT/STATUS over SSLBP normal mode.
 #include "eth/normal_mode.hpp"
 

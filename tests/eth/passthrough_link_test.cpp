@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // SslbpPassthroughLink: 8I20 LBP commands through SSLBP's setup-mode passthrough of the
 // virtual card, over UDP on loopback.
 #include "eth/passthrough_link.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // LBP command -> SSLBP setup-mode passthrough registers (8I20 manual, "SETUP MODE
 // OPERATION"; docs/facts.md section 5).
 #include "eth/passthrough_plan.hpp"

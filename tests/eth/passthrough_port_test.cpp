@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // PassthroughPort: many LBP commands per UDP packet through SSLBP's setup-mode
 // passthrough, a check that each DOIT completed (COMMAND back to 0, 8I20 manual "DOIT"),
 // polling and replays when one did not, and one DOIT serving several channels of a port.

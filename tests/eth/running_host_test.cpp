@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Issue 12: nothing that stops, starts or re-modes an SSERIAL port runs while another host
 // (LinuxCNC) is running the card, unless the caller takes over. The running host is the
 // virtual card's LinuxCNC stand-in (ethsim/simulated_host.hpp) or a second client in

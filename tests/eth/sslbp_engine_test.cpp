@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The virtual SSLBP processor in front of a virtual 8I20, driven through the card's
 // registers with a test-controlled clock (8I20 manual, "SSLBP").
 #include "ethsim/sslbp_engine.hpp"

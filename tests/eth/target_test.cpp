@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The CLI's target syntax (eth/target.hpp).
 #include "eth/target.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // UdpClient against scripted cards and the virtual card on loopback: replies only from
 // the card's own address, never of the wrong size, resends only what may be resent.
 #include "eth/udp_client.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The virtual card's LBP16 spaces, driven packet by packet without sockets.
 #include "ethsim/virtual_card.hpp"
 

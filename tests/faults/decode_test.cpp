@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Decoding FAULT and STATUS against the manual's tables (FAULT CONDITIONS, STATUS REGISTER)
 // and docs/facts.md s4.
 #include "faults/decode.hpp"

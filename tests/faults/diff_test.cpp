@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // What `watch` reports between two readings.
 #include <gtest/gtest.h>
 

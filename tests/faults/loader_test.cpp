@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The strict loader of params/faults.yaml, and the compiled-in copy.
 #include <gtest/gtest.h>
 

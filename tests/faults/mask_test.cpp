@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // FAULTMASK rules (manual, FAULT MASK): a 0 bit masks, only BUSLOVFAULT is maskable.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Register values given as the bits that are set, the way LinuxCNC shows them: hostmot2 pin
 // names (LinuxCNC sserial.h hm2_8i20_params, sserial(9); docs/facts.md s4), with or
 // without the device prefix halshow shows, slugs and the manual's names (FAULT CONDITIONS).

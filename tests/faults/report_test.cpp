@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The structured report the CLI renders as text or JSON.
 #include "faults/report.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Parsing FAULT/STATUS values as users paste them.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Little-endian data (docs/facts.md section 1: the byte at the lower address is the LSB).
 #include "lbp/bytes.hpp"
 

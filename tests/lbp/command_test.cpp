@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Byte-for-byte reproduction of the manual's "EXAMPLE LBP COMMANDS".
 #include "lbp/command.hpp"
 

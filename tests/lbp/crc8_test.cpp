@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // CRC-8 vectors: manual "CRC" (Dallas/Maxim polynomial x^8+x^5+x^4+1) and docs/facts.md section 1.
 #include "lbp/crc8.hpp"
 

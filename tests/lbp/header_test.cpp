@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Command header layout: manual "LBP DATA READ/WRITE COMMAND" (0 1 WR RID AI AS DS1 DS0),
 // "LBP RPC COMMAND" (1 0 RPC5..RPC0) and "LOCAL LBP COMMANDS".
 #include "lbp/header.hpp"

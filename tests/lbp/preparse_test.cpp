@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Setup-mode framing by pre-parsing (manual "FRAMING"): command and reply lengths from
 // the header (and the RPC table); stream splitting with CRC checks; reply parsing.
 #include "lbp/preparse.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Manual "EXAMPLE RPC COMMAND LIST": RPC5 at 0x0028 writes two stream bytes to 0x10 and
 // reads two bytes at 0x12, in 7 stored bytes.
 #include "lbp/rpc.hpp"

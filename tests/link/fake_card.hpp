@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // A minimal 8I20 stand-in for link tests: 64 KiB of byte-addressed memory behind LBP
 // data commands, the address pointer with auto-increment, and a few local commands.
 // It only knows what the link tests need; the real simulator lives in lib/sim.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // PipelinedLink against a scripted in-process 8I20 (scripted_stream.hpp): setup-mode
 // pipelining (manual "FRAMING"), the window and barrier cautions (docs/facts.md section 7),
 // reply splitting, CRC and timeout errors, and resynchronisation.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Port listing against a fake sysfs tree shaped like a real one: class/tty entries are
 // symlinks into devices/, "device" links up to the hardware, USB ids live on the USB
 // device a few levels up.

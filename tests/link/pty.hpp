@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // A pseudo-terminal pair for serial tests: SerialStream opens the slave side like a
 // /dev/ttyUSB device; the test plays the far end on the master side.
 #pragma once

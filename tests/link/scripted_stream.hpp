@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // An in-process ByteStream that plays an 8I20: it cuts what the link writes into
 // commands with lbp::CommandSplitter, answers them from a FakeCard, and can be told to
 // misbehave (corrupt, drop, delay, add bytes). It also watches the link: every write()

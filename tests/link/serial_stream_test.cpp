@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // SerialStream against a real pseudo-terminal pair, and PipelinedLink over it with a
 // fake card doing real LBP framing on the far side.
 #include "link/serial_stream.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // An in-memory 8I20 for apply tests, with switches to make it fail the way real links and
 // EEPROMs do.
 #pragma once

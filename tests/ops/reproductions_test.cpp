@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Issue 10's reproductions, each against the in-process simulator with the same injection,
 // through the same use cases the programs call (lib/ops). Every verdict comes from the
 // simulator's own memory, not from what the tool reports.

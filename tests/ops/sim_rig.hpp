@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // An in-process virtual 8I20 behind the toolkit's usual setup-mode link, opened as an
 // ops::Card, with the simulator's own memory as the ground truth: every test judges the
 // card by what the simulator holds, never by what the tool reports.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-2.0-or-later
 # Usage: completion_test.sh COMPLETION_FILE I20 SOURCE_DIR
 # Drives the completion function the way bash does (COMP_WORDS/COMP_CWORD) and compares
 # what it offers with what the program's --help lists.

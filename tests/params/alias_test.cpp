@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // LinuxCNC's hostmot2 names as aliases (params/8i20.yaml `aliases:`; docs/facts.md s2):
 // accepted wherever a name is, case-insensitively; a 16-bit half of a 32-bit value is
 // recognised and refused, naming the whole parameter; the loader keeps names unambiguous.

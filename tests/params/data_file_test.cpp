@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The checks every user-supplied YAML file passes before it is parsed (params/
 // data_file.hpp): overlays, profiles and fault tables are a few KB of text; a wrong path
 // gets a one-line reason, and a huge file is refused before it is read, let alone parsed

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The database loader on hostile input (fuzz/regressions/param_db): every number is
 // checked before it is used, every refusal is one ParamFileError line naming file and
 // line, and nothing else escapes.

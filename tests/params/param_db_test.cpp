@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The parameter database against the manual's PARAMETERS table and docs/facts.md s2.
 #include "params/param_db.hpp"
 

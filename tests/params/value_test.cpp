@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Engineering units per the manual: 10 mV, 10 mA, 0.01 degC; values validated by range.
 #include "params/value.hpp"
 

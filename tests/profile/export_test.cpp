@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Profiles into LinuxCNC: the HAL names and units hostmot2 uses for the 8I20's NV parameters
 // (LinuxCNC sserial.h hm2_8i20_globals, sserial(9), setsserial(9); docs/facts.md s2, s6), and
 // the round trip profile -> exported text -> values.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The profile schema and its strict loader: errors name file, line, key and rule.
 #include "profile/loader.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Finding a profile by name (`i20 profile apply line-120v` from any directory): the path
 // itself first, then the search directories in order, NAME or NAME.yaml; a miss names
 // every place that was tried.

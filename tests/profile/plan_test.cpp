@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Diff and plan: only what differs is written, in an order that is safe at every step.
 #include "profile/plan.hpp"
 

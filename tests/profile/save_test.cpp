@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Saving a card into a profile: engineering units, provenance comments, loads back exactly.
 #include "profile/save.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The example profiles in profiles/ load and validate without a single finding, and say
 // what the manual says.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The simulated current step: reaches the command, gets faster with bandwidth, and the
 // plots are well-formed.
 #include "profile/step_response.hpp"

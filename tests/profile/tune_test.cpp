@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The tuning calculator: the reference reproduces the manual's defaults, and the gains
 // follow the PI current-loop scaling laws (Kp ~ L wc Imax / Vbus, Ki ~ R wc Imax / Vbus).
 #include "profile/tune.hpp"

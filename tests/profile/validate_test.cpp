@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Every validation rule, on both sides of its line, against the manual's statements.
 #include "profile/validate.hpp"
 

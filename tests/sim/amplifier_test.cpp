@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Manual "FAULT CONDITIONS", "CLEARING FAULTS", "FAULT MASK", "STATUS REGISTER",
 // "MOTOR BRAKE"; docs/facts.md s4 (LinuxCNC's extra STATUS bits). Everything is read back
 // over LBP, as a host would.

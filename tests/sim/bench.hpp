@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // A virtual 8I20 on the test bench: raw bytes in, raw bytes out, and a clock the test
 // moves by hand. Commands are written as hex from the manual's tables; the CRC is added
 // by lbp::crc8 so that what goes on the wire is exactly what a host would send.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The control language of i20sim's stdin/FIFO and SimStream::control().
 #include "sim/control.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Manual "LBP DATA READ/WRITE COMMAND" and "EXAMPLE LBP COMMANDS": address pointer,
 // auto-increment, 1/2/4/8-byte accesses, little-endian data, read-only parameters.
 #include "bench.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Manual "FRAMING" and "CRC": pre-parse framing with a command timeout in setup mode,
 // timing-only framing in operate mode, bad CRCs never executed, a finite buffer.
 #include "bench.hpp"

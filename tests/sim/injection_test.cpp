@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The fault-injection switches: each one must visibly misbehave, reproducibly.
 #include <filesystem>
 #include <fstream>

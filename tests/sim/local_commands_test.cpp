@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Manual "LOCAL LBP COMMANDS" and docs/facts.md s2 (NV access 0xEC/0xCC): every local read
 // and write, sent as raw bytes.
 #include "bench.hpp"

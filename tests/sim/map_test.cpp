@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // The register map: the built-in one matches params/8i20.yaml, overrides and shuffles
 // move working parameters, and the card then really lives at the new addresses.
 #include "bench.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // docs/facts.md s2 (NV access through 0xEC, NV addresses) and s7 (EEPROM write time),
 // manual "DRIVE PARAMETER SETUP" (NV values take effect only after a reset).
 #include <filesystem>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // End to end: build/bin/i20sim --pty serves a pseudo-terminal that behaves like the
 // card's serial port. The test spawns it, reads the path, talks raw LBP bytes, drives
 // the world through stdin, and stops it with SIGTERM.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Manual "RPC COMMANDS", "EXAMPLE RPC COMMAND LIST"; docs/facts.md s3 (the preloaded RPCs
 // name the addresses of ANGLE, QSETPOINT, BUSV, TEMPERATURE, FAULT and STATUS).
 #include "lbp/rpc.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // SimStream (the simulator as a link::ByteStream) and make_sim_link (PipelinedLink on
 // top): real time, so only lower bounds on durations are asserted.
 #include <thread>
