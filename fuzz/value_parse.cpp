@@ -82,7 +82,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fuzz::Input in(data, size);
   const auto& all = db().all();
   const auto& p = all[in.byte() % all.size()];
-  const auto kind = static_cast<profile::Quantity>(in.byte() % 4);
+  const auto kind = static_cast<profile::Quantity>(in.byte() % 5);  // Current .. Frequency
   const std::string text = in.rest_text();
   fuzz::expect_only_toolkit_errors([&] { value(p, text); });
   fuzz::expect_only_toolkit_errors([&] { raw(p, text); });

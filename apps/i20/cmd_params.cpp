@@ -288,21 +288,29 @@ void register_param_commands(CLI::App& app, Context& ctx) {
   get->callback([&ctx, get_options] { run_get(ctx, *get_options); });
 
   auto set_options = std::make_shared<SetOptions>();
-  auto* set = app.add_subcommand(
-      "set",
-      "Write parameters: NAME=VALUE with units (NVBRAKEONV=370V, NVMAXCURRENT=7.5A) or raw integers "
-      "(NVMAXCURRENT=750), as one transaction: every value is checked against its range and the manual's rules "
-      "using the card's other values, cells that already hold their value are skipped, the rest are written in "
-      "an order that keeps the thresholds consistent, read back, and restored if anything fails. NV writes take "
-      "effect after a reset");
+  auto* set =
+      app.add_subcommand("set",
+                         "Write parameters: NAME=VALUE with units (NVBRAKEONV=370V, NVMAXCURRENT=7.5A; SI "
+                         "symbols, exact case) or "
+                         "raw card counts written raw:N (NVMAXCURRENT=raw:750 is 7.5 A); a bare number is "
+                         "refused for a parameter "
+                         "with a unit, and gains and masks take plain numbers (NVKQP=50). One transaction: "
+                         "every value is checked against its range and the manual's rules "
+                         "using the card's other values, cells that already hold their value are skipped, "
+                         "the rest are written in "
+                         "an order that keeps the thresholds consistent, read back, and restored if anything "
+                         "fails. NV writes take "
+                         "effect after a reset");
   set->footer("Exit 0 written and verified (or nothing to do), 1 card not reached, 2 bad input, 3 refused by a "
               "rule (nothing written), 4 rolled back or state uncertain (cells named), 130 Ctrl-C.");
   set->add_option("ASSIGNMENT", set_options->assignments, "NAME=VALUE pairs")->required();
   set->add_flag("--allow-unverified", set_options->write.allow_unverified,
                 "Write working (RAM) addresses the database does not confirm for this firmware");
-  set->add_flag("--force", set_options->write.force,
-                "Write guarded parameters (NVBAUDRATE, setpoints), and BUSOVERV/BRAKEONV at or below the bus "
-                "voltage the card measures now");
+  set->add_flag(
+      "--force", set_options->write.force,
+      "Write guarded parameters (NVBAUDRATE, setpoints), and thresholds the bus voltage the card measures "
+      "now makes unsafe (BUSOVERV, BRAKEONV or BRAKEOFFV at or below it, BUSUNDERV or BUSUNDERVMAX at or "
+      "above it; working and NV)");
   set->add_flag("--dry-run", set_options->dry_run, "Read, check and plan; write nothing");
   set->callback([&ctx, set_options] { run_set(ctx, *set_options); });
 

@@ -50,17 +50,9 @@ double quantity(Quantity kind, const std::string& flag, const std::string& text)
   return *value;
 }
 
-// "500", "500 Hz", "500Hz" or "0.5 kHz".
+// "500Hz", "500 Hz" or "0.5kHz": the unit is required, as for every other quantity.
 double bandwidth_hz(const std::string& text) {
-  const char* begin = text.c_str();
-  char* end = nullptr;
-  const double number = std::strtod(begin, &end);
-  std::string unit(end);
-  unit.erase(0, unit.find_first_not_of(' '));
-  const double factor = unit.empty() || unit == "Hz" ? 1.0 : unit == "kHz" ? 1000.0 : 0.0;
-  if (end == begin || factor == 0.0 || !(number > 0) || !std::isfinite(number))
-    throw UsageError("--bandwidth: '" + text + "' is not a frequency (e.g. 500 or 500Hz)");
-  return number * factor;
+  return quantity(Quantity::Frequency, "--bandwidth", text);
 }
 
 // The motor profile's metadata and MAXCURRENT, where it has them.

@@ -36,7 +36,7 @@ profile::Profile profile_from_assignments(const std::vector<std::string>& assign
     ++position;
     const auto eq = a.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == a.size())
-      throw UsageError("'" + a + "' is not NAME=VALUE (e.g. NVBRAKEONV=320V or NVMAXCURRENT=750)");
+      throw UsageError("'" + a + "' is not NAME=VALUE (e.g. NVBRAKEONV=320V or NVMAXCURRENT=raw:750)");
     const auto& p = db.get(a.substr(0, eq));
     for (const auto& earlier : profile.settings)
       if (earlier.name == p.name) throw UsageError(p.name + " is given twice on the command line");

@@ -402,8 +402,9 @@ class Transaction {
 }  // namespace
 
 const std::vector<std::string>& rule_parameters() {
-  static const std::vector<std::string> names{"BRAKEONV", "BRAKEOFFV", "BUSOVERV", "BUSUNDERV", "MAXCURRENT",
-                                              "KQP",      "KDP",       "KQI",      "KDI"};
+  static const std::vector<std::string> names{"BRAKEONV",     "BRAKEOFFV",  "BUSOVERV", "BUSUNDERV",
+                                              "BUSUNDERVMAX", "MAXCURRENT", "KQP",      "KDP",
+                                              "KQI",          "KDI"};
   return names;
 }
 

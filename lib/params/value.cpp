@@ -247,47 +247,160 @@ std::int64_t parse_raw(const Param& param, std::string_view text) {
   throw ValueError(param.name + ": '" + t + "' is not an integer (raw values are decimal or 0x hexadecimal)");
 }
 
+const std::vector<UnitSymbol>& unit_symbols() {
+  static const std::vector<UnitSymbol> table{
+      {"A", "A", 0},
+      {"mA", "A", -3},
+      {"V", "V", 0},
+      {"mV", "V", -3},
+      {"ohm", "ohm", 0},
+      {"mohm", "ohm", -3},
+      {"ohms", "ohm", 0, true},
+      {"\xCE\xA9", "ohm", 0, true},  // the Greek capital omega
+      {"m\xCE\xA9", "ohm", -3, true},
+      {"H", "H", 0},
+      {"mH", "H", -3},
+      {"uH", "H", -6},
+      {"\xC2\xB5H", "H", -6, true},  // the micro sign
+      {"Hz", "Hz", 0},
+      {"kHz", "Hz", 3},
+      {"degC", "degC", 0},
+      {"deg", "deg", 0},
+  };
+  return table;
+}
+
+std::string quantity_name(std::string_view base) {
+  if (base == "A") return "a current";
+  if (base == "V") return "a voltage";
+  if (base == "ohm") return "a resistance";
+  if (base == "H") return "an inductance";
+  if (base == "Hz") return "a frequency";
+  if (base == "degC") return "a temperature";
+  if (base == "deg") return "an angle";
+  return "a value in " + std::string(base);
+}
+
+std::string symbols_text(std::string_view base) {
+  std::vector<std::string_view> listed;
+  for (const auto& u : unit_symbols())
+    if (u.base == base && !u.alias) listed.push_back(u.symbol);
+  if (listed.empty()) return std::string(base);
+  std::string text;
+  for (std::size_t i = 0; i < listed.size(); ++i)
+    text += std::string(i == 0 ? "" : i + 1 == listed.size() ? " or " : ", ") + std::string(listed[i]);
+  return text;
+}
+
+const UnitSymbol* unit_of(std::string_view symbol, std::string_view base, std::string& why) {
+  const auto& table = unit_symbols();
+  const auto exact = std::ranges::find(table, symbol, &UnitSymbol::symbol);
+  const std::string in_units = quantity_name(base) + " is in " + symbols_text(base);
+  if (exact != table.end()) {
+    if (exact->base == base) return &*exact;
+    why = in_units + ", not " + std::string(symbol);
+    return nullptr;
+  }
+  // Case carries meaning (m is milli, M mega): "ma" or "mh" is a typo to name, not to guess.
+  const auto same_letters = std::ranges::find_if(
+      table, [&](const UnitSymbol& u) { return u.base == base && iequals(u.symbol, symbol); });
+  why = "unit '" + std::string(symbol) + "' is not known";
+  why += same_letters != table.end() ? "; did you mean '" + std::string(same_letters->symbol) + "'?"
+                                     : " (" + in_units + ")";
+  return nullptr;
+}
+
+namespace {
+
+// "10 mA": one count of the parameter, in the listed unit that shows it as a whole number
+// or more, else in the parameter's own unit.
+std::string one_count_text(const Param& p) {
+  std::string_view shown = p.unit;
+  double amount = p.scale;
+  for (const auto& u : unit_symbols()) {
+    if (u.base != p.unit || u.alias) continue;
+    const double in_unit = p.scale / std::pow(10.0, u.power_of_ten);
+    if (in_unit >= 1 - 1e-12 && (amount < 1 - 1e-12 || in_unit < amount)) {
+      shown = u.symbol;
+      amount = in_unit;
+    }
+  }
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.15g", amount);
+  return std::string(buf) + " " + std::string(shown);
+}
+
+// Why "15" is not enough for a parameter with a unit, and what to write instead.
+std::string missing_unit_reason(const Param& p, const std::string& typed, bool whole_number) {
+  std::string examples;
+  const auto decimal = scan_decimal(typed);
+  if (decimal && decimal->length == typed.size()) {  // "15", "7.5", not "0x2EE" or "4A38h"
+    for (const auto& u : unit_symbols())
+      if (u.base == p.unit && !u.alias)
+        examples += (examples.empty() ? "" : ", ") + typed + std::string(u.symbol);
+  } else {
+    examples = "e.g. " + format_engineering(p, p.max);
+  }
+  std::string reason = quantity_name(p.unit) + " needs its unit (" + examples + ")";
+  if (whole_number)
+    reason += " or " + std::string(kRawPrefix) + typed + " for card counts (" + one_count_text(p) + " each)";
+  return reason;
+}
+
+// "raw:750" (any parameter): the counts after the prefix, exactly as parse_raw reads them.
+std::int64_t parse_raw_form(const Param& p, const std::string& typed) {
+  const std::string counts = trim(std::string_view(typed).substr(kRawPrefix.size()));
+  const auto integer = scan_integer(counts);
+  if (integer.status == IntegerText::Status::Ok) return integer.value;
+  if (integer.status == IntegerText::Status::OutOfRange) out_of_range(p, typed);
+  throw ValueError(
+      p.name, typed,
+      "raw counts are a whole number, decimal or 0x hexadecimal (e.g. raw:" + std::to_string(p.max) + ")");
+}
+
+}  // namespace
+
 std::int64_t parse_value(const Param& param, std::string_view text) {
   const auto t = trim(text);
+  const auto refuse = [&](const std::string& reason) { return ValueError(param.name, t, reason); };
+  if (t.starts_with(kRawPrefix)) return parse_raw_form(param, t);
+  if (t.size() >= kRawPrefix.size() && iequals(std::string_view(t).substr(0, kRawPrefix.size()), kRawPrefix))
+    throw refuse("'" + t.substr(0, kRawPrefix.size()) + "' is not known; did you mean '" +
+                 std::string(kRawPrefix) + "'?");
   const auto integer = scan_integer(t);
-  if (integer.status == IntegerText::Status::Ok) return integer.value;
-  if (integer.status == IntegerText::Status::OutOfRange) out_of_range(param, t);
+  if (integer.status != IntegerText::Status::NotInteger) {
+    if (!param.unit.empty()) throw MissingUnit(param.name, t, missing_unit_reason(param, t, true));
+    if (integer.status == IntegerText::Status::OutOfRange) out_of_range(param, t);
+    return integer.value;
+  }
   if (looks_hexadecimal(t))
-    throw ValueError(
-        param.name + ": '" + t +
-        "' is not an integer (hexadecimal is 0x and the digits 0-9, A-F, after at most one sign)");
+    throw refuse("not an integer (hexadecimal is 0x and the digits 0-9, A-F, after at most one sign)");
   const auto number = scan_decimal(t);
   if (!number)
-    throw ValueError(param.name + ": '" + t + "' is not a number" +
-                     (param.unit.empty() ? std::string(" (give a raw integer)")
-                                         : " (e.g. " + format_engineering(param, param.max) + ")"));
+    throw refuse(std::string("not a number") +
+                 (param.unit.empty() ? " (give a whole number)"
+                                     : " (e.g. " + format_engineering(param, param.max) + ")"));
   const std::string_view rest = std::string_view(t).substr(number->length);
-  if (decimal_comma_follows(rest))
-    throw ValueError(param.name + ": '" + t + "' has a decimal comma; write the fraction with a point");
+  if (decimal_comma_follows(rest)) throw refuse("decimal comma: write the fraction with a point");
   const std::string unit = trim(rest);
-  if (unit.empty()) {
-    throw ValueError(param.name + ": '" + t +
-                     "' is not a raw integer and has no unit; write it with its unit" +
-                     (param.unit.empty() ? std::string(" (this parameter takes raw integers only)")
-                                         : " (e.g. " + t + param.unit + ") or as a raw integer"));
-  }
-  if (param.unit.empty()) throw ValueError(param.name + " has no unit: give a raw integer, not '" + t + "'");
+  if (param.unit.empty())
+    throw refuse(unit.empty() ? param.name + " takes a whole number (it has no unit)"
+                              : param.name + " has no unit; give a plain whole number");
+  if (unit.empty()) throw MissingUnit(param.name, t, missing_unit_reason(param, t, false));
   if (number->digits.size() > kMaxDigits)
-    throw ValueError(param.name + ": '" + t + "' has more digits than any value of it needs");
+    throw refuse("more digits than any value of " + param.name + " needs");
+  std::string why;
+  const UnitSymbol* symbol = unit_of(unit, param.unit, why);
+  if (!symbol) throw UnitError(param.name, t, why);
   DecimalText value = *number;
-  if (iequals(unit, "m" + param.unit) && (param.unit == "V" || param.unit == "A")) {
-    value.exponent -= 3;
-  } else if (!iequals(unit, param.unit)) {
-    throw ValueError(param.name + " is in " + param.unit + ", not '" + unit + "'");
-  }
+  value.exponent += symbol->power_of_ten;
   const Counts counts = counts_of(value, param.scale);
   switch (counts.fit) {
     case Fit::Exact: return counts.value;
     case Fit::OutOfRange: out_of_range(param, t);
     case Fit::Finer: break;
   }
-  throw ValueError(param.name + ": " + t + " is finer than its resolution of " +
-                   format_engineering(param, 1));
+  throw refuse("finer than its resolution of " + format_engineering(param, 1));
 }
 
 void check_range(const Param& param, std::int64_t raw) {

@@ -3,7 +3,6 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <cctype>
 #include <set>
 
 #include "params/data_file.hpp"
@@ -16,7 +15,6 @@
 namespace i20::profile {
 namespace {
 
-using params::iequals;
 using params::trim;
 
 const std::set<std::string> kTopKeys{"schema", "name", "description", "motor", "supply", "notes", "target",
@@ -116,29 +114,23 @@ Target read_target(const Reader& r, const YAML::Node& node, const std::string& k
 }
 
 // A parameter with a unit must say it: "750" for NVMAXCURRENT could mean 750 counts (7.5 A)
-// or 750 A, and the difference is a burnt motor. Raw counts are still possible as {raw: N}.
-void require_unit(const Reader& r, const YAML::Node& node, const params::Param& p, const std::string& text) {
-  std::string_view t = text;
-  while (!t.empty() && std::isspace(static_cast<unsigned char>(t.back()))) t.remove_suffix(1);
-  std::size_t n = t.size();
-  while (n > 0 && std::isalpha(static_cast<unsigned char>(t[n - 1]))) --n;
-  const std::string suffix(t.substr(n));
-  if (!iequals(suffix, p.unit) && suffix != "m" + p.unit)
-    r.fail(node, p.name, "unit-required",
-           "'" + text + "' needs its unit (" + p.unit + "), e.g. " +
-               params::format_engineering(p, p.max / 4) + "; write {raw: N} for raw counts");
-}
-
+// or 750 A, and the difference is a burnt motor. The value parser refuses it as MissingUnit;
+// raw counts are written "raw:750" (or as the entry {raw: 750}).
 std::int64_t read_value(const Reader& r, const YAML::Node& node, const params::Param& p, bool raw) {
   const std::string text = r.text(node, p.name);
   try {
     if (raw) return params::parse_raw(p, text);
-    if (!p.unit.empty()) require_unit(r, node, p, text);
     return params::parse_value(p, text);
+  } catch (const params::UnitError& e) {  // missing, unknown, or of another quantity
+    r.fail(node, p.name, "unit-required", e.reason());
   } catch (const params::ValueError& e) {
-    // The parser's message starts with the name the error line already gives.
-    std::string why = e.what();
-    if (why.starts_with(p.name + ": ")) why.erase(0, p.name.size() + 2);
+    // The error line already names the entry: the reason, after the text it is about.
+    std::string why = e.reason();
+    if (why == e.what()) {  // a message that names the parameter itself ("... out of range for NAME")
+      if (why.starts_with(p.name + ": ")) why.erase(0, p.name.size() + 2);
+    } else {
+      why = "'" + trim(text) + "': " + why;
+    }
     r.fail(node, p.name, "value", why);
   }
 }

@@ -12,7 +12,8 @@ namespace i20::profile {
 namespace {
 
 // Lowest to highest: the order the thresholds must keep on the bus-voltage axis.
-constexpr std::array<std::string_view, 4> kVoltageChain{"BUSUNDERV", "BRAKEOFFV", "BRAKEONV", "BUSOVERV"};
+constexpr std::array<std::string_view, 5> kVoltageChain{"BUSUNDERV", "BUSUNDERVMAX", "BRAKEOFFV", "BRAKEONV",
+                                                        "BUSOVERV"};
 constexpr std::array<std::string_view, 6> kGains{"KQP", "KDP", "KQI", "KDI", "KQIL", "KDIL"};
 
 enum Group {
@@ -77,8 +78,8 @@ std::vector<DiffRow> safe_order(std::vector<DiffRow> steps, const params::ParamD
 }
 
 std::string unsafe_step(const Plan& plan, const params::ParamDb& db, const RawValues& card) {
-  constexpr std::pair<std::string_view, std::string_view> kPairs[] = {{"BRAKEOFFV", "BRAKEONV"},
-                                                                      {"BUSUNDERV", "BUSOVERV"}};
+  constexpr std::pair<std::string_view, std::string_view> kPairs[] = {
+      {"BRAKEOFFV", "BRAKEONV"}, {"BUSUNDERV", "BUSOVERV"}, {"BUSUNDERV", "BUSUNDERVMAX"}};
   struct Pair {
     std::string low, high;
   };

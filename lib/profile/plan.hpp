@@ -29,7 +29,7 @@ Plan make_plan(const Profile& profile, const params::ParamDb& db, const RawValue
 // end, should the apply stop half way (power loss, link failure):
 //  - EEPROM cells first, then working cells: the drive's live behaviour changes last;
 //  - within each, a MAXCURRENT decrease first and a MAXCURRENT increase last;
-//  - the voltage thresholds BUSUNDERV < BRAKEOFFV < BRAKEONV < BUSOVERV keep their order
+//  - the voltage thresholds BUSUNDERV < BUSUNDERVMAX < BRAKEOFFV < BRAKEONV < BUSOVERV keep their order
 //    at every step: lowered values are written bottom-up, raised values top-down (e.g. the
 //    manual's 360/340 -> 190/170 writes BRAKEOFFV before BRAKEONV);
 //  - loop gains that decrease before gains that increase; everything else in profile order.
@@ -37,7 +37,7 @@ std::vector<DiffRow> safe_order(std::vector<DiffRow> steps, const params::ParamD
 
 // Walks the plan's steps from the card's values and names the first state, if any, in which
 // a threshold pair is out of order (BRAKEOFFV not below BRAKEONV, BUSUNDERV not below
-// BUSOVERV, in either space), as "after writing NVBRAKEONV = 190.00 V: NVBRAKEOFFV 340.00 V
+// BUSOVERV or BUSUNDERVMAX, in either space), as "after writing NVBRAKEONV = 190.00 V: NVBRAKEOFFV 340.00 V
 // is not below NVBRAKEONV 190.00 V". Pairs already out of order on the card are not the
 // plan's doing and are not reported. An empty result: every step is safe.
 std::string unsafe_step(const Plan& plan, const params::ParamDb& db, const RawValues& card);

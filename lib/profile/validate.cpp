@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <initializer_list>
+#include <map>
 #include <optional>
 
 #include "params/value.hpp"
@@ -35,6 +36,34 @@ std::string amps(double a) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.2f A", a);
   return buf;
+}
+
+// A threshold the measured bus makes unsafe: at or below it (`unsafe_at_or_below`), or at
+// or above it. Manual: FAULT CONDITIONS (BUSLOVFAULT, BUSHIVFAULT), MOTOR BRAKE and
+// BRAKEONV/BRAKEOFFV (DRIVE PARAMETER SETUP); BUSUNDERVMAX: docs/facts.md s2.
+struct BusRule {
+  const char* base;  // the working name; the NV twin is judged by the same rule
+  bool unsafe_at_or_below;
+  const char* rule;
+  const char* consequence;
+};
+constexpr BusRule kBusRules[] = {
+    {"BUSOVERV", true, "bus-measured-overvoltage", "the drive would fault with bus over-voltage"},
+    {"BRAKEONV", true, "bus-measured-brake",
+     "the brake resistor would switch on and take the supply's power"},
+    {"BRAKEOFFV", true, "bus-measured-brake-off",
+     "after one braking event the brake would never switch off again (its off threshold is below the "
+     "supply) and the resistor would take the supply's power"},
+    {"BUSUNDERV", false, "bus-measured-undervoltage", "the drive would fault with bus under-voltage"},
+    {"BUSUNDERVMAX", false, "bus-measured-undervoltage-max",
+     "a bus under-voltage fault could never clear (the bus must rise above this level again)"},
+};
+
+const BusRule* bus_rule_of(const params::Param& p) {
+  const std::string base = p.is_nv() && !p.twin.empty() ? p.twin : p.name;
+  for (const auto& rule : kBusRules)
+    if (base == rule.base) return &rule;
+  return nullptr;
 }
 
 class Checker {
@@ -119,21 +148,20 @@ class Checker {
       }
   }
 
-  // Thresholds against the bus the card measures right now.
+  // Thresholds the profile writes in this space, against the bus the card measures now.
   void measured_bus_rules() {
     if (!context_.measured_bus_v) return;
-    const double bus = *context_.measured_bus_v;
-    const Severity severity = context_.force ? Severity::Warning : Severity::Error;
-    const std::string now = "the " + volts(bus) + " the card measures on its bus now";
-    const std::string forced = context_.force ? " (forced)" : " (pass --force if the supply will change first)";
-    const std::string when = space_ == Space::Eeprom ? " once it is live (after a reset)" : " at once";
-    if (const auto over = value("BUSOVERV"); over && touched({over}) && over->engineering() <= bus)
-      add(severity, *over, "bus-measured-overvoltage",
-          over->describe() + " is at or below " + now + ": the drive would fault" + when + forced);
-    if (const auto on = value("BRAKEONV"); on && touched({on}) && on->engineering() <= bus)
-      add(severity, *on, "bus-measured-brake",
-          on->describe() + " is at or below " + now + ": the brake resistor would switch on" + when +
-              " and take the supply's power" + forced);
+    RawValues cells;
+    std::map<std::string, const Setting*> settings;
+    for (const auto& rule : kBusRules)
+      if (const auto v = value(rule.base); v && v->origin == Origin::Profile) {
+        cells[v->param->name] = v->raw;
+        settings[v->param->name] = v->setting;
+      }
+    for (auto& f : measured_bus_findings(cells, *context_.measured_bus_v, db_, context_.force)) {
+      f.where = profile_.where(*settings.at(f.key));
+      out_.push_back(std::move(f));
+    }
   }
 
   void supply_limit() {
@@ -176,6 +204,7 @@ class Checker {
     const auto under = value("BUSUNDERV");
     const auto over = value("BUSOVERV");
     const auto on = value("BRAKEONV");
+    undervoltage_pair(under, value("BUSUNDERVMAX"));
     if (under && over && touched({under, over}) && under->raw >= over->raw)
       add(Severity::Error, pick({under, over}), "undervoltage-below-overvoltage",
           under->describe() + " must be below " + over->describe() + ": every bus voltage would be a fault");
@@ -183,6 +212,33 @@ class Checker {
       add(Severity::Warning, pick({on, over}), "brake-below-overvoltage",
           on->describe() + " is not below " + over->describe() +
               ": the over-voltage fault trips before the brake resistor takes the regenerated energy");
+  }
+
+  // The EEPROM holds two under-voltage thresholds, the low one (NVBUSUNDERV, LinuxCNC's
+  // nvbusundervmin) and the high one (NVBUSUNDERVMAX, nvbusundervmax); docs/facts.md s2:
+  // the low one must stay below the high one, in both spaces.
+  void undervoltage_pair(const std::optional<Effective>& under, const std::optional<Effective>& under_max) {
+    if (!under) return;
+    if (under_max) {
+      if (touched({under, under_max}) && under->raw >= under_max->raw)
+        add(Severity::Error, pick({under, under_max}), "undervoltage-pair-order",
+            under->describe() + " must be below " + under_max->describe() +
+                ": the low under-voltage threshold (LinuxCNC's nvbusundervmin) must stay below the high one "
+                "(nvbusundervmax)");
+      return;
+    }
+    // Raised above the factory low threshold with the high one unknown (no card, and no
+    // published factory value): the pair may end up inverted, so it must be set too.
+    std::optional<std::int64_t> factory = under->param->default_value;
+    if (!factory && !under->param->twin.empty()) factory = db_.get(under->param->twin).default_value;
+    const params::Param* p = db_.find("BUSUNDERVMAX");
+    const std::string max_name = !p ? "BUSUNDERVMAX" : space_ == Space::Ram ? p->name : p->twin;
+    if (under->origin == Origin::Profile && factory && under->raw > *factory)
+      add(Severity::Error, *under, "undervoltage-pair-unknown",
+          under->describe() + " is above the factory " + params::format_engineering(*under->param, *factory) +
+              " and " + max_name +
+              " (the high under-voltage threshold) is not known here: set it in the profile too, above " +
+              under->param->name);
   }
 
   void current_rules() {
@@ -225,6 +281,10 @@ class Checker {
     if (const auto under = value("BUSUNDERV"); under && under->engineering() >= bus)
       add(Severity::Error, *under, "bus-above-undervoltage",
           under->describe() + " is not below " + bus_text + ": the drive would fault at its normal supply");
+    if (const auto under_max = value("BUSUNDERVMAX"); under_max && under_max->engineering() >= bus)
+      add(Severity::Error, *under_max, "bus-above-undervoltage-max",
+          under_max->describe() + " is not below " + bus_text +
+              ": a bus under-voltage fault could never clear at the normal supply");
     if (const auto over = value("BUSOVERV"); over && over->engineering() <= bus)
       add(Severity::Error, *over, "bus-below-overvoltage",
           over->describe() + " is not above " + bus_text + ": the drive would fault at its normal supply");
@@ -291,6 +351,30 @@ std::vector<Finding> validate(const Profile& profile, const params::ParamDb& db,
                               const ValidationContext& context) {
   std::vector<Finding> findings;
   Checker(profile, db, context, findings).run();
+  return findings;
+}
+
+std::vector<Finding> measured_bus_findings(const RawValues& cells, double measured_bus_v,
+                                           const params::ParamDb& db, bool force) {
+  std::vector<Finding> findings;
+  const std::string bus = "the " + volts(measured_bus_v) + " the card measures on its bus now";
+  for (const auto& [name, raw] : cells) {
+    const params::Param* p = db.find(name);
+    const BusRule* rule = p ? bus_rule_of(*p) : nullptr;
+    if (!rule) continue;
+    const double v = static_cast<double>(raw) * p->scale;
+    // "At" the bus within a thousandth of a count: 17000 x 0.01 V is 170 V, whatever the doubles say.
+    const double at = 1e-3 * p->scale;
+    const bool unsafe = rule->unsafe_at_or_below ? v <= measured_bus_v + at : v >= measured_bus_v - at;
+    if (!unsafe) continue;
+    const std::string when = p->is_nv() ? " from the next reset on" : " at once";
+    findings.push_back({force ? Severity::Warning : Severity::Error, p->name, rule->rule,
+                        p->name + " " + params::format_engineering(*p, raw) + " is at or " +
+                            (rule->unsafe_at_or_below ? "below " : "above ") + bus + ": " +
+                            rule->consequence + when +
+                            (force ? " (forced)" : " (pass --force if the supply will change first)"),
+                        ""});
+  }
   return findings;
 }
 

@@ -20,8 +20,8 @@ struct ValidationContext {
   // Guarded parameters (e.g. NVBAUDRATE) are an error unless forced, then a warning; so
   // are thresholds at or below the measured bus voltage.
   bool force = false;
-  // The bus voltage the card measures now (BUSV), when known: a BUSOVERV or BRAKEONV at or
-  // below it faults the drive or loads the brake resistor at once.
+  // The bus voltage the card measures now (BUSV), when known: every threshold the profile
+  // writes is judged against it (measured_bus_findings below).
   std::optional<double> measured_bus_v;
 };
 
@@ -31,7 +31,22 @@ struct ValidationContext {
 std::vector<Finding> validate_values(const Profile& profile, const params::ParamDb& db, bool force = false);
 
 // All findings at once, in profile order then rule order. Never throws for a bad profile.
+// To judge values already on a card (e.g. the pending NV values before a reset makes them
+// live), pass them as a profile and the card's other values as context.card.
 std::vector<Finding> validate(const Profile& profile, const params::ParamDb& db,
                               const ValidationContext& context = {});
+
+// The voltage thresholds against the bus the card measures now, each cell on its own: what
+// `set`, `profile apply` and `reset` refuse unless forced. `cells` maps database names to
+// raw values (working or NV cells; names that are not thresholds are ignored). For each:
+//   BUSOVERV at or below the bus      bus-measured-overvoltage    the drive faults
+//   BRAKEONV at or below the bus      bus-measured-brake          the brake resistor takes the supply's power
+//   BRAKEOFFV at or below the bus     bus-measured-brake-off      once on, the brake never switches off
+//   BUSUNDERV at or above the bus     bus-measured-undervoltage   the drive faults (bus under-voltage)
+//   BUSUNDERVMAX at or above the bus  bus-measured-undervoltage-max  an under-voltage fault never clears
+// A working cell acts at once, an NV cell from the next reset; the message says which.
+// Errors, or warnings when `force`. Findings carry the cell as key and no `where`.
+std::vector<Finding> measured_bus_findings(const RawValues& cells, double measured_bus_v,
+                                           const params::ParamDb& db, bool force);
 
 }  // namespace i20::profile

@@ -57,7 +57,8 @@ TEST_F(I20Cli, BitRegistersPrintInHexEverywhere) {
 
 TEST_F(I20Cli, SetAcceptsUnitsAndRawAndSaysWhenAResetIsNeeded) {
   sim.control("busv 300");  // below the new 320 V brake-on
-  const auto r = i20({"set", "NVBRAKEONV=320V", "NVBRAKEOFFV=300V", "NVMAXCURRENT=7.5A", "BRAKEOFFV=34000"});
+  const auto r =
+      i20({"set", "NVBRAKEONV=320V", "NVBRAKEOFFV=300V", "NVMAXCURRENT=7.5A", "BRAKEOFFV=raw:34000"});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("NVBRAKEONV    360.00 V  320.00 V"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("APPLIED AND VERIFIED: 3 values written, reset needed"), std::string::npos) << r.out;

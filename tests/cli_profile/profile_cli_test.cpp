@@ -96,7 +96,7 @@ TEST_F(ProfileCli, DiffListsEveryParameterInEngineeringUnits) {
   EXPECT_NE(r.out.find("NVBRAKEONV"), std::string::npos);
   EXPECT_NE(r.out.find("190.00 V"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("360.00 V"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("5 of 5 values differ"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("6 of 6 values differ"), std::string::npos) << r.out;
   const auto j = json(i20({"--json", "profile", "diff", shipped("defaults.yaml")}));
   EXPECT_EQ(j["differ"].as<int>(), 0) << "a factory card holds the defaults";
   EXPECT_EQ(j["rows"].size(), 8u);
@@ -107,8 +107,8 @@ TEST_F(ProfileCli, DryRunPrintsThePlanAndWritesNothing) {
   const auto before = sim.trace();
   const auto r = apply({shipped("line-120v.yaml"), "--dry-run"});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("Plan: 5 writes"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("DRY RUN: 5 values would be written, 0 already set; nothing was written"),
+  EXPECT_NE(r.out.find("Plan: 6 writes"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("DRY RUN: 6 values would be written, 0 already set; nothing was written"),
             std::string::npos)
       << r.out;
   EXPECT_EQ(data_writes(sim.trace()), data_writes(before)) << "a dry run sends no write at all";
@@ -121,22 +121,22 @@ TEST_F(ProfileCli, DryRunPrintsThePlanAndWritesNothing) {
 TEST_F(ProfileCli, ApplyVerifiesAndASecondApplyWritesNothing) {
   auto r = apply({shipped("line-120v.yaml")});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("APPLIED AND VERIFIED: 5 values written, reset needed"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("APPLIED AND VERIFIED: 6 values written, reset needed"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("Reset needed"), std::string::npos) << r.out;
   EXPECT_LT(r.out.find("NVBRAKEOFFV"), r.out.find("NVBRAKEONV")) << "safe order: " << r.out;
-  EXPECT_EQ(eeprom_writes(sim.trace()), 5u);
+  EXPECT_EQ(eeprom_writes(sim.trace()), 6u);
   EXPECT_EQ(card("NVBRAKEONV"), 19000);
-  EXPECT_EQ(card("NVBRAKEOFFV"), 17000);
+  EXPECT_EQ(card("NVBRAKEOFFV"), 17500);
   EXPECT_EQ(card("NVMAXCURRENT"), 1200);
   ASSERT_EQ(backups_in(dir.path()).size(), 1u);
 
   r = apply({shipped("line-120v.yaml")});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("NOTHING TO DO: the card already holds all 5 values; nothing was written"),
+  EXPECT_NE(r.out.find("NOTHING TO DO: the card already holds all 6 values; nothing was written"),
             std::string::npos)
       << r.out;
-  EXPECT_NE(r.out.find("not live yet: 5"), std::string::npos) << "no reset since the first apply: " << r.out;
-  EXPECT_EQ(eeprom_writes(sim.trace()), 5u) << "the second apply must not write the EEPROM";
+  EXPECT_NE(r.out.find("not live yet: 6"), std::string::npos) << "no reset since the first apply: " << r.out;
+  EXPECT_EQ(eeprom_writes(sim.trace()), 6u) << "the second apply must not write the EEPROM";
   EXPECT_EQ(backups_in(dir.path()).size(), 1u) << "nothing written, no backup needed";
 
   ASSERT_EQ(i20({"reset", "--yes"}).exit_code, 0);
@@ -154,7 +154,7 @@ TEST_F(ProfileCli, BackupHoldsThePreviousValuesAndReapplies) {
   EXPECT_NE(text.find("8I20 unit 0x00012345"), std::string::npos) << "provenance: " << text;
   const auto r = apply({backups[0].string()});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("APPLIED AND VERIFIED: 5 values written"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("APPLIED AND VERIFIED: 6 values written"), std::string::npos) << r.out;
   EXPECT_EQ(card("NVBRAKEONV"), 36000);
   EXPECT_EQ(card("NVBUSOVERV"), 38500);
 }
@@ -234,7 +234,7 @@ TEST_F(ProfileCli, SafetyRuleRefusalExitsThreeAndWritesNothing) {
 TEST_F(ProfileCli, ToWorkingTriesAProfileLiveFirst) {
   const auto r = apply({shipped("line-120v.yaml"), "--to", "working"});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("APPLIED AND VERIFIED: 5 values written"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("APPLIED AND VERIFIED: 6 values written"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("reset needed"), std::string::npos) << "working values are live: " << r.out;
   EXPECT_EQ(card("BRAKEONV"), 19000);
   EXPECT_EQ(card("NVBRAKEONV"), 36000) << "the EEPROM is untouched";
@@ -249,7 +249,7 @@ TEST_F(ProfileCli, ResetAfterApplyAsksAndWithYesMakesTheValuesLive) {
   EXPECT_EQ(sim.commands_seen(), before) << "nothing sent before the question is answered";
   r = apply({shipped("line-120v.yaml"), "--reset", "--yes"});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("APPLIED AND VERIFIED: 5 values written and the card was reset: they are live now"),
+  EXPECT_NE(r.out.find("APPLIED AND VERIFIED: 6 values written and the card was reset: they are live now"),
             std::string::npos)
       << r.out;
   EXPECT_NE(sim.trace().find("fe 5a"), std::string::npos);

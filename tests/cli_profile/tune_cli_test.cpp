@@ -77,7 +77,7 @@ TEST(TuneCli, MotorProfileMetadataGivesTheInputs) {
   EXPECT_EQ(j["kqp"].as<int>(), 44);
   EXPECT_EQ(j["kqi"].as<int>(), 199219);
   // A flag overrides the profile: twice the bandwidth, twice the gains.
-  j = json(tune({"--json", "tune", "--from", shipped("tune-reference-400w.yaml"), "--bandwidth", "1000"}));
+  j = json(tune({"--json", "tune", "--from", shipped("tune-reference-400w.yaml"), "--bandwidth", "1000Hz"}));
   EXPECT_EQ(j["kqp"].as<int>(), 100);
   EXPECT_EQ(j["kqi"].as<int>(), 300000);
   EXPECT_GT(j["warnings"].size(), 0u) << "1 kHz is near the loop rate: warned";
@@ -140,7 +140,7 @@ TEST(TuneCli, MissingOrNonsenseInputsAreNamed) {
   EXPECT_EQ(r.err.find("--resistance"), std::string::npos) << "only what is missing: " << r.err;
   r = tune({"tune", "-R", "2", "-L", "6mH", "--max-current", "8A", "--bus", "340V"});
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("needs a unit"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("needs its unit"), std::string::npos) << r.err;
   r = tune({"tune", "-R", "2ohm", "-L", "6mH", "--max-current", "80A", "--bus", "340V"});
   EXPECT_EQ(r.exit_code, 2) << "MAXCURRENT above the card's 30 A: " << r.out << r.err;
   r = tune({"tune", "--from", shipped("defaults.yaml")});

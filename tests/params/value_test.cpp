@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "params/param_db.hpp"
+#include "params/text.hpp"
 
 using namespace i20::params;
 
@@ -17,9 +18,15 @@ const ParamDb& db() {
 }
 }  // namespace
 
-TEST(ParamValue, ParsesRawIntegersLikeWpd) {
-  EXPECT_EQ(parse_value(db().get("NVBRAKEONV"), "32000"), 32000);  // "WPD NVBRAKEONV 32000"
-  EXPECT_EQ(parse_value(db().get("NVMAXCURRENT"), "2500"), 2500);
+// Raw counts, as the manual's WPD takes them ("WPD NVBRAKEONV 32000"), are written raw:N for
+// a parameter with a unit; wpd itself (parse_raw) stays raw like Mesa's utility.
+TEST(ParamValue, ParsesRawCountsInTheirOneRawForm) {
+  EXPECT_EQ(parse_value(db().get("NVBRAKEONV"), "raw:32000"), 32000);
+  EXPECT_EQ(parse_value(db().get("NVMAXCURRENT"), "raw:2500"), 2500);
+  EXPECT_EQ(parse_value(db().get("NVMAXCURRENT"), "raw:0x9C4"), 2500);
+  EXPECT_EQ(parse_value(db().get("NVMAXCURRENT"), " raw: 750 "), 750);
+  EXPECT_EQ(parse_value(db().get("NVKQP"), "raw:50"), 50) << "a unit-less parameter takes it too";
+  EXPECT_EQ(parse_raw(db().get("NVBRAKEONV"), "32000"), 32000) << "wpd";
   EXPECT_EQ(parse_value(db().get("FAULTMASK"), "0xFEFF"), 0xFEFF);
   EXPECT_EQ(parse_value(db().get("FAULTMASK"), "FEFFh"), 0xFEFF);
   EXPECT_EQ(parse_value(db().get("QSETPOINT"), "-100"), -100);
@@ -28,7 +35,7 @@ TEST(ParamValue, ParsesRawIntegersLikeWpd) {
 TEST(ParamValue, ParsesEngineeringUnits) {
   EXPECT_EQ(parse_value(db().get("NVBRAKEONV"), "320V"), 32000);
   EXPECT_EQ(parse_value(db().get("NVBRAKEONV"), "320 V"), 32000);
-  EXPECT_EQ(parse_value(db().get("NVBRAKEONV"), "190.5v"), 19050);
+  EXPECT_EQ(parse_value(db().get("NVBRAKEONV"), "190.5V"), 19050);
   EXPECT_EQ(parse_value(db().get("NVMAXCURRENT"), "7.5A"), 750);
   EXPECT_EQ(parse_value(db().get("NVMAXCURRENT"), "750mA"), 75);
   EXPECT_EQ(parse_value(db().get("ANGLE"), "180deg"), 32768);
@@ -104,8 +111,7 @@ bool refused_with(const char* name, const std::string& text, const std::string& 
 TEST(ParamValue, ExactlyOneOptionalSign) {
   for (const char* text : {"--5", "--1000", "-+5", "+-5", "++5", "0x-10", "-0x-10", "-0x-3E8", "0x+10", "- 5",
                            "-", "+", "0x", "-h"})
-    EXPECT_TRUE(refused_with("NVMAXCURRENT", text, "is not a"))
-        << text << ": " << refusal("NVMAXCURRENT", text);
+    EXPECT_TRUE(refused_with("NVMAXCURRENT", text, "not a")) << text << ": " << refusal("NVMAXCURRENT", text);
   EXPECT_THROW(parse_raw(db().get("NVMAXCURRENT"), "--1000"), ValueError);
   EXPECT_THROW(parse_raw(db().get("NVMAXCURRENT"), "-0x-3E8"), ValueError);
   EXPECT_EQ(parse_value(db().get("QSETPOINT"), "+5"), 5);
@@ -117,19 +123,21 @@ TEST(ParamValue, ExactlyOneOptionalSign) {
 TEST(ParamValue, NoNanInfinityOrHexFractions) {
   for (const char* text :
        {"nanA", "nan A", "NaN A", "-nanA", "infA", "inf A", "infinityA", "0x1p3A", "0x1.8p1 A"})
-    EXPECT_TRUE(refused_with("NVMAXCURRENT", text, "is not a number") ||
-                refused_with("NVMAXCURRENT", text, "is not an integer"))
+    EXPECT_TRUE(refused_with("NVMAXCURRENT", text, ": not a number") ||
+                refused_with("NVMAXCURRENT", text, ": not an integer"))
         << text << ": " << refusal("NVMAXCURRENT", text);
   EXPECT_THROW(parse_value(db().get("NVBRAKEONV"), "nan"), ValueError);
 }
 
 // Negating INT64_MIN was undefined; a number no int64 holds is out of range, with the range.
 TEST(ParamValue, IntegersBeyondInt64AreOutOfRangeWithTheRange) {
-  EXPECT_TRUE(refused_with("NVMAXCURRENT", "--9223372036854775808", "is not a"));
-  EXPECT_EQ(refusal("NVMAXCURRENT", "18446744073709551616"),
-            "18446744073709551616 is out of range for NVMAXCURRENT (0..3000 = 0.00 A .. 30.00 A)");
-  EXPECT_TRUE(refused_with("NVMAXCURRENT", "9223372036854775808", "out of range for NVMAXCURRENT"));
-  EXPECT_TRUE(refused_with("NVMAXCURRENT", "0x10000000000000000", "out of range for NVMAXCURRENT"));
+  EXPECT_TRUE(refused_with("NVMAXCURRENT", "--9223372036854775808", "not a"));
+  EXPECT_EQ(refusal("NVMAXCURRENT", "raw:18446744073709551616"),
+            "raw:18446744073709551616 is out of range for NVMAXCURRENT (0..3000 = 0.00 A .. 30.00 A)");
+  EXPECT_TRUE(refused_with("NVMAXCURRENT", "raw:9223372036854775808", "out of range for NVMAXCURRENT"));
+  EXPECT_TRUE(refused_with("NVMAXCURRENT", "raw:0x10000000000000000", "out of range for NVMAXCURRENT"));
+  EXPECT_TRUE(refused_with("NVMAXCURRENT", "18446744073709551616", "needs its unit"))
+      << "bare, however large";
   EXPECT_TRUE(refused_with("NVKQP", "-9223372036854775809", "out of range for NVKQP"));
   EXPECT_EQ(parse_raw(db().get("NVKQP"), "-9223372036854775808"), std::numeric_limits<std::int64_t>::min())
       << "the most negative int64 parses (the range check refuses it later)";
@@ -159,13 +167,13 @@ TEST(ParamValue, ExponentsAndZerosMeanWhatTheySay) {
   EXPECT_EQ(parse_value(db().get("NVMAXCURRENT"), "-0A"), 0);
   EXPECT_EQ(parse_value(db().get("NVMAXCURRENT"), "0e999999999A"), 0);
   EXPECT_EQ(parse_value(db().get("NVMAXCURRENT"), "7.50000000000000000000000000A"), 750);
-  EXPECT_TRUE(refused_with("NVMAXCURRENT", "1e3", "is not a raw integer and has no unit"));
-  EXPECT_TRUE(refused_with("NVMAXCURRENT", "5e", "is in A, not 'e'"));
+  EXPECT_TRUE(refused_with("NVMAXCURRENT", "1e3", "needs its unit"));
+  EXPECT_TRUE(refused_with("NVMAXCURRENT", "5e", "unit 'e' is not known (a current is in A or mA)"));
 }
 
 TEST(ParamValue, DecimalCommaIsNamed) {
   EXPECT_EQ(refusal("NVMAXCURRENT", "7,5A"),
-            "NVMAXCURRENT: '7,5A' has a decimal comma; write the fraction with a point");
+            "NVMAXCURRENT=7,5A: decimal comma: write the fraction with a point");
   EXPECT_TRUE(refused_with("NVMAXCURRENT", "7,5 A", "decimal comma"));
 }
 
@@ -176,4 +184,108 @@ TEST(ParamValue, ScanIntegerIsTheLoadersSyntaxToo) {
   EXPECT_EQ(scan_integer("--5").status, IntegerText::Status::NotInteger);
   EXPECT_EQ(scan_integer("99999999999999999999").status, IntegerText::Status::OutOfRange);
   EXPECT_EQ(scan_integer(" 5").status, IntegerText::Status::NotInteger) << "callers trim";
+}
+
+// ---- issue 20, item 3: a number without its unit is not silently raw counts ----------------
+
+// "NVMAXCURRENT=15" planned 0.15 A; someone who meant 2000 mA and typed 2000 got 20 A.
+TEST(ParamUnits, ABareNumberForAParameterWithAUnitIsRefused) {
+  EXPECT_EQ(refusal("NVMAXCURRENT", "15"),
+            "NVMAXCURRENT=15: a current needs its unit (15A, 15mA) or raw:15 for card counts (10 mA each)");
+  EXPECT_EQ(refusal("NVBRAKEONV", "190"),
+            "NVBRAKEONV=190: a voltage needs its unit (190V, 190mV) or raw:190 for card counts (10 mV each)");
+  EXPECT_EQ(
+      refusal("TEMPERATURE", "45"),
+      "TEMPERATURE=45: a temperature needs its unit (45degC) or raw:45 for card counts (0.01 degC each)");
+  EXPECT_EQ(refusal("ANGLE", "90"),
+            "ANGLE=90: an angle needs its unit (90deg) or raw:90 for card counts (0.0054931640625 deg each)");
+  EXPECT_EQ(refusal("NVMAXCURRENT", "7.5"), "NVMAXCURRENT=7.5: a current needs its unit (7.5A, 7.5mA)")
+      << "a fraction cannot be counts: no raw: suggestion";
+  EXPECT_TRUE(refused_with("NVBRAKEONV", "0x4A38", "or raw:0x4A38 for card counts"))
+      << refusal("NVBRAKEONV", "0x4A38");
+  EXPECT_TRUE(refused_with("NVBRAKEONV", "4A38h", "or raw:4A38h for card counts"));
+  // Every parameter with a unit, whatever the number: the class, not one example.
+  for (const auto& p : db().all()) {
+    if (p.unit.empty()) continue;
+    for (const char* text : {"0", "1", "750", "-5", "0x10", "2.5"})
+      EXPECT_THROW(parse_value(p, text), MissingUnit) << p.name << "=" << text;
+  }
+}
+
+TEST(ParamUnits, UnitlessParametersTakePlainNumbers) {
+  EXPECT_EQ(parse_value(db().get("NVKQP"), "50"), 50);
+  EXPECT_EQ(parse_value(db().get("NVKQI"), "150000"), 150000);
+  EXPECT_EQ(parse_value(db().get("FAULTMASK"), "0xFEFF"), 0xFEFF);
+  EXPECT_EQ(refusal("NVKQP", "5V"), "NVKQP=5V: NVKQP has no unit; give a plain whole number");
+  EXPECT_EQ(refusal("NVKQP", "7.5"), "NVKQP=7.5: NVKQP takes a whole number (it has no unit)");
+  for (const auto& p : db().all())
+    if (p.unit.empty()) EXPECT_NO_THROW(parse_value(p, "1")) << p.name;
+}
+
+TEST(ParamUnits, TheRawFormIsExact) {
+  EXPECT_EQ(refusal("NVMAXCURRENT", "raw:7.5"),
+            "NVMAXCURRENT=raw:7.5: raw counts are a whole number, decimal or 0x hexadecimal (e.g. raw:3000)");
+  EXPECT_TRUE(refused_with("NVMAXCURRENT", "raw:", "raw counts are a whole number"));
+  EXPECT_TRUE(refused_with("NVMAXCURRENT", "raw:7.5A", "raw counts are a whole number"));
+  EXPECT_TRUE(refused_with("NVMAXCURRENT", "raw:--5", "raw counts are a whole number"));
+  EXPECT_EQ(refusal("NVMAXCURRENT", "RAW:750"),
+            "NVMAXCURRENT=RAW:750: 'RAW:' is not known; did you mean 'raw:'?");
+  EXPECT_EQ(refusal("NVMAXCURRENT", "Raw:750"),
+            "NVMAXCURRENT=Raw:750: 'Raw:' is not known; did you mean 'raw:'?");
+  EXPECT_EQ(parse_value(db().get("NVMAXCURRENT"), "raw:-5"), -5) << "parsed; the range check refuses it";
+  EXPECT_THROW(check_range(db().get("NVMAXCURRENT"), parse_value(db().get("NVMAXCURRENT"), "raw:-5")),
+               ValueError);
+}
+
+// Today "7.5a" was accepted and "1.75mh" refused: one rule, SI case, with a did-you-mean.
+TEST(ParamUnits, WrongCaseIsRefusedWithTheSymbolMeant) {
+  EXPECT_EQ(refusal("NVMAXCURRENT", "7.5a"), "NVMAXCURRENT=7.5a: unit 'a' is not known; did you mean 'A'?");
+  EXPECT_EQ(refusal("NVMAXCURRENT", "750ma"),
+            "NVMAXCURRENT=750ma: unit 'ma' is not known; did you mean 'mA'?");
+  EXPECT_EQ(refusal("NVMAXCURRENT", "750MA"),
+            "NVMAXCURRENT=750MA: unit 'MA' is not known; did you mean 'mA'?")
+      << "M is mega: never read as milli";
+  EXPECT_EQ(refusal("NVBRAKEONV", "190v"), "NVBRAKEONV=190v: unit 'v' is not known; did you mean 'V'?");
+  EXPECT_EQ(refusal("NVBRAKEONV", "190000MV"),
+            "NVBRAKEONV=190000MV: unit 'MV' is not known; did you mean 'mV'?");
+  EXPECT_EQ(refusal("TEMPERATURE", "45degc"),
+            "TEMPERATURE=45degc: unit 'degc' is not known; did you mean 'degC'?");
+  EXPECT_EQ(refusal("ANGLE", "90DEG"), "ANGLE=90DEG: unit 'DEG' is not known; did you mean 'deg'?");
+  for (const char* text : {"7.5a", "7.5 a", "750Ma", "750MA"})
+    EXPECT_THROW(parse_value(db().get("NVMAXCURRENT"), text), UnitError) << text;  // profiles: unit-required
+  EXPECT_EQ(parse_value(db().get("NVMAXCURRENT"), "750mA "), 75);
+  EXPECT_EQ(parse_value(db().get("NVMAXCURRENT"), "7.5 A"), 750);
+}
+
+TEST(ParamUnits, AUnitOfAnotherQuantityIsNamed) {
+  EXPECT_EQ(refusal("NVBRAKEONV", "3A"), "NVBRAKEONV=3A: a voltage is in V or mV, not A");
+  EXPECT_EQ(refusal("NVMAXCURRENT", "12V"), "NVMAXCURRENT=12V: a current is in A or mA, not V");
+  EXPECT_EQ(refusal("ANGLE", "90degC"), "ANGLE=90degC: an angle is in deg, not degC");
+  EXPECT_EQ(refusal("NVMAXCURRENT", "7.5amps"),
+            "NVMAXCURRENT=7.5amps: unit 'amps' is not known (a current is in A or mA)");
+}
+
+TEST(ParamUnits, OneTableForEveryParser) {
+  std::string why;
+  const UnitSymbol* mh = unit_of("mH", "H", why);
+  ASSERT_NE(mh, nullptr);
+  EXPECT_EQ(mh->power_of_ten, -3);
+  EXPECT_EQ(unit_of("mh", "H", why), nullptr);
+  EXPECT_EQ(why, "unit 'mh' is not known; did you mean 'mH'?");
+  ASSERT_NE(unit_of("kHz", "Hz", why), nullptr);
+  EXPECT_EQ(unit_of("kHz", "Hz", why)->power_of_ten, 3);
+  EXPECT_EQ(unit_of("khz", "Hz", why), nullptr);
+  EXPECT_EQ(why, "unit 'khz' is not known; did you mean 'kHz'?");
+  EXPECT_EQ(unit_of("Ohm", "ohm", why), nullptr);
+  EXPECT_EQ(why, "unit 'Ohm' is not known; did you mean 'ohm'?");
+  EXPECT_EQ(symbols_text("H"), "H, mH or uH");
+  EXPECT_EQ(symbols_text("ohm"), "ohm or mohm");
+  // Each symbol is one spelling: no two differ only in case (the did-you-mean is unambiguous).
+  const auto& table = unit_symbols();
+  for (std::size_t i = 0; i < table.size(); ++i)
+    for (std::size_t j = i + 1; j < table.size(); ++j)
+      EXPECT_FALSE(iequals(table[i].symbol, table[j].symbol)) << table[i].symbol << " / " << table[j].symbol;
+  // Every unit the database uses is in the table.
+  for (const auto& p : db().all())
+    if (!p.unit.empty()) EXPECT_NE(unit_of(p.unit, p.unit, why), nullptr) << p.name << " " << p.unit;
 }

@@ -6,11 +6,15 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <set>
 #include <string>
 
 #include "profile/error.hpp"
+#include "profile/loader.hpp"
+#include "profile/validate.hpp"
 #include "test_util.hpp"
 
 using namespace i20::profile;
@@ -163,4 +167,23 @@ TEST(ProfileExport, ParsingRefusesWhatItCannotTrust) {
   const auto values =
       parse_exported("# comment\nloadrt hostmot2\nsetp hm2_7i96s.0.8i20.0.0.nvkqp 0x32\n", kDevice, db());
   EXPECT_EQ(values, (std::map<std::string, std::int64_t>{{"NVKQP", 50}}));
+}
+
+// Issue 20, item 4: `profile export --setsserial line-120v` wrote nvbusundervmin 9000 and left
+// the card's nvbusundervmax (40 V on the simulator) below it. The shipped line profiles now
+// write both words, the low one below the high one (docs/facts.md s2).
+TEST(ProfileExport, TheShippedLineProfilesWriteTheUnderVoltagePairInOrder) {
+  const char* root = std::getenv("I20_SOURCE_DIR");
+  for (const char* name : {"line-120v.yaml", "line-240v.yaml", "bench-48v.yaml"}) {
+    SCOPED_TRACE(name);
+    const Profile p =
+        load_profile_file(std::filesystem::path(root ? root : ".") / "profiles" / name, db());
+    const auto values = parse_exported(setsserial_text(p, db(), options()), kDevice, db());
+    ASSERT_TRUE(values.contains("NVBUSUNDERV"));
+    ASSERT_TRUE(values.contains("NVBUSUNDERVMAX")) << "the high word is written, not left as the card has it";
+    EXPECT_LT(values.at("NVBUSUNDERV"), values.at("NVBUSUNDERVMAX"));
+  }
+  // A profile that raises the low word alone is not valid offline, so export refuses it.
+  const auto findings = validate(load(with_params("  NVBUSUNDERV: 90 V\n")), db());
+  EXPECT_TRUE(has_rule(findings, "undervoltage-pair-unknown", Severity::Error)) << dump(findings);
 }

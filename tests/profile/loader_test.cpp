@@ -127,6 +127,29 @@ TEST(ProfileLoader, RejectsBareNumbersForParametersWithUnits) {
   EXPECT_EQ(e.rule(), "unit-required");
 }
 
+// Issue 20, item 3: the same parser as `i20 set`, so the same raw form and the same units.
+TEST(ProfileLoader, RawCountsAreRawColonNAndUnitsAreSiCase) {
+  const Profile p = load(with_params("  NVMAXCURRENT: raw:750\n  NVBRAKEONV: raw:0x4A38\n  NVKQP: raw:50\n"));
+  EXPECT_EQ(p.settings[0].raw, 750);
+  EXPECT_EQ(p.settings[1].raw, 0x4A38);
+  EXPECT_EQ(p.settings[2].raw, 50);
+  auto e = load_error(with_params("  NVMAXCURRENT: 750\n"));
+  EXPECT_EQ(e.reason(), "a current needs its unit (750A, 750mA) or raw:750 for card counts (10 mA each)");
+  e = load_error(with_params("  NVMAXCURRENT: 7.5 a\n"));
+  EXPECT_EQ(e.rule(), "unit-required");
+  EXPECT_EQ(e.reason(), "unit 'a' is not known; did you mean 'A'?");
+  e = load_error(with_params("  NVBRAKEONV: 190 v\n"));
+  EXPECT_EQ(e.reason(), "unit 'v' is not known; did you mean 'V'?");
+  e = load_error("name: x\nmotor:\n  phase_inductance: 1.75mh\nparameters:\n  NVKQP: 50\n");
+  EXPECT_EQ(e.rule(), "unit");
+  EXPECT_EQ(e.reason(), "1.75mh: unit 'mh' is not known; did you mean 'mH'?");
+  e = load_error("name: x\nmotor:\n  continuous_current: 2.7a\nparameters:\n  NVKQP: 50\n");
+  EXPECT_EQ(e.reason(), "2.7a: unit 'a' is not known; did you mean 'A'?");
+  e = load_error("name: x\nsupply:\n  bus_voltage: 48\nparameters:\n  NVKQP: 50\n");
+  EXPECT_EQ(e.reason(), "48: a voltage needs its unit (48V, 48mV)");
+  EXPECT_EQ(load_error(with_params("  NVMAXCURRENT: RAW:750\n")).rule(), "value");
+}
+
 TEST(ProfileLoader, RejectsBadValues) {
   EXPECT_EQ(load_error(with_params("  NVMAXCURRENT: 7.555 A\n")).rule(), "value");  // finer than 10 mA
   EXPECT_EQ(load_error(with_params("  NVBRAKEONV: 190 A\n")).rule(), "unit-required");
