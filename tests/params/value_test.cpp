@@ -219,7 +219,9 @@ TEST(ParamUnits, UnitlessParametersTakePlainNumbers) {
   EXPECT_EQ(refusal("NVKQP", "5V"), "NVKQP=5V: NVKQP has no unit; give a plain whole number");
   EXPECT_EQ(refusal("NVKQP", "7.5"), "NVKQP=7.5: NVKQP takes a whole number (it has no unit)");
   for (const auto& p : db().all())
-    if (p.unit.empty()) EXPECT_NO_THROW(parse_value(p, "1")) << p.name;
+    if (p.unit.empty()) {
+      EXPECT_NO_THROW(parse_value(p, "1")) << p.name;
+    }
 }
 
 TEST(ParamUnits, TheRawFormIsExact) {
@@ -287,5 +289,7 @@ TEST(ParamUnits, OneTableForEveryParser) {
       EXPECT_FALSE(iequals(table[i].symbol, table[j].symbol)) << table[i].symbol << " / " << table[j].symbol;
   // Every unit the database uses is in the table.
   for (const auto& p : db().all())
-    if (!p.unit.empty()) EXPECT_NE(unit_of(p.unit, p.unit, why), nullptr) << p.name << " " << p.unit;
+    if (!p.unit.empty()) {
+      EXPECT_NE(unit_of(p.unit, p.unit, why), nullptr) << p.name << " " << p.unit;
+    }
 }

@@ -25,6 +25,8 @@ RawValues default_card() {
     values[p.name] = value.value_or(0);
   }
   values["NVMAXCURRENT"] = values["MAXCURRENT"] = 1000;
+  // No published factory value; the simulator's, above NVBUSUNDERV as the pair must be.
+  values["NVBUSUNDERVMAX"] = values["BUSUNDERVMAX"] = 4000;
   return values;
 }
 

@@ -84,7 +84,7 @@ TEST(ThresholdRules, EveryThresholdOfBothSpacesAgainstTheMeasuredBus) {
   };
   const double bus = 170;
   for (const auto& c : cases)
-    for (const std::string cell : {std::string(c.base), "NV" + std::string(c.base)}) {
+    for (const std::string& cell : {std::string(c.base), "NV" + std::string(c.base)}) {
       SCOPED_TRACE(cell);
       const std::int64_t unsafe_side = c.unsafe_at_or_below ? counts(bus) - 1 : counts(bus) + 1;
       const std::int64_t safe_side = c.unsafe_at_or_below ? counts(bus) + 1 : counts(bus) - 1;
