@@ -276,8 +276,8 @@ void run_reset(Context& ctx, bool yes, bool force) {
   if (!run.done) {
     ctx.exit_code = app::kRefused;
     if (ctx.options.json) return ctx.print_json(reset_json(run, where));
-    std::cerr << "i20: refused: the reset would make EEPROM values live that the rules refuse; no reset was "
-                 "sent (only reads):\n";
+    std::cerr << "i20: refused: after the reset the card would run with EEPROM values the rules refuse; no "
+                 "reset was sent (only reads):\n";
     print_reset_findings(j);
     std::cerr << "i20: fix them first (`i20 " << ctx.target_flags()
               << " set NAME=VALUE`), or pass --force if the supply will change first\n";

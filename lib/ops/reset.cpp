@@ -30,14 +30,14 @@ std::string as_eeprom_value(std::string message) {
   return message;
 }
 
-// The values the reset makes live, as a profile aimed at the EEPROM, so that the
-// validator judges the EEPROM space with the card's other values around them.
+// What the card runs with after the reset: every NV value (pending or already live: a
+// power-up may have made a bench setup live before anyone asked for a reset), as a
+// profile aimed at the EEPROM, so that the validator judges the whole EEPROM space.
 profile::Profile live_after_reset(const ResetJudgement& j) {
   profile::Profile p;
   p.source = "the card's EEPROM";
-  p.name = "values a reset makes live";
-  for (const auto& names : {j.pending, j.unknown_live})
-    for (const auto& name : names) p.settings.push_back({name, j.nv.at(name), std::nullopt, 0});
+  p.name = "values the card runs with after a reset";
+  for (const auto& [name, raw] : j.nv) p.settings.push_back({name, raw, std::nullopt, 0});
   return p;
 }
 
@@ -81,7 +81,6 @@ ResetJudgement judge_reset(const params::ParamDb& db, CardAccess& card, bool for
     if (values.contains(p->name)) j.nv[p->name] = values.at(p->name);
     if (values.contains(p->name) && !values.contains(p->twin)) j.unknown_live.push_back(p->name);
   }
-  if (j.pending.empty() && j.unknown_live.empty()) return j;
   const profile::ValidationContext context{&values, force, j.measured_bus_v};
   for (auto& f : profile::validate(live_after_reset(j), db, context)) {
     // The guard is about writing a value; this one is in the EEPROM already.

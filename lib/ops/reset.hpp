@@ -40,7 +40,8 @@ struct ResetJudgement {
 };
 
 // Reads every NV cell with a working twin, the twins and BUSV (reads only: nothing else is
-// sent), and judges the values a reset would make live. `planned`: the writes a transaction
+// sent), and judges what the card runs with after a reset: every NV value, pending or
+// already live (a power-up makes an EEPROM live without any reset). `planned`: the writes a transaction
 // makes before its reset, judged as already in the EEPROM. `force` turns the measured-bus
 // refusals into warnings, as it does for writes. Throws i20::Error when the card cannot be
 // read (nothing was sent but reads).

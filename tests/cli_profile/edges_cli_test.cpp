@@ -179,3 +179,18 @@ TEST(SaveRestores, ADefaultBaudRateIsNotSaved) {
   ASSERT_EQ(i20_on(card.port(), {"profile", "save", file}).exit_code, 0);
   EXPECT_FALSE(has(slurp_file(file), "NVBAUDRATE")) << "a default guarded value adds nothing to restore";
 }
+
+// The reproduction with the built-in simulator: each run powers the card up from its
+// EEPROM image, so the bench setup is live before the reset; the reset still refuses what the
+// card would run with.
+TEST(SimReproduction, BenchSetupOnA320VBusIsRefusedAtReset) {
+  TempDir dir;
+  const auto image = (dir / "card.eeprom").string();
+  auto r = run("i20", {"--no-user-params", "--sim", "--sim-eeprom", image, "--sim-control", "busv 160", "set",
+                       "NVBRAKEONV=190V", "NVBRAKEOFFV=170V"});
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  r = run("i20", {"--no-user-params", "--sim", "--sim-eeprom", image, "reset", "--yes"});
+  EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
+  EXPECT_TRUE(has(r.err, "NVBRAKEONV")) << r.err;
+  EXPECT_TRUE(has(r.err, "bus-measured-brake")) << r.err;
+}

@@ -398,12 +398,15 @@ TEST_F(ResetJudging, RefusesNamingEachValueAndSendsNothingButReads) {
   EXPECT_TRUE(has_rule(forced.findings, "bus-measured-brake", Severity::Warning));
 }
 
-TEST_F(ResetJudging, NothingPendingIsNothingToJudge) {
+TEST_F(ResetJudging, AnUnsafeSetupAlreadyLiveIsRefusedToo) {
   card_.values["BRAKEONV"] = 19000;
-  card_.values["BRAKEOFFV"] = 17000;  // already live: a reset changes nothing
+  card_.values["BRAKEOFFV"] = 17000;  // a power-up made it live: the reset keeps it
   const auto j = judge_reset(db(), card_, false);
   EXPECT_TRUE(j.pending.empty());
-  EXPECT_FALSE(j.refused());
+  EXPECT_TRUE(j.refused());
+  card_.values = FakeCard(db()).values;  // a factory card at 320 V
+  card_.values["BUSV"] = 32000;
+  EXPECT_FALSE(judge_reset(db(), card_, false).refused());
 }
 
 TEST_F(ResetJudging, TransactionResetJudgesEveryPendingValueBeforeTheFirstWrite) {
