@@ -10,6 +10,7 @@
 #include <iostream>
 
 #include "context.hpp"
+#include "output_file.hpp"
 #include "ops/discover.hpp"
 #include "lbp/bytes.hpp"
 
@@ -83,15 +84,16 @@ void run_discover(Context& ctx, const DiscoverOptions& o) {
   options.output = o.out;
   options.overwrite = o.overwrite;
   options.generated_at = now_text();
-  auto& card = ctx.card();
+  check_output_file(o.out, o.overwrite);  // before the first byte: no reset, no scan for a refusal
   if (options.scan.reset_first && !o.yes &&
-      !ctx.confirm("Discovery resets the 8I20 on " + card.endpoint().text +
+      !ctx.confirm("Discovery resets the 8I20 on " + ctx.session().endpoint().text +
                    " (so working values equal NV values), then only reads. Go on?")) {
     std::cerr << "i20: discover not confirmed; nothing was sent (pass --yes, or --no-reset right after a "
                  "power-up)\n";
     ctx.exit_code = app::kBadInput;
     return;
   }
+  auto& card = ctx.card();
   if (isatty(STDERR_FILENO))
     options.scan.progress = [](std::size_t done, std::size_t total) {
       std::cerr << "\rscanning RAM: " << (100 * done / total) << "%" << (done == total ? "\n" : "") << std::flush;

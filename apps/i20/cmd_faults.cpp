@@ -59,7 +59,13 @@ std::string readings_line(const Readings& r) {
 }
 
 // ------------------------------------------------------------------ faults (live)
-void print_next_step(const F::Report& fault, const std::string& flags) {
+void print_next_step(const F::Report& fault, const F::Report& status, const std::string& flags) {
+  // "No faults" is not all there is to say while a STATUS warning stands (the brake resistor
+  // on at a supply above BRAKEONV burns it out without any fault).
+  for (const auto& line : status.lines)
+    if (line.severity != F::Severity::Info)
+      std::cout << "\nWARNING: " << bit_label(line) << ": " << line.meaning
+                << (line.evidence.empty() ? "" : " (" + line.evidence + ")") << "\n";
   if (fault.value == 0) {
     std::cout << "\nNo faults latched.\n";
     return;
@@ -74,7 +80,7 @@ void run_faults(Context& ctx) {
   const auto source = make_live_source(ctx, LiveMode::Registers);
   const Readings r = source->read();
   const auto fault = F::fault_report(r.fault, r.faultmask);
-  const auto status = F::status_report(r.status);
+  const auto status = live_status_report(r);
   if (ctx.options.json) {
     auto j = app::Json::object();
     j.set("source", "card").set("target", source->describe()).set("method", source->method());
@@ -90,7 +96,7 @@ void run_faults(Context& ctx) {
   print_fault_report(std::cout, fault, options);
   std::cout << "\n";
   print_status_report(std::cout, status);
-  print_next_step(fault, ctx.target_flags());
+  print_next_step(fault, status, ctx.target_flags());
 }
 
 // ------------------------------------------------------------------ faults decode

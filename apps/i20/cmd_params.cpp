@@ -15,6 +15,8 @@
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
 #include "ops/read.hpp"
+#include "ops/reset.hpp"
+#include "profile/finding.hpp"
 #include "params/value.hpp"
 
 namespace i20::cli {
@@ -44,7 +46,7 @@ std::string shown(const ops::Reading& r, bool raw, bool hex) {
   std::string text = hex   ? lbp::hex_value(static_cast<std::uint64_t>(*r.raw) & ((p.width_bits == 32 ? 0xFFFFFFFFull : (1ull << p.width_bits) - 1)),
                                             static_cast<int>(p.width_bits / 4))
                      : raw ? std::to_string(*r.raw)
-                           : params::format_engineering(p, *r.raw);
+                           : params::format_with_meaning(p, *r.raw);
   if (!r.confirmed) text += "  [read at an unconfirmed address: " + r.reason + "]";
   return text;
 }
@@ -232,18 +234,67 @@ void run_dump(Context& ctx, const std::string& format, bool allow_unverified) {
 }
 
 // ------------------------------------------------------------------ reset
-void run_reset(Context& ctx, bool yes) {
+void print_reset_findings(const ops::ResetJudgement& j) {
+  for (const auto& f : j.findings)
+    std::cerr << "  " << profile::to_string(f.severity) << ": " << (f.key.empty() ? "" : f.key + ": ")
+              << f.message << " [" << f.rule << "]\n";
+}
+
+app::Json reset_json(const ops::ResetRun& run, const std::string& where) {
+  auto names = [](const std::vector<std::string>& list) {
+    auto arr = app::Json::array();
+    for (const auto& n : list) arr.push(n);
+    return arr;
+  };
+  auto findings = app::Json::array();
+  for (const auto& f : run.judgement.findings)
+    findings.push(app::Json::object()
+                      .set("severity", profile::to_string(f.severity))
+                      .set("key", f.key)
+                      .set("rule", f.rule)
+                      .set("message", f.message));
+  return app::Json::object()
+      .set("reset", run.done)
+      .set("target", where)
+      .set("outcome", run.done ? "done" : "refused")
+      .set("made_live", names(run.judgement.pending))
+      .set("live_state_unknown", names(run.judgement.unknown_live))
+      .set("findings", std::move(findings));
+}
+
+void run_reset(Context& ctx, bool yes, bool force) {
   const std::string where = ctx.session().endpoint().text;  // asked before anything is sent
   if (!yes && !ctx.confirm("Reset the 8I20 on " + where + "? NV values become the working values")) {
     std::cerr << "i20: reset not confirmed; nothing was sent (pass --yes in scripts)\n";
     ctx.exit_code = app::kBadInput;
     return;
   }
-  ctx.card().amp().reset();
-  if (ctx.options.json)
-    ctx.print_json(app::Json::object().set("reset", true).set("target", where));
-  else
-    std::cout << "8I20 on " << where << " reset; it answers again and runs from its NV values\n";
+  // The judgement (what the reset would make live, by the write transaction's rules) is
+  // lib/ops's; this only reports it.
+  const auto run = ops::reset_card(ctx.card(), force);
+  const auto& j = run.judgement;
+  if (!run.done) {
+    ctx.exit_code = app::kRefused;
+    if (ctx.options.json) return ctx.print_json(reset_json(run, where));
+    std::cerr << "i20: refused: after the reset the card would run with EEPROM values the rules refuse; no "
+                 "reset was sent (only reads):\n";
+    print_reset_findings(j);
+    std::cerr << "i20: fix them first (`i20 " << ctx.target_flags()
+              << " set NAME=VALUE`), or pass --force if the supply will change first\n";
+    return;
+  }
+  if (ctx.options.json) return ctx.print_json(reset_json(run, where));
+  if (!j.findings.empty()) {
+    std::cerr << "i20: reset despite these findings (--force):\n";
+    print_reset_findings(j);
+  }
+  std::cout << "8I20 on " << where << " reset; it answers again and runs from its NV values";
+  std::string live;
+  for (const auto& n : j.pending) live += (live.empty() ? "" : ", ") + n;
+  std::cout << (live.empty() ? " (none was pending)" : " (now live: " + live + ")") << "\n";
+  if (!j.unknown_live.empty())
+    std::cout << "  " << j.unknown_live.size()
+              << " NV values have working twins this firmware cannot read; they were judged as if pending\n";
 }
 
 // ------------------------------------------------------------------ ports
@@ -324,9 +375,18 @@ void register_param_commands(CLI::App& app, Context& ctx) {
   dump->callback([&ctx, format, dump_unverified] { run_dump(ctx, *format, *dump_unverified); });
 
   auto yes = std::make_shared<bool>(false);
-  auto* reset = app.add_subcommand("reset", "Reset the 8I20 so NV values become live (asks first)");
+  auto reset_force = std::make_shared<bool>(false);
+  auto* reset = app.add_subcommand(
+      "reset",
+      "Reset the 8I20 so NV values become live (asks first). The EEPROM values that differ from the working "
+      "ones, and the measured bus, are read first and judged by the same rules as a write: refused (exit 3, "
+      "no reset sent) when one would be unsafe live, e.g. NVBRAKEONV at or below the bus");
   reset->add_flag("--yes,-y", *yes, "Do not ask");
-  reset->callback([&ctx, yes] { run_reset(ctx, *yes); });
+  reset->add_flag("--force", *reset_force,
+                  "Reset even when the measured-bus rules refuse a value it would make live");
+  reset->footer("Exit 0 reset (or forced), 1 card not reached or did not come back, 2 not confirmed, 3 refused "
+                "by a rule (nothing but reads sent).");
+  reset->callback([&ctx, yes, reset_force] { run_reset(ctx, *yes, *reset_force); });
 
   auto* ports = app.add_subcommand("ports", "List serial ports (USB adapters with vendor, product, serial)");
   ports->callback([&ctx] { run_ports(ctx); });

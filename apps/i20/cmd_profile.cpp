@@ -13,6 +13,7 @@
 #include "cmd_profile_export.hpp"
 #include "cmd_tune.hpp"
 #include "context.hpp"
+#include "output_file.hpp"
 #include "fleet_progress.hpp"
 #include "interrupt.hpp"
 #include "ops/apply_run.hpp"
@@ -288,6 +289,7 @@ void run_apply_command(Context& ctx, const ApplyCliOptions& o) {
   job.transaction.reset = o.reset;
   job.transaction.backup_dir =
       o.backup_dir.empty() ? profile::default_backup_dir() : std::filesystem::path(o.backup_dir);
+  if (!o.dry_run) check_output_dir(*job.transaction.backup_dir);  // before the first byte
   job.transaction.when = std::chrono::system_clock::now();
   job.transaction.cancel = ops::Cancel(app::install_interrupt_handler());
   job.open.link = ctx.options.link;
@@ -330,8 +332,7 @@ std::string saved_yaml(const Profile& saved, const params::ParamDb& db, const st
 
 // Refused before the link opens: an existing file, a name not in the database or read-only.
 void check_save_request(const SaveCliOptions& o, const params::ParamDb& db) {
-  if (o.file != "-" && !o.overwrite && std::filesystem::exists(o.file))
-    throw UsageError(o.file + " exists; pass --overwrite to replace it (or choose another name)");
+  check_output_file(o.file, o.overwrite);
   for (const auto& n : o.names)
     if (!db.get(n).writable())
       throw UsageError(n + " is read-only: a profile holds settings that can be written back");

@@ -15,6 +15,7 @@
 
 #include "change_render.hpp"
 #include "context.hpp"
+#include "output_file.hpp"
 #include "profile/export.hpp"
 #include "profile/loader.hpp"
 #include "profile/validate.hpp"
@@ -77,8 +78,7 @@ app::Json values_json(const profile::Hostmot2Values& values, const ExportCliOpti
 
 void run_export(Context& ctx, const ExportCliOptions& o) {
   profile::check_hal_device(o.device);
-  if (!o.out.empty() && !o.overwrite && std::filesystem::exists(o.out))
-    throw Error(o.out + " exists; pass --overwrite to replace it", ErrorKind::BadInput);
+  check_output_file(o.out, o.overwrite);
   const auto db = app::load_database(ctx.options);
   const auto p = valid_profile(ctx, db, o.file, o.force);
   if (!p) return;

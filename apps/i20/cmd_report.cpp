@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "context.hpp"
+#include "output_file.hpp"
 #include "faults/report.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/report.hpp"
@@ -147,8 +148,7 @@ app::Json report_json(const ops::ServiceReport& r) {
 }
 
 void run_report(Context& ctx, const ReportOptions& o) {
-  if (!o.out.empty() && !o.overwrite && std::filesystem::exists(o.out))
-    throw UsageError(o.out + " exists; pass --overwrite to replace it (or choose another name with -o)");
+  check_output_file(o.out, o.overwrite);  // before the first byte
   auto& card = ctx.card();
   const auto report = ops::gather_report(card, std::chrono::system_clock::now());
   std::string text;

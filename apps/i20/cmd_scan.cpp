@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // i20 scan --eth IP: the card, its SSERIAL ports and channels, and which 8I20s answer,
 // with the eth:// target and the LinuxCNC hostmot2 name of each. Refused while another
-// host runs the card, unless --force.
+// host runs the card, unless --take-over (the global option every Ethernet command takes;
+// `scan --force` is its deprecated, hidden spelling).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
@@ -73,18 +74,20 @@ void print_scan(const eth::ScanResult& r) {
             << (targets.empty() ? "eth://IP/ch0" : targets.front().url()) << " info\n";
 }
 
-void run_scan(Context& ctx, bool force) {
+void run_scan(Context& ctx, bool deprecated_force) {
+  if (deprecated_force)
+    std::cerr << "i20: `scan --force` is deprecated: it is the global --take-over (i20 --take-over scan --eth IP)\n";
+  const bool take_over = ctx.options.link.take_over || deprecated_force;
   if (ctx.options.target.eth.empty())
     throw UsageError("scan needs the Ethernet card's address: i20 scan --eth 192.168.1.121");
   const auto address = eth::is_eth_url(ctx.options.target.eth) ? eth::parse_target(ctx.options.target.eth).card
                                                         : eth::parse_host_port(ctx.options.target.eth);
   eth::ScanOptions options;
   options.udp.timeout = std::chrono::milliseconds(ctx.options.link.timeout_ms);
-  options.running_host.take_over = force;
-  options.running_host.take_over_flag = "--force";
+  options.running_host.take_over = take_over;
   const auto result = eth::scan(address, options);
-  if (force && eth::host_is_running(result.host_activity, options.running_host))
-    std::cerr << "i20: scan --force: " << result.host_activity.describe()
+  if (take_over && eth::host_is_running(result.host_activity, options.running_host))
+    std::cerr << "i20: scan --take-over: " << result.host_activity.describe()
               << "; the SSERIAL ports were stopped under that host, its axes dropped out\n";
   if (result.foreign_packets_during_scan > 0)
     std::cerr << "i20: another host sent " << result.foreign_packets_during_scan
@@ -104,13 +107,12 @@ void register_scan_command(CLI::App& app, Context& ctx) {
       "Scan a 7I96S/7I92T over Ethernet (--eth IP): the card, its SSERIAL ports and channels, which 8I20s "
       "answer (name, unit number), their eth:// targets and LinuxCNC hostmot2 names. Scanning stops and "
       "restarts every smart-serial port, so it first watches the card for 30 ms and refuses while another "
-      "host (LinuxCNC) is running it");
+      "host (LinuxCNC) is running it, unless the global --take-over is given (then its smart-serial ports "
+      "stop, every 8I20 on them sees no DOIT for 40 ms and disables its output, and LinuxCNC drops every "
+      "axis on those ports with a watchdog fault)");
   auto force = std::make_shared<bool>(false);
-  scan->add_flag(
-      "--force", *force,
-      "Scan even while another host runs the card: its smart-serial ports stop, every 8I20 on them "
-      "sees no DOIT for 40 ms and disables its output, and LinuxCNC drops every axis on those ports "
-      "with a watchdog fault");
+  // The old spelling of --take-over, kept (hidden) so scripts keep working.
+  scan->add_flag("--force", *force, "Deprecated: the global --take-over")->group("");
   scan->callback([&ctx, force] { run_scan(ctx, *force); });
 }
 

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -181,6 +182,25 @@ std::vector<Event> changes(const Readings& before, const Readings& after, WallCl
                        lbp::hex_value(*after.faultmask, 4),
                    {},
                    {}});
+  return out;
+}
+
+// STATUS bits whose knowledge-base escalation starts to hold (BRAKESTATUS while the bus sits
+// above BRAKEONV): a warning that says what will happen, once, when it begins.
+std::vector<Event> warning_events(const Readings* before, const Readings& after, WallClock::time_point when) {
+  std::vector<Event> out;
+  const auto was = before ? live_status_report(*before) : F::Report{};
+  for (const auto& line : live_status_report(after).lines) {
+    if (!line.escalated) continue;
+    const bool already = std::any_of(was.lines.begin(), was.lines.end(),
+                                     [&](const F::ReportLine& w) { return w.bit == line.bit && w.escalated; });
+    if (already) continue;
+    out.push_back({when,
+                   Kind::StatusSet,
+                   "WARNING: " + bit_label(line) + ": " + line.meaning + " (" + line.evidence + ")",
+                   line.bit,
+                   line.name});
+  }
   return out;
 }
 
@@ -415,8 +435,11 @@ void AnsiView::draw_values(std::vector<std::string>& lines) const {
   const bool on = output_on(r);
   lines.push_back("  Bus voltage   " + fixed(r.busv_v, " V"));
   lines.push_back("  Temperature   " + fixed(r.temperature_c, " degC"));
+  std::string warning;  // an escalated STATUS bit (the brake on above BRAKEONV) says why here
+  for (const auto& l : live_status_report(r).lines)
+    if (l.escalated) warning += "  " + paint(ansi::kRed, "WARNING: " + l.name + " with " + l.evidence);
   lines.push_back("  Brake         " + fresh(kBrake, brake_on(r) ? "ON" : "off") +
-                  ((r.status & (1u << 2)) ? "  (has been on: BRAKEWASONSTATUS)" : ""));
+                  ((r.status & (1u << 2)) ? "  (has been on: BRAKEWASONSTATUS)" : "") + warning);
   const std::string fault =
       lbp::hex_value(r.fault, 4) + "  " + (r.fault ? bit_names(F::Register::Fault, r.fault) : "none");
   lines.push_back("  FAULT         " + fresh(kFault, r.fault ? paint(ansi::kRed, clip(fault)) : fault));
@@ -557,6 +580,8 @@ void Watcher::record(const Readings& r, std::vector<Event> events) {
   }
   auto restarted = restart_events(r);
   events.insert(events.end(), restarted.begin(), restarted.end());
+  auto warnings = warning_events(previous_ ? &*previous_ : nullptr, r, when);
+  events.insert(events.end(), warnings.begin(), warnings.end());
   ++summary_.samples;
   view_.sample(s, previous_ ? &*previous_ : nullptr, events);
   if (log_) log_->sample(s, events);

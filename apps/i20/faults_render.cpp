@@ -22,7 +22,6 @@ constexpr unsigned kBusMaxBit = 10;
 // STATUS bits LinuxCNC names (docs/facts.md s4) that report a level condition live.
 constexpr std::uint16_t kStatusBusUnderV = 1u << 3;
 constexpr std::uint16_t kStatusNoEnable = 1u << 8;
-constexpr std::uint16_t kStatusBrakeOn = 1u << 1;  // manual: BRAKESTATUS
 constexpr double kOverTempLimitC = 85.0;           // manual: PCB temperature > 85C
 constexpr double kFixedMaxBusV = 400.0;            // manual: fixed at 400V
 
@@ -193,6 +192,7 @@ void print_status_report(std::ostream& out, const F::Report& report) {
     out << "  " << bit_label(line) << ", " << F::to_string(line.severity) << (line.sticky ? ", sticky" : "")
         << (line.linuxcnc_pin.empty() ? "" : ", HAL pin " + line.linuxcnc_pin) << ": " << line.meaning
         << "\n";
+    if (line.escalated) out << "      now: " << line.evidence << "\n";
     // Informational bits explain themselves; warnings need something to act on.
     if (line.severity != F::Severity::Info)
       for (const auto& check : line.checks) out << "      check: " << check << "\n";
@@ -200,7 +200,25 @@ void print_status_report(std::ostream& out, const F::Report& report) {
 }
 
 bool brake_on(const Readings& r) {
-  return (r.status & kStatusBrakeOn) != 0;
+  // Which bit that is, is the knowledge base's (params/faults.yaml, slug brake-on).
+  static const F::BitInfo* const brake = F::FaultTable::builtin().find(F::Register::Status, "brake-on");
+  return brake && (r.status & brake->mask()) != 0;
+}
+
+F::LiveValues live_values(const Readings& r) {
+  F::LiveValues live;
+  const std::pair<const char*, const std::optional<double>*> all[] = {{"BUSV", &r.busv_v},
+                                                                      {"TEMPERATURE", &r.temperature_c},
+                                                                      {"BUSUNDERV", &r.busunderv_v},
+                                                                      {"BUSOVERV", &r.busoverv_v},
+                                                                      {"BRAKEONV", &r.brakeonv_v}};
+  for (const auto& [name, value] : all)
+    if (*value) live[name] = **value;
+  return live;
+}
+
+F::Report live_status_report(const Readings& r) {
+  return F::status_report(r.status, live_values(r));
 }
 
 app::Json line_json(const F::ReportLine& line, const F::Report& report, const Readings* live) {
@@ -217,6 +235,8 @@ app::Json line_json(const F::ReportLine& line, const F::Report& report, const Re
   const bool known = report.reg == F::Register::Status || report.faultmask.has_value();
   j.set("masked", known ? app::Json(line.masked) : app::Json());
   j.set("clears_while_cause_persists", line.clears_while_cause_persists).set("source", line.source);
+  if (report.reg == F::Register::Status)
+    j.set("escalated", line.escalated).set("evidence", line.escalated ? app::Json(line.evidence) : app::Json());
   if (live && report.reg == F::Register::Fault) j.set("cause_now", cause_json(cause_now(line.bit, *live)));
   return j;
 }
@@ -239,7 +259,7 @@ app::Json readings_json(const Readings& r) {
   auto j = app::Json::object();
   j.set("busv_v", optional_number(r.busv_v)).set("temperature_c", optional_number(r.temperature_c));
   j.set("busunderv_v", optional_number(r.busunderv_v)).set("busoverv_v", optional_number(r.busoverv_v));
-  j.set("brake_on", brake_on(r));
+  j.set("brake_on", brake_on(r)).set("brakeonv_v", optional_number(r.brakeonv_v));
   j.set("addresses_confirmed", true);  // FAULT/STATUS are only ever read from confirmed addresses
   return j;
 }

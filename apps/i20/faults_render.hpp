@@ -52,6 +52,11 @@ void print_status_report(std::ostream& out, const faults::Report& report);
 std::string fault_output_text(const faults::Report& report);
 
 bool brake_on(const Readings& r);
+// The live readings by parameter name, for the knowledge base's `escalate` conditions.
+faults::LiveValues live_values(const Readings& r);
+// STATUS explained with the live readings: BRAKESTATUS while the bus sits above BRAKEONV is
+// a warning, not information.
+faults::Report live_status_report(const Readings& r);
 
 // JSON of a report: raw value, hex, title, and every set bit with all its advice; with
 // live readings each FAULT bit also says whether its cause is present now.

@@ -329,14 +329,21 @@ ClearFaultsResult Amp8i20::clear_faults(const WriteOptions& options, std::chrono
   ClearFaultsResult result;
   result.fault_before = static_cast<std::uint16_t>(read("FAULT").raw);
   const auto start = Clock::now();
-  link_.execute_one(write_command(clear, 1));
-  while (read("CLEARFAULT").raw != 0) {
-    throw_if_cancelled();
-    if (Clock::now() - start > deadline)
-      throw Error("CLEARFAULT stayed set for " + std::to_string(deadline.count()) + " ms on " +
-                  link_.describe() +
-                  ": the 8I20 did not act on it (firmware busy or a wrong CLEARFAULT address?)");
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  // From the write on, a failure is no longer "nothing written": CLEARFAULT may hold 1.
+  try {
+    link_.execute_one(write_command(clear, 1));
+    while (read("CLEARFAULT").raw != 0) {
+      throw_if_cancelled();
+      if (Clock::now() - start > deadline)
+        throw CardStateError("CLEARFAULT was written and still reads 1 after " + std::to_string(deadline.count()) +
+                             " ms on " + link_.describe() +
+                             ": the 8I20 did not act on it (firmware busy or a wrong CLEARFAULT address?)");
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::Failure) throw;
+    throw CardStateError("CLEARFAULT 1 was sent to " + link_.describe() + ", then: " + e.what() +
+                         "; it may still hold 1 (read it with `i20 get CLEARFAULT FAULT`)");
   }
   result.took = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start);
   const Param* regs[] = {&db_.get("FAULT"), &db_.get("STATUS")};

@@ -38,8 +38,8 @@ struct RunningHostCheck {
   // Proceed even when another host is using the card. Its machine stops: every axis on
   // the port drops out.
   bool take_over = false;
-  // How the user says take_over, named in the refusal: "--take-over" for most commands,
-  // "--force" for `i20 scan`.
+  // How the user says take_over, named in the refusal: "--take-over", the one option
+  // every command (scan included) takes for it.
   std::string take_over_flag = "--take-over";
   std::chrono::milliseconds window{30};
   unsigned command_samples = 4;  // COMMAND reads per port spread over the window

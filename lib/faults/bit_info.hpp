@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -26,6 +27,19 @@ enum class Severity {
   Info,     // normal operation; shown for completeness
 };
 
+// A level condition that makes a bit worse than its usual severity: the bit is set while a
+// measured value sits above a threshold parameter (BRAKESTATUS while the bus is above
+// BRAKEONV: the brake resistor takes the supply's power continuously). From the YAML's
+// `escalate:` block; what it means lives there, not in code.
+struct Escalation {
+  std::string measured;            // parameter read live, e.g. "BUSV"
+  std::vector<std::string> above;  // thresholds, any of which the measured value is above
+  std::string unit;                // of the measured value and the thresholds, for the evidence
+  Severity severity = Severity::Warning;
+  std::string meaning;              // replaces the bit's meaning while the condition holds
+  std::vector<std::string> checks;  // replace the bit's checks while it holds
+};
+
 struct BitInfo {
   Register reg = Register::Fault;
   unsigned bit = 0;          // 0..15
@@ -41,6 +55,7 @@ struct BitInfo {
   bool clears_while_cause_persists = false;
   std::string source;  // manual section or docs/facts.md
   std::string origin;  // "file:line" of the entry
+  std::optional<Escalation> escalation;
 
   std::uint16_t mask() const { return static_cast<std::uint16_t>(1u << bit); }
 };

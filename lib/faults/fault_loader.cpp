@@ -30,7 +30,9 @@ const std::set<std::string> kBitKeys{"bit",
                                      "sticky",
                                      "maskable",
                                      "clears_while_cause_persists",
-                                     "source"};
+                                     "source",
+                                     "escalate"};
+const std::set<std::string> kEscalateKeys{"measured", "above", "unit", "severity", "meaning", "checks"};
 
 std::string join(const std::set<std::string>& words) {
   std::string out;
@@ -122,12 +124,34 @@ Severity severity(const Reader& r, const YAML::Node& node) {
   r.fail(node, "'severity' must be fault, warning or info, not '" + s + "'");
 }
 
+bool parameter_name(const std::string& s) {
+  return all_of_chars(s, name_char);
+}
+
+Escalation read_escalation(const Reader& r, const YAML::Node& node, const std::string& what) {
+  const std::string where = "the 'escalate' block of " + what;
+  if (!node.IsMap()) r.fail(node, "'escalate' must be a map of keys");
+  r.only_keys(node, kEscalateKeys, where);
+  for (const auto& key : kEscalateKeys) r.require(node, key, where);
+  Escalation e;
+  e.measured = r.text(node["measured"], "measured");
+  if (!parameter_name(e.measured)) r.fail(node["measured"], "'measured' must be a parameter name like BUSV");
+  e.above = r.texts(node["above"], "above");
+  for (const auto& name : e.above)
+    if (!parameter_name(name)) r.fail(node["above"], "'above' must list parameter names, not '" + name + "'");
+  e.unit = r.text(node["unit"], "unit");
+  e.severity = severity(r, node["severity"]);
+  e.meaning = r.text(node["meaning"], "meaning");
+  e.checks = r.texts(node["checks"], "checks");
+  return e;
+}
+
 BitInfo read_bit(const Reader& r, const YAML::Node& entry, Register reg) {
   const std::string what = "a " + std::string(to_string(reg)) + " bit";
   if (!entry.IsMap()) r.fail(entry, "each bit must be a map of keys");
   r.only_keys(entry, kBitKeys, what);
   for (const auto& key : kBitKeys)
-    if (key != "linuxcnc_pin") r.require(entry, key, what);
+    if (key != "linuxcnc_pin" && key != "escalate") r.require(entry, key, what);
 
   BitInfo b;
   b.reg = reg;
@@ -163,6 +187,7 @@ BitInfo read_bit(const Reader& r, const YAML::Node& entry, Register reg) {
       r.boolean(entry["clears_while_cause_persists"], "clears_while_cause_persists");
   b.source = r.text(entry["source"], "source");
   b.origin = r.where(entry);
+  if (entry["escalate"]) b.escalation = read_escalation(r, entry["escalate"], what);
   return b;
 }
 

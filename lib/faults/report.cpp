@@ -73,6 +73,29 @@ Report build(Register reg, std::uint16_t value, const FaultTable& table) {
   return r;
 }
 
+std::string measured_text(const std::string& name, double value, const std::string& unit) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.2f", value);
+  return name + " " + buf + " " + unit;
+}
+
+// The first threshold the measured value is above makes the condition hold.
+void escalate(ReportLine& line, const Escalation& e, const LiveValues& live) {
+  const auto measured = live.find(e.measured);
+  if (measured == live.end()) return;
+  for (const auto& name : e.above) {
+    const auto threshold = live.find(name);
+    if (threshold == live.end() || measured->second <= threshold->second) continue;
+    line.escalated = true;
+    line.severity = e.severity;
+    line.meaning = e.meaning;
+    line.checks = e.checks;
+    line.evidence = measured_text(e.measured, measured->second, e.unit) + " is above " +
+                    measured_text(name, threshold->second, e.unit);
+    return;
+  }
+}
+
 }  // namespace
 
 Report fault_report(std::uint16_t fault, std::optional<std::uint16_t> faultmask, const FaultTable& table) {
@@ -94,6 +117,20 @@ Report status_report(std::uint16_t status, const FaultTable& table) {
   Report r = build(Register::Status, status, table);
   r.title = title_for(r);
   return r;
+}
+
+Report status_report(std::uint16_t status, const LiveValues& live, const FaultTable& table) {
+  Report r = status_report(status, table);
+  for (auto& line : r.lines)
+    if (const BitInfo* info = table.find(Register::Status, line.bit); info && info->escalation)
+      escalate(line, *info->escalation, live);
+  return r;
+}
+
+std::size_t count_at_least_warning(const Report& report) {
+  std::size_t n = 0;
+  for (const auto& line : report.lines) n += line.severity != Severity::Info ? 1 : 0;
+  return n;
 }
 
 }  // namespace i20::faults

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -29,7 +30,15 @@ struct ReportLine {
   bool masked = false;  // FAULTMASK keeps it off the fault output (known only with FAULTMASK)
   bool clears_while_cause_persists = false;
   std::string source;
+  // The bit's `escalate` condition holds on the live values given: severity, meaning and
+  // checks are the escalation's, and `evidence` says what was measured.
+  bool escalated = false;
+  std::string evidence;  // "BUSV 320.00 V is above BRAKEONV 190.00 V"
 };
+
+// Live values by parameter name (engineering units) that `escalate` conditions compare;
+// a missing name is unknown, and a condition on an unknown value does not hold.
+using LiveValues = std::map<std::string, double>;
 
 struct Report {
   Register reg = Register::Fault;
@@ -46,5 +55,9 @@ struct Report {
 Report fault_report(std::uint16_t fault, std::optional<std::uint16_t> faultmask = std::nullopt,
                     const FaultTable& table = FaultTable::builtin());
 Report status_report(std::uint16_t status, const FaultTable& table = FaultTable::builtin());
+// The same, with each set bit's escalation judged on `live`.
+Report status_report(std::uint16_t status, const LiveValues& live, const FaultTable& table = FaultTable::builtin());
+// Set bits of a report whose severity is Warning or Fault (the STATUS ones a person must act on).
+std::size_t count_at_least_warning(const Report& report);
 
 }  // namespace i20::faults

@@ -8,6 +8,7 @@
 #include "lbp/bytes.hpp"
 #include "ops/device_access.hpp"
 #include "ops/read.hpp"
+#include "ops/reset.hpp"
 
 namespace i20::ops {
 namespace {
@@ -83,10 +84,10 @@ void check_live(Card& c, const ApplyJob& job, TargetRun& run) {
       if (twin && c.db().address_confirmed(*twin)) cells.insert(cells.end(), {&p, twin});
     }
     if (cells.empty()) return;
-    const auto values = read_values(c, cells);
-    for (std::size_t i = 0; i + 1 < values.size(); i += 2)
-      if (values[i].fact() && values[i + 1].fact() && *values[i].raw != *values[i + 1].raw)
-        run.not_live.push_back(values[i].param->name);
+    RawValues facts;
+    for (const auto& v : read_values(c, cells))
+      if (v.fact()) facts[v.param->name] = *v.raw;
+    run.not_live = pending_nv_values(c.db(), facts);
   } catch (const std::exception&) {
     // Best effort: the advice below the outcome is then the transaction's reset_needed alone.
   }

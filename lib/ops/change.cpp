@@ -65,7 +65,7 @@ void precheck(const profile::Profile& profile, const params::ParamDb& db, const 
 profile::Profile save_profile(Card& card, const std::vector<std::string>& names,
                               const profile::SaveOptions& options) {
   const auto wanted =
-      profile::canonical_save_names(names.empty() ? profile::default_save_names(card.db()) : names, card.db());
+      profile::canonical_save_names(names.empty() ? profile::save_candidates(card.db()) : names, card.db());
   profile::RawValues values;
   for (const auto& r : read_values(card, wanted)) {
     if (!r.fact())
@@ -73,7 +73,10 @@ profile::Profile save_profile(Card& card, const std::vector<std::string>& names,
                                 ": not saved as a guess");
     values[r.param->name] = *r.raw;
   }
-  return profile::profile_from_values(values, wanted, card.db(), card.describe(), options);
+  // Named ones are saved as asked; by default every NV value a restore needs (guarded ones
+  // that differ from the default included).
+  const auto saved = names.empty() ? profile::names_to_save(card.db(), values) : wanted;
+  return profile::profile_from_values(values, saved, card.db(), card.describe(), options);
 }
 
 }  // namespace i20::ops

@@ -32,7 +32,7 @@ profile::Profile profile_from_value(const std::string& name, const std::string& 
 // broken rule; nothing has been sent when it does.
 void precheck(const profile::Profile& profile, const params::ParamDb& db, const device::WriteOptions& write);
 
-// Reads `names` (profile::default_save_names() if empty) from the card into a profile
+// Reads `names` (if empty: profile::save_candidates(), keeping profile::names_to_save()) into a profile
 // (`profile save`, `report`). Every value must be a fact on this card: a name whose address
 // is not confirmed for its firmware is refused (SafetyError), not saved as a guess.
 profile::Profile save_profile(Card& card, const std::vector<std::string>& names,

@@ -5,6 +5,7 @@
 #include "faults/fault_mask.hpp"
 #include "ops/change.hpp"
 #include "ops/read.hpp"
+#include "lbp/bytes.hpp"
 
 namespace i20::ops {
 namespace {
@@ -24,12 +25,31 @@ const params::Param& fact_required(Card& card, const char* name) {
   return p;
 }
 
+// CLEARFAULT was written but the clear did not finish: what the card says now decides
+// between "faults remain" (exit 5) and "uncertain" (exit 4). Always throws.
+[[noreturn]] void explain_unfinished_clear(Card& card, const Error& e) {
+  FaultReadings now;
+  try {
+    now = read_fault_registers(card);
+  } catch (const Error& again) {
+    if (again.kind() == ErrorKind::Cancelled) throw;
+    throw device::CardStateError(std::string(e.what()) + "; FAULT could not be read after it (" + again.what() +
+                                 ")");
+  }
+  if (now.fault != 0)
+    throw Error(std::string(e.what()) + "; FAULT still reads " + lbp::hex_value(now.fault, 4) +
+                    ": faults remain latched",
+                ErrorKind::FaultsRemain);
+  throw device::CardStateError(std::string(e.what()) + "; FAULT reads 0x0000 now, but the card may still act on "
+                                                       "the pending CLEARFAULT");
+}
+
 }  // namespace
 
 FaultReadings read_fault_registers(Card& card) {
   const auto& db = card.db();
   std::vector<const params::Param*> list{&fact_required(card, "FAULT"), &fact_required(card, "STATUS")};
-  for (const char* name : {"FAULTMASK", "BUSV", "TEMPERATURE", "BUSUNDERV", "BUSOVERV"})
+  for (const char* name : {"FAULTMASK", "BUSV", "TEMPERATURE", "BUSUNDERV", "BUSOVERV", "BRAKEONV"})
     if (const auto* p = db.find(name)) list.push_back(p);
   FaultReadings r;
   for (const auto& v : read_values(card, list)) {
@@ -43,6 +63,7 @@ FaultReadings read_fault_registers(Card& card) {
     if (n == "TEMPERATURE") r.temperature_c = scaled(v);
     if (n == "BUSUNDERV") r.busunderv_v = scaled(v);
     if (n == "BUSOVERV") r.busoverv_v = scaled(v);
+    if (n == "BRAKEONV") r.brakeonv_v = scaled(v);
   }
   return r;
 }
@@ -51,7 +72,13 @@ ClearResult clear_faults(Card& card, const device::WriteOptions& write, std::chr
   card.amp().check_write(card.db().get("CLEARFAULT"), 1, write);
   fact_required(card, "FAULT");
   ClearResult result;
-  const auto done = card.amp().clear_faults(write, wait);
+  device::ClearFaultsResult done;
+  try {
+    done = card.amp().clear_faults(write, wait);
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::Uncertain) throw;
+    explain_unfinished_clear(card, e);
+  }
   result.fault_before = done.fault_before;
   result.took = done.took;
   // Again with the measurements, so every remaining bit can say why it is still there.

@@ -25,6 +25,7 @@ struct FaultReadings {
   std::optional<double> temperature_c;
   std::optional<double> busunderv_v;
   std::optional<double> busoverv_v;
+  std::optional<double> brakeonv_v;  // the working threshold the brake compares the bus with
 };
 
 // FAULT and STATUS are required: throws SafetyError (nothing read, exit 3) when their

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "link/pipelined_link.hpp"
+#include "ops/reset.hpp"
 #include "profile/save.hpp"
 #include "profile/timestamp.hpp"
 
@@ -15,13 +16,10 @@ ServiceReport gather_report(Card& card, std::chrono::system_clock::time_point wh
   r.target = card.endpoint().text;
   r.identity = card.identity();
   r.values = read_all(card);
-  for (const auto& v : r.values) {
-    const auto& p = *v.param;
-    if (!p.is_nv() || p.twin.empty() || !v.fact()) continue;
-    const auto twin =
-        std::find_if(r.values.begin(), r.values.end(), [&](const Reading& w) { return w.param->name == p.twin; });
-    if (twin != r.values.end() && twin->fact() && *twin->raw != *v.raw) r.not_live.push_back(p.name);
-  }
+  profile::RawValues facts;
+  for (const auto& v : r.values)
+    if (v.fact()) facts[v.param->name] = *v.raw;
+  r.not_live = pending_nv_values(card.db(), facts);
   try {
     r.faults = read_fault_registers(card);
   } catch (const Error& e) {
@@ -40,13 +38,9 @@ ServiceReport gather_report(Card& card, std::chrono::system_clock::time_point wh
 
 profile::Profile report_profile(const ServiceReport& report, const params::ParamDb& db) {
   profile::RawValues values;
-  std::vector<std::string> names;
-  for (const auto& name : profile::default_save_names(db))
-    for (const auto& v : report.values)
-      if (v.param->name == name && v.fact()) {
-        values[name] = *v.raw;
-        names.push_back(name);
-      }
+  for (const auto& v : report.values)
+    if (v.fact()) values[v.param->name] = *v.raw;
+  const std::vector<std::string> names = profile::names_to_save(db, values);
   profile::SaveOptions options;
   options.name = "report-unit" + lbp::hex_value(report.identity.info.unit_number.value_or(0), 8).substr(2);
   options.notes = "The NV setup `i20 report` read from this card; apply this file to write it back.";

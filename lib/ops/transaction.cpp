@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <exception>
 
+#include "ops/reset.hpp"
+
 #include "params/value.hpp"
 #include "profile/backup.hpp"
 #include "profile/error.hpp"
@@ -130,6 +132,7 @@ class Transaction {
       context.measured_bus_v = static_cast<double>(bus->second) * db_.get("BUSV").scale;
     result_.findings = profile::validate(profile_, db_, context);
     if (options_.reset) reset_conflicts();
+    if (options_.reset) add_reset_findings(result_.findings, db_, card_, options_.force, profile_);
     if (profile::has_errors(result_.findings)) {
       stop(Outcome::Refused, first_error() + "; nothing was written");
       return false;
@@ -186,15 +189,14 @@ class Transaction {
   void nothing_to_do() {
     finish(Outcome::NothingToDo);
     if (!options_.reset) return;
+    RawValues values;
     for (const auto& row : result_.plan.unchanged) {
       const params::Param& p = db_.get(row.cell);
       if (!p.is_nv() || p.twin.empty()) continue;
-      const auto live = read_one(p.twin);
-      if (live.value && *live.value != row.profile_raw) {
-        result_.reset_needed = true;
-        break;
-      }
+      values[row.cell] = row.profile_raw;
+      if (const auto live = read_one(p.twin); live.value) values[p.twin] = *live.value;
     }
+    result_.reset_needed = !pending_nv_values(db_, values).empty();
     if (result_.reset_needed) reset_card();
     copy_events();
   }

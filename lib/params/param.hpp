@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,6 +51,8 @@ struct Param {
   bool hex = false;            // shown as 0x and width/4 digits (bit registers: FAULT, STATUS)
   std::string origin;          // "file:line" of the entry (or of its last override)
   std::vector<Alias> aliases;  // other names, matched case-insensitively like the name
+  // What raw values mean, where the manual gives a table (NVBAUDRATE 9 = 2.5 MBaud).
+  std::map<std::int64_t, std::string> labels;
 
   std::size_t bytes() const { return width_bits / 8; }
   bool writable() const { return access == Access::ReadWrite; }

@@ -23,7 +23,7 @@ namespace {
 const std::set<std::string> kParamKeys{"name",   "space",         "address", "width",       "signed",
                                        "unit",   "scale",         "min",     "max",         "allowed",
                                        "access", "default",       "twin",    "description", "provenance",
-                                       "guard",  "self_clearing", "aliases", "format"};
+                                       "guard",  "self_clearing", "aliases", "format",      "labels"};
 const std::set<std::string> kRequiredNewKeys{"name",   "space",  "address",     "width",
                                              "signed", "access", "description", "provenance"};
 const std::set<std::string> kBaseTopKeys{"schema", "device", "simulator_swrevision", "parameters"};
@@ -226,6 +226,10 @@ void read_fields(const Reader& r, const YAML::Node& node, Param& p) {
       p.self_clearing = r.boolean(v, key);
     } else if (key == "aliases") {
       p.aliases = read_aliases(r, v);
+    } else if (key == "labels") {
+      if (!v.IsMap()) r.fail(v, "'labels' must map raw values to what they mean, e.g. {9: 2.5 MBaud}");
+      p.labels.clear();
+      for (const auto& kv : v) p.labels[r.integer(kv.first, key)] = r.text(kv.second, key);
     } else if (key == "format") {
       const auto f = r.text(v, key);
       if (f != "hex" && f != "decimal") r.fail(v, "'format' must be hex or decimal, not '" + f + "'");

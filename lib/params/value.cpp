@@ -431,4 +431,14 @@ lbp::Bytes bytes_from_raw(const Param& param, std::int64_t raw) {
   return lbp::to_le(static_cast<std::uint64_t>(raw), param.bytes());
 }
 
+std::string value_label(const Param& param, std::int64_t raw) {
+  const auto it = param.labels.find(raw);
+  return it == param.labels.end() ? std::string() : it->second;
+}
+
+std::string format_with_meaning(const Param& param, std::int64_t raw) {
+  const std::string label = value_label(param, raw);
+  return format_engineering(param, raw) + (label.empty() ? "" : " (" + label + ")");
+}
+
 }  // namespace i20::params

@@ -116,6 +116,10 @@ void check_range(const Param& param, std::int64_t raw);
 
 // "360.00 V", "150000", "-12".
 std::string format_engineering(const Param& param, std::int64_t raw);
+// What a raw value means where the database has a table for it ("2.5 MBaud"), else "".
+std::string value_label(const Param& param, std::int64_t raw);
+// format_engineering() followed by the meaning when there is one: "9 (2.5 MBaud)".
+std::string format_with_meaning(const Param& param, std::int64_t raw);
 // Decimal places that show one count of the parameter's scale.
 int decimals(const Param& param);
 

@@ -29,6 +29,24 @@ std::vector<std::string> default_save_names(const params::ParamDb& db) {
   return names;
 }
 
+std::vector<std::string> save_candidates(const params::ParamDb& db) {
+  std::vector<std::string> names;
+  for (const auto& p : db.all())
+    if (p.is_nv() && p.writable() && p.provenance.confirmed_on_all && p.address) names.push_back(p.name);
+  return names;
+}
+
+std::vector<std::string> names_to_save(const params::ParamDb& db, const RawValues& values) {
+  std::vector<std::string> names;
+  for (const auto& name : save_candidates(db)) {
+    const params::Param& p = db.get(name);
+    const auto it = values.find(name);
+    if (it == values.end()) continue;
+    if (p.guard.empty() || !p.default_value || *p.default_value != it->second) names.push_back(name);
+  }
+  return names;
+}
+
 Profile profile_from_values(const RawValues& values, const std::vector<std::string>& names,
                             const params::ParamDb& db, const std::string& card, const SaveOptions& options) {
   Profile profile;

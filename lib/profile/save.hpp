@@ -23,6 +23,16 @@ struct SaveOptions {
 // the power-up setup of the drive.
 std::vector<std::string> default_save_names(const params::ParamDb& db);
 
+// What `save` (and the report's parameters section) read when no names are given: the
+// default names and the guarded writable EEPROM parameters (NVBAUDRATE) whose addresses are
+// public for every firmware.
+std::vector<std::string> save_candidates(const params::ParamDb& db);
+// Of the candidates in `values`, those a saved profile holds: every default name, and each
+// guarded one whose value differs from its database default, so that a spare card restored
+// from the file comes back the same (at the same baud rate). Applying a guarded value
+// needs --force; the writer says so in a comment.
+std::vector<std::string> names_to_save(const params::ParamDb& db, const RawValues& values);
+
 // Database spelling, read-only names refused (ProfileError), duplicates dropped, order kept.
 std::vector<std::string> canonical_save_names(const std::vector<std::string>& names, const params::ParamDb& db);
 

@@ -83,18 +83,28 @@ void write_supply(std::ostringstream& out, const SupplyInfo& s) {
     out << "  bus_voltage: " << format_quantity(Quantity::Voltage, *s.bus_voltage_v) << "\n";
 }
 
+// "  # 2.5 MBaud; guarded: ..." after an entry whose value has a meaning in the database's
+// table, or whose parameter needs --force: a reader of the file sees both without the manual.
+std::string entry_comment(const params::Param& p, std::int64_t raw) {
+  std::string comment = params::value_label(p, raw);
+  if (!p.guard.empty())
+    comment += (comment.empty() ? "" : "; ") + std::string("guarded: applying it needs --force");
+  return comment.empty() ? "" : "  # " + comment;
+}
+
 void write_setting(std::ostringstream& out, const Setting& s, const params::ParamDb& db) {
   const params::Param& p = db.get(s.name);
   std::string value = value_text(p, s.raw);
+  const std::string comment = entry_comment(p, s.raw);
   if (!s.target) {
-    out << "  " << p.name << ": " << value << "\n";
+    out << "  " << p.name << ": " << value << comment << "\n";
     return;
   }
   // Fold the target into the entry's map form.
   const bool raw_form = value.starts_with("{raw:");
   if (raw_form) value = value.substr(1, value.size() - 2);  // "raw: N"
   out << "  " << p.name << ": {" << (raw_form ? value : "value: " + value)
-      << ", target: " << to_string(*s.target) << "}\n";
+      << ", target: " << to_string(*s.target) << "}" << comment << "\n";
 }
 
 }  // namespace

@@ -168,7 +168,7 @@ bool reads(const SimProcess& sim, const std::string& name, const std::string& ex
 
 }  // namespace
 
-TEST(EthCli, ScanIsRefusedBesideARunningMachineAndForceSaysWhatItDid) {
+TEST(EthCli, ScanIsRefusedBesideARunningMachineAndTakeOverSaysWhatItDid) {
   SimProcess card({"--running-host"}, Transport::Eth);  // a LinuxCNC stand-in, DOITs every 1 ms
   // Until the stand-in runs (it starts on its own thread; a loaded machine delays it).
   const auto host_runs = [&] {
@@ -181,14 +181,21 @@ TEST(EthCli, ScanIsRefusedBesideARunningMachineAndForceSaysWhatItDid) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("refusing to stop and scan the SSERIAL ports"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("another host is running the card"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("pass --force: every axis on that port drops out"), std::string::npos) << r.err;
+  // One name for one thing: the refusal names the option every command takes.
+  EXPECT_NE(r.err.find("pass --take-over: every axis on that port drops out"), std::string::npos) << r.err;
   EXPECT_EQ(card.control("host").find("(0 failed)") != std::string::npos, true) << "the machine runs on";
-  r = run_i20(eth(card), {"scan", "--force"});
+  r = run_i20(eth(card), {"scan", "--take-over"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("hm2_7i96s.0.8i20.0.0"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("scan --take-over: "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("its axes dropped out"), std::string::npos) << r.err;
+  // The old spelling still works for scripts, and says what replaced it.
+  r = run_i20(eth(card), {"scan", "--force"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("`scan --force` is deprecated"), std::string::npos) << r.err;
   const auto help = run("i20", {"scan", "--help"});
-  EXPECT_NE(help.out.find("--force"), std::string::npos);
+  EXPECT_EQ(help.out.find("--force"), std::string::npos) << "the deprecated alias is hidden";
+  EXPECT_NE(help.out.find("--take-over"), std::string::npos) << help.out;
   EXPECT_NE(help.out.find("drops every axis"), std::string::npos) << help.out;
 }
 

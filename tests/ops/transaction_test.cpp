@@ -11,6 +11,7 @@
 #include <iterator>
 
 #include "fake_card.hpp"
+#include "ops/reset.hpp"
 #include "profile/loader.hpp"
 #include "test_util.hpp"
 
@@ -363,4 +364,69 @@ TEST_F(ProfileApply, WorkingOnlyProfileNeedsNoReset) {
   const auto r = run(with_params("  KQP: 60\n  KDP: 60\n"));
   ASSERT_EQ(r.outcome, Outcome::Done);
   EXPECT_FALSE(r.reset_needed);
+}
+
+// ------------------------------------------------------------------ reset judging (issue 20)
+TEST(PendingNvValues, OnlyPairsWhoseBothCellsAreKnownAndDiffer) {
+  const RawValues values{{"NVKQP", 60}, {"KQP", 50}, {"NVKDP", 50}, {"KDP", 50}, {"NVBRAKEONV", 19000}};
+  EXPECT_EQ(pending_nv_values(db(), values), std::vector<std::string>{"NVKQP"})
+      << "NVBRAKEONV's working twin is unknown, NVKDP is live";
+}
+
+class ResetJudging : public ProfileApply {
+ protected:
+  // An EEPROM set up on a 120 V bench, not live, on a card that now measures 320 V.
+  void SetUp() override {
+    ProfileApply::SetUp();
+    card_.values["NVBRAKEONV"] = 19000;
+    card_.values["NVBRAKEOFFV"] = 17000;
+    card_.values["BUSV"] = 32000;
+  }
+};
+
+TEST_F(ResetJudging, RefusesNamingEachValueAndSendsNothingButReads) {
+  const auto j = judge_reset(db(), card_, false);
+  EXPECT_EQ(j.pending, (std::vector<std::string>{"NVBRAKEONV", "NVBRAKEOFFV"}));
+  ASSERT_TRUE(j.refused());
+  EXPECT_TRUE(has_rule(j.findings, "bus-measured-brake", Severity::Error));
+  EXPECT_NE(j.reason().find("NVBRAKEONV"), std::string::npos) << j.reason();
+  EXPECT_NE(j.reason().find("(in the EEPROM)"), std::string::npos) << j.reason();
+  EXPECT_EQ(card_.write_calls, 0);
+  EXPECT_EQ(card_.resets, 0);
+  const auto forced = judge_reset(db(), card_, true);
+  EXPECT_FALSE(forced.refused());
+  EXPECT_TRUE(has_rule(forced.findings, "bus-measured-brake", Severity::Warning));
+}
+
+TEST_F(ResetJudging, AnUnsafeSetupAlreadyLiveIsRefusedToo) {
+  card_.values["BRAKEONV"] = 19000;
+  card_.values["BRAKEOFFV"] = 17000;  // a power-up made it live: the reset keeps it
+  const auto j = judge_reset(db(), card_, false);
+  EXPECT_TRUE(j.pending.empty());
+  EXPECT_TRUE(j.refused());
+  card_.values = FakeCard(db()).values;  // a factory card at 320 V
+  card_.values["BUSV"] = 32000;
+  EXPECT_FALSE(judge_reset(db(), card_, false).refused());
+}
+
+TEST_F(ResetJudging, TransactionResetJudgesEveryPendingValueBeforeTheFirstWrite) {
+  options_.reset = true;
+  const auto r = run(with_params("  NVKQP: {value: 60, target: both}\n  NVKDP: {value: 60, target: both}\n"));
+  EXPECT_EQ(r.outcome, Outcome::Refused) << r.reason;
+  EXPECT_TRUE(has_rule(r.findings, "bus-measured-brake", Severity::Error));
+  EXPECT_EQ(card_.write_calls, 0);
+  EXPECT_EQ(card_.resets, 0);
+  // Without the reset the same profile is written: nothing becomes live.
+  options_.reset = false;
+  EXPECT_EQ(run(with_params("  NVKQP: {value: 60, target: both}\n  NVKDP: {value: 60, target: both}\n")).outcome,
+            Outcome::Done);
+}
+
+TEST_F(ResetJudging, TheProfilesOwnPlannedValuesAreJudgedAsInTheEeprom) {
+  // The profile fixes the pending brake pair; the reset then makes safe values live.
+  options_.reset = true;
+  const auto r = run(with_params("  NVBRAKEONV: 370 V\n  NVBRAKEOFFV: 350 V\n"));
+  EXPECT_EQ(r.outcome, Outcome::Done) << r.reason;
+  EXPECT_EQ(card_.resets, 1);
+  EXPECT_EQ(card_.values["BRAKEONV"], 37000);
 }
