@@ -5,6 +5,7 @@
 #include <cassert>
 
 #include "eth/errors.hpp"
+#include "eth/fenced_transport.hpp"
 #include "eth/running_host.hpp"
 #include "lbp/bytes.hpp"
 #include "lbp/local.hpp"
@@ -162,7 +163,8 @@ class ChannelLink final : public link::Link {
 std::shared_ptr<PassthroughPort> PassthroughPort::open(const HostPort& card, unsigned sserial_port,
                                                        std::uint8_t channel_mask,
                                                        PassthroughOptions options) {
-  auto bus = std::make_unique<UdpClient>(card.ip, card.port, options.udp);
+  auto bus = std::make_unique<FencedTransport>(std::make_unique<UdpClient>(card.ip, card.port, options.udp),
+                                               options.fence);
   return std::make_shared<PassthroughPort>(std::move(bus), sserial_port, channel_mask, std::move(options));
 }
 
@@ -173,8 +175,11 @@ std::shared_ptr<PassthroughPort> PassthroughPort::open(std::shared_ptr<Lbp16Tran
 }
 
 std::shared_ptr<Lbp16Transport> PassthroughPort::card_transport(const HostPort& card,
-                                                                const UdpOptions& options) {
-  return std::make_shared<SharedTransport>(std::make_unique<UdpClient>(card.ip, card.port, options));
+                                                                const UdpOptions& options,
+                                                                const FenceOptions& fence) {
+  // The ledger of arrivals under the lock: it must see every port's packets as ours.
+  return std::make_shared<SharedTransport>(
+      std::make_unique<FencedTransport>(std::make_unique<UdpClient>(card.ip, card.port, options), fence));
 }
 
 PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned sserial_port,
@@ -189,6 +194,7 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
   activity_ = require_no_running_host(*bus_, std::span(&port, 1), options_.running_host,
                                       "stop SSERIAL port " + std::to_string(port.index) + " for setup mode");
   last_received_ = activity_.last_received;
+  missing_ours_ = 0;
   sent_at_last_ = activity_.sent_at_last;
   sslbp_->stop_all();
   parameters_ = sslbp_->read_parameters();
@@ -275,6 +281,7 @@ void PassthroughPort::resync() {
                                 "restart SSERIAL port " + std::to_string(sserial_port_) + " in setup mode");
     last_received_ = seen.last_received;
     sent_at_last_ = seen.sent_at_last;
+    missing_ours_ = 0;
     start_setup();
   }
   needs_resync_ = false;
@@ -569,16 +576,22 @@ PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& pa
     if ((word(parts[at]) & 0xFFFF) != 0) {
       ++stats_.late_doits;
       learn_from_late(round);
+      // From here on the round's result is read in later packets: it is ours only if no
+      // other packet ran in between (the transport's ledger sees every arrival).
+      const std::uint64_t foreign_before = bus_->stats().foreign_arrivals;
       if (r + 1 == packet.size()) {
         // Nothing was issued after it: wait for it, what the polls read is its result.
-        complete_by_polling(round, channels,
-                            sslbp_->poll(interface0_addresses(round, channels), sslbp::doit(round.mask)));
+        const Completion done =
+            sslbp_->poll(interface0_addresses(round, channels), sslbp::doit(round.mask));
+        require_undisturbed(foreign_before);
+        complete_by_polling(round, channels, done);
         return {};
       }
       if (is_eeprom_write(round)) {
         // An EEPROM cell that took longer than its WaituS: wait for it and take DATA as its
         // outcome rather than write the cell again; the rest of the packet replays.
         const Completion idle = sslbp_->poll({}, sslbp::doit(round.mask));
+        require_undisturbed(foreign_before);
         stats_.round_trips += idle.round_trips;
         ++stats_.replays;
         for (const Slot& slot : round.slots) finish(channels, slot, 0, idle.data);
@@ -589,6 +602,7 @@ PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& pa
       // A channel whose DATA bit is set failed there (or just after): it ends, the others
       // replay. Later WaituS get longer.
       const Completion idle = sslbp_->poll({}, sslbp::doit(round.mask));
+      require_undisturbed(foreign_before);
       stats_.round_trips += idle.round_trips;
       ++stats_.replays;
       for (const Slot& slot : round.slots)
@@ -609,33 +623,53 @@ PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& pa
 }
 
 void PassthroughPort::require_no_foreign_packets(std::uint16_t received, std::uint64_t sent) {
-  const std::uint32_t moved = static_cast<std::uint16_t>(received - last_received_);
-  const std::uint64_t ours = sent - sent_at_last_;
+  const std::int64_t moved = static_cast<std::uint16_t>(received - last_received_);
+  const auto ours = static_cast<std::int64_t>(sent - sent_at_last_);
   last_received_ = received;
   sent_at_last_ = sent;
-  if (moved <= ours) return;
+  // Packets of ours that had not arrived at the last look (an unanswered one, a lost one)
+  // may arrive since: they are not another host's.
+  const std::int64_t missing = static_cast<std::int64_t>(missing_ours_) + ours - moved;
+  missing_ours_ = static_cast<std::uint64_t>(std::max<std::int64_t>(missing, 0));
+  if (missing >= 0) return;
   throw ForeignHostError(
-      "another host sent " + std::to_string(moved - ours) + " packet(s) to the card on " + describe() +
+      "another host sent " + std::to_string(-missing) + " packet(s) to the card on " + describe() +
       " during this exchange (LinuxCNC running?): its DOITs run the passthrough's commands "
       "too, so the results were discarded; stop that host and run the command again");
 }
 
+void PassthroughPort::require_undisturbed(std::uint64_t foreign_before) {
+  const std::uint64_t foreign = bus_->stats().foreign_arrivals - foreign_before;
+  if (foreign == 0) return;
+  throw ForeignHostError("the card on " + describe() + " received " + std::to_string(foreign) +
+                         " packet(s) that were not ours between a DOIT and the read of its result "
+                         "(another host, or a repeated datagram): the results were discarded");
+}
+
 PassthroughPort::PacketResult PassthroughPort::lost_reply(std::vector<Round>& packet,
                                                           std::vector<Channel>& channels) {
-  // The reply is lost, the packet maybe too. A read-only probe tells whether a DOIT still
-  // runs: then the packet arrived.
+  // The reply is lost, the packet maybe too, or only late. First the fence: until the card's
+  // count shows the packet arrived (or the bound passed), nothing else is sent, so a late
+  // copy cannot run after what follows. Then a read-only probe reads what it left.
+  const std::uint64_t foreign_before = bus_->stats().foreign_arrivals;
+  const FenceReport fence = bus_->fence();
   const Round& last = packet.back();
   const Completion probe = sslbp_->poll(interface0_addresses(last, channels), sslbp::doit(last.mask));
-  const bool was_busy = probe.round_trips > 1;
-  if (packet.size() == 1 && was_busy) {
-    complete_by_polling(packet.front(), channels, probe);  // its only DOIT ran: these are its results
+  require_undisturbed(foreign_before);
+  // Without a ledger (a transport that cannot fence) a DOIT still running is the evidence.
+  const bool arrived = fence.needed ? fence.all_arrived : probe.round_trips > 1;
+  if (packet.size() == 1 && arrived) {
+    // Its only DOIT ran and only read-only probes followed: these are its results.
+    complete_by_polling(packet.front(), channels, probe);
     return {};
   }
   stats_.round_trips += probe.round_trips;
   if (packet.front().alone)
-    throw link::TimeoutError("the reply from " + describe() +
-                             " was lost and the command cannot be resent safely: it may or may not have "
-                             "taken effect");
+    throw link::TimeoutError(
+        "the reply from " + describe() + " was lost and the command cannot be resent safely: " +
+        (fence.needed ? "the card had not received it " + std::to_string(fence.waited.count()) +
+                            " ms later, so it most likely did not take effect"
+                      : std::string("it may or may not have taken effect")));
   ++stats_.replays;
   return {PacketResult::Next::Resend, restore_round(packet, 0, channels)};
 }
