@@ -33,6 +33,14 @@ class ForeignHostError : public link::LinkError {
   using LinkError::LinkError;
 };
 
+// A packet of ours that had been given up on reached the card between two later ones
+// (fenced_transport.hpp): it ran on state the later ones share, so their results are
+// discarded and every cell the command touched must be read back.
+class LatePacketError : public link::LinkError {
+ public:
+  using LinkError::LinkError;
+};
+
 // The card is not what the target needs: no HostMot2 cookie, no SSERIAL module, no such
 // port or channel, no 8I20 on the channel.
 class DiscoveryError : public Error {

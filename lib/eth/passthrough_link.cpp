@@ -1,11 +1,15 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "eth/passthrough_link.hpp"
 
+#include "eth/fenced_transport.hpp"
+
 namespace i20::eth {
 
 std::unique_ptr<SslbpPassthroughLink> SslbpPassthroughLink::open(const EthTarget& target,
                                                                  PassthroughOptions options) {
-  auto bus = std::make_unique<UdpClient>(target.card.ip, target.card.port, options.udp);
+  // Fenced: a request the network delivers late must not run between our later packets.
+  auto bus = std::make_unique<FencedTransport>(
+      std::make_unique<UdpClient>(target.card.ip, target.card.port, options.udp), options.fence);
   return std::make_unique<SslbpPassthroughLink>(std::move(bus), target, std::move(options));
 }
 

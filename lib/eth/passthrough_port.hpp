@@ -69,6 +69,7 @@
 #include <vector>
 
 #include "eth/card.hpp"
+#include "eth/fenced_transport.hpp"
 #include "eth/passthrough_plan.hpp"
 #include "eth/running_host.hpp"
 #include "eth/sslbp_port.hpp"
@@ -81,6 +82,8 @@ namespace i20::eth {
 
 struct PassthroughOptions {
   UdpOptions udp;
+  // Late requests (fenced_transport.hpp): how long an unanswered one may still arrive.
+  FenceOptions fence;
   SslbpOptions sslbp;
   RunningHostCheck running_host;
   // Refuse a channel whose remote is not an 8I20 (INTERFACE1 after setup start).
@@ -139,7 +142,8 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   static std::shared_ptr<PassthroughPort> open(std::shared_ptr<Lbp16Transport> card, unsigned sserial_port,
                                                std::uint8_t channel_mask, PassthroughOptions options = {});
   // A SharedTransport over UDP to `card`, for the open() above.
-  static std::shared_ptr<Lbp16Transport> card_transport(const HostPort& card, const UdpOptions& options = {});
+  static std::shared_ptr<Lbp16Transport> card_transport(const HostPort& card, const UdpOptions& options = {},
+                                                        const FenceOptions& fence = {});
   // The same over any transport (tests inject faults here).
   PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned sserial_port, std::uint8_t channel_mask,
                   PassthroughOptions options = {});
@@ -221,6 +225,8 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   void describe_failures(std::vector<Channel>& channels);
   // `received`: RXUDPCount read in our latest packet; `sent`: our packets by then.
   void require_no_foreign_packets(std::uint16_t received, std::uint64_t sent);
+  // ForeignHostError when the transport's ledger counted foreign arrivals since `before`.
+  void require_undisturbed(std::uint64_t foreign_before);
   void lead_combined(std::unique_lock<std::mutex>& lock);
 
   std::shared_ptr<Lbp16Transport> bus_;
@@ -243,6 +249,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   // is another host's (require_no_foreign_packets).
   std::uint16_t last_received_ = 0;
   std::uint64_t sent_at_last_ = 0;
+  std::uint64_t missing_ours_ = 0;  // our packets the card had not counted at the last look
 
   mutable std::mutex execute_mutex_;  // one execute at a time on the wire
   PassthroughStats stats_;            // under execute_mutex_

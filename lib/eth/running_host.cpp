@@ -5,6 +5,7 @@
 #include <optional>
 #include <thread>
 
+#include "eth/batched_opening.hpp"
 #include "eth/errors.hpp"
 #include "lbp/bytes.hpp"
 #include "lbp/hostmot2.hpp"
@@ -21,10 +22,8 @@ struct Counters {
   std::uint16_t sent = 0;
 };
 
-// RXUDPCount (0x0A) through TXUDPCount (0x10): four 16-bit words in one command.
 lbp16::Command counters_read() {
-  return lbp16::read(lbp16::space::kStatus, kRxUdpCountAddress, lbp16::Width::Bits16,
-                     (kTxUdpCountAddress - kRxUdpCountAddress) / 2 + 1);
+  return udp_counters_read();
 }
 
 Counters counters_of(const lbp::Bytes& words) {
@@ -63,7 +62,57 @@ std::string what_command_is(std::uint32_t command) {
   return "a command";
 }
 
+// The window from `start` on: `between` COMMAND samples spread over it, then the last
+// sample with the counters at its end.
+HostActivity finish_window(Lbp16Transport& bus, std::span<const SserialPort> ports, const RunningHostCheck& check,
+                           HostActivity activity, std::chrono::steady_clock::time_point start, Counters first,
+                           std::uint64_t sent_after_first, unsigned between) {
+  std::uint64_t sent = 0;
+  const auto step = check.window / (between + 1);
+  for (unsigned i = 0; i < between; ++i) {
+    std::this_thread::sleep_until(start + step * (i + 1));
+    sample(bus, ports, false, activity, sent);
+  }
+  std::this_thread::sleep_until(start + check.window);
+  const Counters last = *sample(bus, ports, true, activity, sent);
+  activity.window =
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start);
+  // Every packet we sent after the first counter read was counted on the way in; every
+  // reply from the first one on was counted on the way out.
+  activity.own_packets = static_cast<std::uint32_t>(sent - sent_after_first);
+  activity.foreign_received = beyond(first.received, last.received, activity.own_packets);
+  activity.foreign_sent = beyond(first.sent, last.sent, activity.own_packets);
+  activity.last_received = last.received;
+  activity.sent_at_last = sent;
+  return activity;
+}
+
+HostActivity refuse_if_running(Lbp16Transport& bus, const RunningHostCheck& check, std::string_view action,
+                               HostActivity activity) {
+  if (check.take_over || !host_is_running(activity, check)) return activity;
+  std::string message = "refusing to " + std::string(action) + " on " + bus.describe();
+  message += ": another host is running the card (" + activity.describe() + "). ";
+  message += "Stop LinuxCNC first, or pass " + check.take_over_flag;
+  message += ": every axis on that port drops out";
+  throw RunningHostError(message, activity);
+}
+
 }  // namespace
+
+// RXUDPCount (0x0A) through TXUDPCount (0x10): four 16-bit words in one command.
+lbp16::Command udp_counters_read() {
+  return lbp16::read(lbp16::space::kStatus, kRxUdpCountAddress, lbp16::Width::Bits16,
+                     (kTxUdpCountAddress - kRxUdpCountAddress) / 2 + 1);
+}
+
+HostActivity require_no_running_host(Lbp16Transport& bus, std::span<const SserialPort> ports,
+                                     const RunningHostCheck& check, std::string_view action,
+                                     const CounterSample& first) {
+  const unsigned between = std::max(1u, check.command_samples) - 1;
+  return refuse_if_running(bus, check, action,
+                           finish_window(bus, ports, check, HostActivity{}, first.at, counters_of(first.reply),
+                                         first.sent, between));
+}
 
 std::string HostActivity::describe() const {
   const std::string in = " in " + std::to_string(window.count()) + " ms";

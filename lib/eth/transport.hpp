@@ -4,6 +4,7 @@
 // Tests put fault-injecting transports here; production uses UdpClient.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -30,6 +31,19 @@ struct TransportStats {
   std::uint64_t timeouts = 0;         // attempts that saw no acceptable reply in time
   std::uint64_t foreign_ignored = 0;  // datagrams from another address or port
   std::uint64_t stale_ignored = 0;    // late replies to earlier packets
+  // FencedTransport (fenced_transport.hpp):
+  std::uint64_t late_arrivals = 0;    // packets of ours the card received after a later one
+  std::uint64_t foreign_arrivals = 0;  // packets the card received that were not ours
+  std::uint64_t fences = 0;            // waits for unanswered writing packets to arrive
+  std::uint64_t lost_writers = 0;      // writing packets that had not arrived by a fence's bound
+};
+
+// What a fence found (Lbp16Transport::fence()).
+struct FenceReport {
+  bool needed = false;       // a writing packet of ours might still have been on its way
+  bool all_arrived = true;   // the card's count shows every packet of ours arrived
+  std::uint64_t missing = 0;  // packets of ours not arrived by the bound (taken as lost)
+  std::chrono::milliseconds waited{0};
 };
 
 // Space 4 WaituS (7I96S/7I92T manuals, "SPACE 4 LBP TIMER/UTILITY AREA"): writing it
@@ -57,6 +71,11 @@ class Lbp16Transport {
     return parts;
   }
 
+  // Waits until no packet of ours with writes can still reach the card (a no-op unless
+  // one went unanswered), so that what is read next is the truth. See fenced_transport.hpp;
+  // transports without a ledger have nothing to wait for.
+  virtual FenceReport fence() { return {}; }
+
   // "192.168.1.121" (":PORT" appended when not 27181), for messages.
   virtual std::string describe() const = 0;
 
@@ -80,6 +99,10 @@ class SharedTransport final : public Lbp16Transport {
     auto parts = inner_->transact(commands, resend);
     sent = inner_->stats().packets_sent;
     return parts;
+  }
+  FenceReport fence() override {
+    std::lock_guard lock(mutex_);
+    return inner_->fence();
   }
   std::string describe() const override { return inner_->describe(); }
   TransportStats stats() const override {

@@ -143,15 +143,15 @@ INSTANTIATE_TEST_SUITE_P(
             "i20: error: no reply from {CARD} within 30 ms (3 attempts); ignored 3 datagrams from another "
             "address or port"},
         HostileCase{"TruncatedReply", Spoil::Truncated, 0,
-                    "i20: error: {CARD} answered with 23 bytes where 24 were expected; reply ignored"},
+                    "i20: error: {CARD} answered with 1073 bytes where 1074 were expected; reply ignored"},
         HostileCase{"OversizedReply", Spoil::Oversized, 0,
-                    "i20: error: {CARD} answered with 28 bytes where 24 were expected; reply ignored"},
+                    "i20: error: {CARD} answered with 1078 bytes where 1074 were expected; reply ignored"},
         HostileCase{
             "StaleReplyOfTheFirstPacket", Spoil::Stale, 1,
             "i20: error: no reply from {CARD} within 30 ms (3 attempts); ignored 3 stale replies to earlier "
             "packets"},
         HostileCase{"TruncatedReplyDuringTheReads", Spoil::Truncated, 3,
-                    "i20: error: {CARD} answered with 589 bytes where 590 were expected; reply ignored"},
+                    "i20: error: {CARD} answered with 107 bytes where 108 were expected; reply ignored"},
         HostileCase{
             "AnswersFromAnotherPortDuringTheReads", Spoil::WrongSender, 3,
             "i20: error: no reply from {CARD} within 30 ms (3 attempts); ignored 3 datagrams from another "

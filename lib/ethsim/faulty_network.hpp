@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// A test utility: a UDP proxy between LBP16 clients and a card that delays, duplicates
+// and drops datagrams, the way a congested switch or a busy host can. Tests and the soak
+// put it between the tool and the virtual card to prove that a late or repeated request
+// never turns into a false "done".
+//
+//   ethsim::NetworkFaults faults{.seed = 7, .delay_share = 0.1};
+//   ethsim::FaultyNetwork proxy(card.address(), faults);   // listens on 127.0.0.1:<free>
+//   run i20 --eth proxy.address() ...;
+//   proxy.wait_idle(5s);                                   // everything held back delivered
+//
+// Each client endpoint gets a socket of its own towards the card, so every reply goes back
+// to the socket that sent its request (a NAT would do the same). The fault drawn for each
+// datagram depends only on the seed, the direction and the datagram's index in that
+// direction: a run is repeatable as far as the tool sends the same datagrams.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "eth/target.hpp"
+
+namespace i20::ethsim {
+
+struct NetworkFaults {
+  std::uint64_t seed = 1;
+  // Shares (0..1) of datagrams, drawn per datagram and per direction.
+  double delay_share = 0.0;      // held back by a delay in [min_delay, max_delay]
+  double duplicate_share = 0.0;  // sent twice, the copy after a delay in [0, max_delay]
+  double drop_share = 0.0;       // never delivered
+  std::chrono::milliseconds min_delay{80};
+  std::chrono::milliseconds max_delay{400};
+  bool requests = true;  // spoil tool-to-card datagrams
+  bool replies = true;   // spoil card-to-tool datagrams
+};
+
+struct NetworkStats {
+  std::uint64_t requests = 0, replies = 0;  // datagrams received from either side
+  std::uint64_t delayed = 0, duplicated = 0, dropped = 0;
+};
+
+class FaultyNetwork {
+ public:
+  FaultyNetwork(eth::HostPort card, NetworkFaults faults);
+  ~FaultyNetwork();
+  FaultyNetwork(const FaultyNetwork&) = delete;
+  FaultyNetwork& operator=(const FaultyNetwork&) = delete;
+
+  // "127.0.0.1:PORT": where the tool should send.
+  std::string address() const;
+  // Waits until a full pass over the sockets, begun after this call, found nothing to
+  // read and nothing held back: every datagram sent before the call (a delayed or
+  // duplicated one too) has been delivered. False when `limit` passed first.
+  bool wait_idle(std::chrono::milliseconds limit) const;
+  NetworkStats stats() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::thread thread_;
+};
+
+}  // namespace i20::ethsim
