@@ -65,7 +65,7 @@ int bench_main(int argc, char** argv) {
   std::vector<double> dump_process;
   for (int i = 0; i < runs; ++i) {
     const auto t0 = Clock::now();
-    if (run_quiet({bin + "/i20", "--port", sim.address(), "--no-user-params", "dump"}) != 0)
+    if (bench::run_quiet({bin + "/i20", "--port", sim.address(), "--no-user-params", "dump"}) != 0)
       throw std::runtime_error("i20 dump failed");
     dump_process.push_back(ms_since(t0));
   }
@@ -74,7 +74,7 @@ int bench_main(int argc, char** argv) {
   for (int i = 0; i < std::max(1, runs / 5); ++i) {
     const auto t0 = Clock::now();
     for (const auto* p : all)
-      if (run_quiet({bin + "/rpd", "--port", sim.address(), "--no-user-params", p->name}) != 0)
+      if (bench::run_quiet({bin + "/rpd", "--port", sim.address(), "--no-user-params", p->name}) != 0)
         throw std::runtime_error("rpd " + p->name + " failed");
     rpd_total.push_back(ms_since(t0));
   }

@@ -334,10 +334,10 @@ int bench_main(int argc, char** argv) {
   const ProcessCost dump =
       per_process(one.address(), {i20, "--no-user-params", "--eth", one.address(), "--channel", "0", "dump"},
                   process_runs);
-  std::printf("  UDP requests per i20 process (as the card counts them: RXUDPCount, mean of %d):
-", process_runs);
-  std::printf("    i20 --eth ADDR get BUSV  %6.2f requests %8.2f ms; the job itself (one read) %.2f\n", get.requests,
-              get.ms, after.ram_read.packets);
+  std::printf("  UDP requests per i20 process (as the card counts them: RXUDPCount, mean of %d):\n",
+              process_runs);
+  std::printf("    i20 --eth ADDR get BUSV  %6.2f requests %8.2f ms; the job itself (one read) %.2f\n",
+              get.requests, get.ms, after.ram_read.packets);
   std::printf("    i20 --eth ADDR dump      %6.2f requests %8.2f ms; the job itself (the dump) %.2f\n",
               dump.requests, dump.ms, after.dump.packets);
 

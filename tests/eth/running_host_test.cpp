@@ -141,7 +141,9 @@ TEST(EthRunningHost, PassthroughOpenIsRefusedBesideARunningMachineAndTheMachineR
     FAIL() << "setup start beside a running host";
   } catch (const RunningHostError& e) {
     EXPECT_NE(std::string(e.what()).find("another host is running the card"), std::string::npos) << e.what();
-    EXPECT_GT(e.activity().foreign_packets(), 10u) << e.what();
+    // A 1 ms servo loop sends ~30 in the 30 ms window on an idle machine; a loaded one
+    // schedules the stand-in late, so only "some" is a fact about the card.
+    EXPECT_GT(e.activity().foreign_packets(), 0u) << e.what();
   }
   // Nothing was stopped: the host's channel is still in normal mode and its DOITs work.
   EXPECT_EQ(mode_of(card), ethsim::ChannelMode::Normal);
