@@ -5,12 +5,6 @@
 //
 // Everything here is measured against i20sim (a pseudo-terminal with emulated wire
 // time), not a real 8I20 behind a real USB adapter.
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -22,8 +16,6 @@
 #include "device/amp.hpp"
 #include "link/serial_link.hpp"
 #include "sim_process.hpp"
-
-extern char** environ;
 
 namespace {
 
@@ -42,28 +34,12 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// Runs a program with stdout/stderr to /dev/null; returns its exit code.
-int run_quiet(const std::vector<std::string>& args) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-  std::vector<char*> argv;
-  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) != 0)
-    throw std::runtime_error("cannot start " + args[0]);
-  posix_spawn_file_actions_destroy(&actions);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 }  // namespace
 
-int main(int argc, char** argv) {
-  const int runs = argc > 1 ? std::atoi(argv[1]) : 15;
+namespace {
+
+int bench_main(int argc, char** argv) {
+  const int runs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 15;
   const std::string turnaround = std::to_string(kTurnaroundUs);
   bench::SimProcess sim({"--pty", "--wire-time", "--turnaround-us", turnaround});
   const std::string bin = I20_BIN_DIR;
@@ -89,7 +65,7 @@ int main(int argc, char** argv) {
   std::vector<double> dump_process;
   for (int i = 0; i < runs; ++i) {
     const auto t0 = Clock::now();
-    if (run_quiet({bin + "/i20", "--port", sim.address(), "--no-user-params", "dump"}) != 0)
+    if (bench::run_quiet({bin + "/i20", "--port", sim.address(), "--no-user-params", "dump"}) != 0)
       throw std::runtime_error("i20 dump failed");
     dump_process.push_back(ms_since(t0));
   }
@@ -98,7 +74,7 @@ int main(int argc, char** argv) {
   for (int i = 0; i < std::max(1, runs / 5); ++i) {
     const auto t0 = Clock::now();
     for (const auto* p : all)
-      if (run_quiet({bin + "/rpd", "--port", sim.address(), "--no-user-params", p->name}) != 0)
+      if (bench::run_quiet({bin + "/rpd", "--port", sim.address(), "--no-user-params", p->name}) != 0)
         throw std::runtime_error("rpd " + p->name + " failed");
     rpd_total.push_back(ms_since(t0));
   }
@@ -126,4 +102,10 @@ int main(int argc, char** argv) {
   std::printf("  one rpd process per parameter  %7.2f ms  = %.1fx the i20 dump process\n", rpd,
               rpd / dump_proc);
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return i20::bench::run_main([&] { return bench_main(argc, argv); });
 }

@@ -18,7 +18,9 @@
 
 #include "device/amp.hpp"
 #include "eth/passthrough_link.hpp"
+#include "eth/running_host.hpp"
 #include "eth/target.hpp"
+#include "eth/udp_client.hpp"
 #include "lbp/local.hpp"
 #include "sim_process.hpp"
 
@@ -78,6 +80,14 @@ std::vector<const params::Param*> dump_params(const params::ParamDb& db) {
   return all;
 }
 
+// The built-in database resolved for the firmware the card behind `link` reports.
+params::ParamDb resolved_db(link::Link& link) {
+  auto loaded = params::ParamDb::builtin();
+  const auto info = device::Amp8i20(link, loaded).info();
+  if (!info.swrevision) throw std::runtime_error("the card reported no SWREVISION");
+  return loaded.for_firmware(*info.swrevision);
+}
+
 struct OneAmp {
   Cost ram_read, nv_read, ram_write, nv_write, nv_write_one_batch, nv_write_two_batches, dump;
   std::size_t dump_size = 0;
@@ -123,7 +133,10 @@ OneAmp one_amp(const std::string& address, unsigned doits_per_packet, int runs) 
   options.max_doits_per_packet = doits_per_packet;
   auto link = eth::SslbpPassthroughLink::open(eth::make_target(address, 0), options);
   CountingLink counting(*link);
-  auto db = params::ParamDb::builtin();
+  // Resolved for the card's firmware, as a session does: the working addresses are
+  // confirmed only for the revision the simulator reports, and the benchmark writes only
+  // confirmed addresses (no --allow-unverified).
+  const auto db = resolved_db(counting);
   device::Amp8i20 amp(counting, db);
   amp.identify();
   auto& port = link->port();
@@ -238,6 +251,40 @@ Cost four_amps_one_by_one(const std::string& address, unsigned amps) {
   return total;
 }
 
+// UDP requests the card has received: space 6 RXUDPCount (7I96S manual, "SPACE 6 LBP
+// STATUS/CONTROL AREA"), 16 bits that wrap. The reading packet is counted on arrival, so
+// it is part of the value it reads.
+std::uint16_t requests_received(const eth::HostPort& card) {
+  namespace lbp16 = lbp::lbp16;
+  eth::UdpClient client(card.ip, card.port);
+  const auto read = lbp16::read(lbp16::space::kStatus, eth::kRxUdpCountAddress, lbp16::Width::Bits16);
+  return lbp16::words16(client.transact(std::span(&read, 1)).front()).front();
+}
+
+struct ProcessCost {
+  double requests = 0;  // UDP requests per process, everything included
+  double ms = 0;
+};
+
+// A whole program run against the card, `runs` times: its UDP requests as the card
+// counted them, and its wall time.
+ProcessCost per_process(const std::string& address, const std::vector<std::string>& command, int runs) {
+  const auto card = eth::parse_host_port(address);
+  ProcessCost c;
+  for (int i = 0; i < runs; ++i) {
+    const std::uint16_t before = requests_received(card);
+    const auto t0 = Clock::now();
+    if (bench::run_quiet(command) != 0)
+      throw std::runtime_error(command.at(0) + " failed against " + address);
+    c.ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    const std::uint16_t after = requests_received(card);
+    c.requests += static_cast<std::uint16_t>(after - before - 1);  // less the second read itself
+  }
+  c.requests /= runs;
+  c.ms /= runs;
+  return c;
+}
+
 void row(const char* what, const Cost& before, const Cost& after) {
   std::printf("  %-44s %6.2f   %6.2f  (%4.2f per execute)  %7.3f ms  serial %6.0f us\n", what, before.packets,
               after.packets, after.executes > 0 ? after.packets / after.executes : after.packets, after.ms,
@@ -246,8 +293,10 @@ void row(const char* what, const Cost& before, const Cost& after) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  const int runs = argc > 1 ? std::max(10, std::atoi(argv[1])) : 50;
+namespace {
+
+int bench_main(int argc, char** argv) {
+  const int runs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 50;
   bench::SimProcess one({"--eth", "127.0.0.1:0"});
   const OneAmp before = one_amp(one.address(), 1, runs);
   const OneAmp after = one_amp(one.address(), 0, runs);
@@ -276,6 +325,21 @@ int main(int argc, char** argv) {
       after.nv_write.executes);
   std::printf("  DOITs still busy at their read-back (polled or replayed): %llu\n",
               static_cast<unsigned long long>(after.late));
+
+  const std::string i20 = std::string(I20_BIN_DIR) + "/i20";
+  const int process_runs = std::max(1, runs / 10);
+  const ProcessCost get = per_process(
+      one.address(), {i20, "--no-user-params", "--eth", one.address(), "--channel", "0", "get", "BUSV"},
+      process_runs);
+  const ProcessCost dump =
+      per_process(one.address(), {i20, "--no-user-params", "--eth", one.address(), "--channel", "0", "dump"},
+                  process_runs);
+  std::printf("  UDP requests per i20 process (as the card counts them: RXUDPCount, mean of %d):\n",
+              process_runs);
+  std::printf("    i20 --eth ADDR get BUSV  %6.2f requests %8.2f ms; the job itself (one read) %.2f\n",
+              get.requests, get.ms, after.ram_read.packets);
+  std::printf("    i20 --eth ADDR dump      %6.2f requests %8.2f ms; the job itself (the dump) %.2f\n",
+              dump.requests, dump.ms, after.dump.packets);
 
   constexpr unsigned kAmps = 4;
   bench::SimProcess four({"--eth", "127.0.0.1:0", "--card", "7i92t", "--channels", std::to_string(kAmps)});
@@ -308,4 +372,10 @@ int main(int argc, char** argv) {
       after.nv_write_two_batches.packets, verdict(after.nv_write_two_batches.packets, 2),
       after.nv_write.packets, verdict(after.nv_write.packets, 2), after.nv_write.executes);
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return i20::bench::run_main([&] { return bench_main(argc, argv); });
 }

@@ -107,10 +107,55 @@ std::vector<lbp16::Command> tagged(std::span<const lbp16::Command> commands, std
   return packet;
 }
 
+std::string milliseconds_text(std::chrono::microseconds d) {
+  return std::to_string((d.count() + 999) / 1000) + " ms";
+}
+
 }  // namespace
 
+ReplyTimeout::ReplyTimeout(Duration floor, Duration ceiling)
+    : floor_(std::max(floor, Duration{1})), ceiling_(std::max(ceiling, floor_)) {}
+
+ReplyTimeout::Duration ReplyTimeout::clamp(Duration d) const {
+  return std::clamp(d, floor_, ceiling_);
+}
+
+void ReplyTimeout::measured(Duration round_trip) {
+  round_trip = std::max(round_trip, Duration{0});
+  if (!smoothed_) {
+    smoothed_ = round_trip;  // RFC 6298 2.2
+    deviation_ = round_trip / 2;
+  } else {
+    const Duration error = *smoothed_ > round_trip ? *smoothed_ - round_trip : round_trip - *smoothed_;
+    deviation_ = (3 * deviation_ + error) / 4;  // RFC 6298 2.3: beta 1/4, alpha 1/8
+    smoothed_ = (7 * *smoothed_ + round_trip) / 8;
+  }
+  backoffs_ = 0;  // a measurement replaces the backed-off value (RFC 6298 5.7)
+}
+
+void ReplyTimeout::timed_out() {
+  if (current() < ceiling_) ++backoffs_;
+}
+
+ReplyTimeout::Duration ReplyTimeout::current() const {
+  // RFC 6298 2.3: at least one clock tick above the mean, so a reply exactly as slow as the
+  // steady mean still fits; a millisecond, about what a busy host delays a thread by.
+  Duration d = smoothed_ ? clamp(*smoothed_ + std::max(4 * deviation_, Duration{1000})) : floor_;
+  for (unsigned i = 0; i < backoffs_ && d < ceiling_; ++i) d = clamp(2 * d);
+  return d;
+}
+
+ReplyTimeout::Duration ReplyTimeout::patience(unsigned attempts) const {
+  Duration total{0};
+  Duration d = current();
+  for (unsigned i = 0; i < attempts; ++i, d = clamp(2 * d)) total += d;
+  return total;
+}
+
 UdpClient::UdpClient(const std::string& ip, std::uint16_t port, UdpOptions options)
-    : impl_(std::make_unique<Impl>()), options_(options) {
+    : impl_(std::make_unique<Impl>()),
+      options_(options),
+      reply_timeout_(options.timeout, options.max_timeout) {
   require_ipv4(ip);
   impl_->card = udp::endpoint(asio::ip::make_address_v4(ip), port);
   impl_->name = HostPort{ip, port}.describe();
@@ -135,12 +180,17 @@ std::vector<lbp::Bytes> UdpClient::transact(std::span<const lbp16::Command> comm
   const unsigned attempts = 1 + (may_resend ? options_.retries : 0);
   const std::size_t prefix = options_.sequence_tags ? 2 : 0;
 
-  std::vector<std::uint16_t> tags;  // of this transaction's attempts: any of them is a valid reply
+  std::vector<std::uint16_t> tags;         // of this transaction's attempts: any of them is a valid reply
+  std::vector<Clock::time_point> sent_at;  // of each attempt, for the round trip of its reply
   const auto foreign_before = stats_.foreign_ignored;
   const auto stale_before = stats_.stale_ignored;
+  const auto held_back = requested_waits(commands);
+  std::chrono::microseconds waited{0};
   for (unsigned attempt = 0; attempt < attempts; ++attempt) {
     if (attempt > 0) ++stats_.resends;
-    stats_.stale_ignored += impl_->drain();
+    // Late replies to earlier transactions go. Between attempts of this one, a tagged reply
+    // to an earlier attempt is still the answer (the tag says so): keep it.
+    if (attempt == 0 || !options_.sequence_tags) stats_.stale_ignored += impl_->drain();
 
     const std::uint16_t tag = impl_->next_tag++;
     tags.push_back(tag);
@@ -150,36 +200,51 @@ std::vector<lbp::Bytes> UdpClient::transact(std::span<const lbp16::Command> comm
     const lbp::Bytes wire = lbp16::encode_packet(packet);
     const std::size_t expected = lbp16::reply_bytes(packet);
     impl_->send(wire);
+    sent_at.push_back(Clock::now());
     ++stats_.packets_sent;
     if (expected == 0) return std::vector<lbp::Bytes>(commands.size());  // untagged writes: no reply exists
 
-    const auto deadline = Clock::now() + options_.timeout + requested_waits(commands);
+    // A packet sent once waits as long as a resendable one over all its attempts.
+    const auto wait =
+        (may_resend ? reply_timeout_.current() : reply_timeout_.patience(1 + options_.retries)) + held_back;
+    const auto deadline = sent_at.back() + wait;
     while (auto datagram = impl_->receive(deadline)) {
       if (datagram->sender != impl_->card) {
         ++stats_.foreign_ignored;
         continue;
       }
       const lbp::ByteView reply(impl_->buffer.data(), datagram->size);
-      if (options_.sequence_tags && reply.size() >= 2) {
+      // Which attempt the reply answers: its echoed tag, or (untagged) only a first attempt.
+      std::optional<std::size_t> answers;
+      if (!options_.sequence_tags) {
+        if (attempt == 0) answers = 0;
+      } else if (reply.size() >= 2) {
         const auto echoed = static_cast<std::uint16_t>(lbp::read_le(reply.subspan(0, 2)));
-        if (std::find(tags.begin(), tags.end(), echoed) == tags.end()) {
+        const auto it = std::find(tags.begin(), tags.end(), echoed);
+        if (it == tags.end()) {
           ++stats_.stale_ignored;  // answers a packet we already gave up on
           continue;
         }
+        answers = static_cast<std::size_t>(it - tags.begin());
       }
       if (reply.size() != expected)
         throw BadReplyError(impl_->name + " answered with " + std::to_string(reply.size()) + " bytes where " +
                             std::to_string(expected) + " were expected; reply ignored");
       ++stats_.replies;
+      if (answers)
+        reply_timeout_.measured(
+            std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - sent_at[*answers]) -
+            held_back);
       auto parts = lbp16::split_reply(packet, reply);
       parts.erase(parts.begin(), parts.begin() + static_cast<std::ptrdiff_t>(prefix));
       return parts;
     }
     ++stats_.timeouts;
+    reply_timeout_.timed_out();
+    waited += wait;
   }
-  std::string message = "no reply from " + impl_->name + " within " +
-                        std::to_string(options_.timeout.count()) + " ms (" + std::to_string(attempts) +
-                        (attempts == 1 ? " attempt" : " attempts") + ")";
+  std::string message = "no reply from " + impl_->name + " within " + milliseconds_text(waited) + " (" +
+                        std::to_string(attempts) + (attempts == 1 ? " attempt" : " attempts") + ")";
   // What did arrive says where to look: another host or a NAT answering, or a late card.
   if (const auto n = stats_.foreign_ignored - foreign_before; n > 0)
     message += "; ignored " + std::to_string(n) + " datagram" + (n == 1 ? "" : "s") +

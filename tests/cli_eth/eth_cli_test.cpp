@@ -2,6 +2,7 @@
 // Issue 7 end to end: the toolkit's commands work unchanged through a 7I96S's SSLBP
 // passthrough, and one EEPROM image is one amplifier whichever way it is reached.
 #include <gtest/gtest.h>
+#include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -11,6 +12,7 @@
 #include <fstream>
 #include <thread>
 
+#include "fixtures.hpp"
 #include "harness.hpp"
 
 using namespace i20::test;
@@ -140,11 +142,33 @@ TEST(EthCli, FleetAppliesToSerialAndEthernetTargetsTogether) {
 
 namespace {
 
-// Waits up to 2 s for `path` to exist.
+// Waits up to 5 s for `path` to exist.
 bool appears(const std::filesystem::path& path) {
-  for (int i = 0; i < 100 && !std::filesystem::exists(path); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  return std::filesystem::exists(path);
+  return eventually([&] { return std::filesystem::exists(path); });
+}
+
+// The DOITs the simulator's LinuxCNC stand-in has run ("..., N DOITs (F failed)"), 0 before
+// it runs.
+unsigned long host_doits(const std::string& host) {
+  const auto end = host.find(" DOITs");
+  if (end == std::string::npos) return 0;
+  const auto begin = host.rfind(' ', end - 1);
+  return std::stoul(host.substr(begin + 1, end - begin - 1));
+}
+
+// Reads `fd` (a child's stdout) until a line containing `text` has come, for at most 30 s.
+bool prints(int fd, const std::string& text) {
+  std::string seen;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (seen.find(text) == std::string::npos && std::chrono::steady_clock::now() < deadline) {
+    pollfd p{.fd = fd, .events = POLLIN, .revents = 0};
+    if (poll(&p, 1, 100) <= 0) continue;
+    char buffer[512];
+    const ssize_t n = read(fd, buffer, sizeof buffer);
+    if (n <= 0) break;  // the child ended
+    seen.append(buffer, static_cast<std::size_t>(n));
+  }
+  return seen.find(text) != std::string::npos;
 }
 
 void write_line(const std::filesystem::path& fifo, const std::string& line) {
@@ -170,13 +194,10 @@ bool reads(const SimProcess& sim, const std::string& name, const std::string& ex
 
 TEST(EthCli, ScanIsRefusedBesideARunningMachineAndTakeOverSaysWhatItDid) {
   SimProcess card({"--running-host"}, Transport::Eth);  // a LinuxCNC stand-in, DOITs every 1 ms
-  // Until the stand-in runs (it starts on its own thread; a loaded machine delays it).
-  const auto host_runs = [&] {
-    const auto host = card.control("host");
-    return host.find(" DOITs") != std::string::npos && host.find(" 0 DOITs") == std::string::npos;
-  };
-  for (int i = 0; i < 250 && !host_runs(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  // Until the stand-in has run some cycles (it starts on its own thread; a loaded machine
+  // delays it).
+  ASSERT_TRUE(eventually([&] { return host_doits(card.control("host")) >= 50; }, std::chrono::seconds(30)))
+      << card.control("host");
   auto r = run_i20(eth(card), {"scan"});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("refusing to stop and scan the SSERIAL ports"), std::string::npos) << r.err;
@@ -204,7 +225,8 @@ TEST(EthCli, ScanIsRefusedBesideAWatch) {
   SimProcess card({}, Transport::Eth);
   const Child watch = start("i20", {"--no-user-params", "--eth", card.port(), "watch", "--plain",
                                     "--interval", "20", "--duration", "5"});
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  // Its first sample line: the watch runs the card in normal mode from now on.
+  ASSERT_TRUE(prints(watch.out_fd, "  BUSV ")) << "the watch never sampled";
   const auto r = run_i20(eth(card), {"scan"});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("another host is running the card"), std::string::npos) << r.err;

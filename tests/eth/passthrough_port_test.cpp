@@ -333,11 +333,14 @@ TEST(EthReadOnly, ALatchedFaultSurvivesAnyNumberOfPassthroughReads) {
   // Reading is read-only: a setup start does no device specific setup (8I20 manual, SETUP
   // START), so FAULT stays latched however often faults are looked at this way.
   test::RunningCard card;
+  const auto fault = [&] {
+    return card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) { return amp.amplifier().value("FAULT"); });
+  };
   card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) { amp.world().settings().enable = false; });
-  std::this_thread::sleep_for(10ms);
+  // The server's thread advances the 8I20's time: wait for the fault to latch, not a time.
+  ASSERT_TRUE(test::eventually([&] { return (fault() & 0x0002) != 0; })) << "NOENABLEFAULT never latched";
   card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) { amp.world().settings().enable = true; });
-  const std::uint64_t latched =
-      card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) { return amp.amplifier().value("FAULT"); });
+  const std::uint64_t latched = fault();
   ASSERT_TRUE(latched & 0x0002) << "NOENABLEFAULT latched, cause gone";
   const std::vector<lbp::Command> look{lbp::read(kFault, DataSize::Two), lbp::read(kStatus, DataSize::Two)};
   for (int i = 0; i < 5; ++i) {

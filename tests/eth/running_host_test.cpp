@@ -26,14 +26,20 @@ ethsim::ServerOptions with_running_host() {
   return o;
 }
 
-// Lets the stand-in get through its stop and normal start and run some cycles.
+// The DOITs the stand-in has run ("..., N DOITs (F failed)"), 0 before it runs.
+unsigned long host_doits(test::RunningCard& card) {
+  const auto status = card.server().host_status();
+  if (!status) return 0;
+  const auto end = status->find(" DOITs");
+  if (end == std::string::npos) return 0;
+  const auto begin = status->rfind(' ', end - 1);
+  return std::stoul(status->substr(begin + 1, end - begin - 1));
+}
+
+// Lets the stand-in get through its stop and normal start and run some cycles (a loaded
+// machine delays its thread: wait for the cycles, not for a time).
 void let_host_run(test::RunningCard& card) {
-  for (int i = 0; i < 100; ++i) {
-    const auto status = card.server().host_status();
-    if (status && status->find(" 0 DOITs") == std::string::npos) break;
-    std::this_thread::sleep_for(5ms);
-  }
-  std::this_thread::sleep_for(20ms);
+  ASSERT_TRUE(test::eventually([&] { return host_doits(card) >= 20; }, 30s)) << *card.server().host_status();
 }
 
 ethsim::ChannelMode mode_of(test::RunningCard& card) {
@@ -135,11 +141,14 @@ TEST(EthRunningHost, PassthroughOpenIsRefusedBesideARunningMachineAndTheMachineR
     FAIL() << "setup start beside a running host";
   } catch (const RunningHostError& e) {
     EXPECT_NE(std::string(e.what()).find("another host is running the card"), std::string::npos) << e.what();
-    EXPECT_GT(e.activity().foreign_packets(), 10u) << e.what();
+    // A 1 ms servo loop sends ~30 in the 30 ms window on an idle machine; a loaded one
+    // schedules the stand-in late, so only "some" is a fact about the card.
+    EXPECT_GT(e.activity().foreign_packets(), 0u) << e.what();
   }
   // Nothing was stopped: the host's channel is still in normal mode and its DOITs work.
   EXPECT_EQ(mode_of(card), ethsim::ChannelMode::Normal);
-  std::this_thread::sleep_for(20ms);
+  const auto doits = host_doits(card);
+  EXPECT_TRUE(test::eventually([&] { return host_doits(card) >= doits + 20; }, 30s)) << "the host runs on";
   EXPECT_NE(card.server().host_status()->find("(0 failed)"), std::string::npos)
       << *card.server().host_status();
 }
