@@ -11,15 +11,23 @@ set(CPACK_PACKAGE_VENDOR "i20tools")
 set(CPACK_PACKAGE_CONTACT "i20tools maintainers <i20tools@example.invalid>")
 # The first line of the Debian description; CPACK_PACKAGE_DESCRIPTION is the rest.
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "set up Mesa 8I20 servo amplifiers (LBP over RS-422 or Ethernet)")
+# Debian wants the extended description's lines at most 80 columns (lintian
+# extended-description-line-too-long): these are wrapped at 72.
 set(CPACK_PACKAGE_DESCRIPTION
-    "i20tools reads and writes the working and EEPROM parameters of Mesa 8I20 servo\n"
-    "amplifiers by name, decodes and clears their faults, tunes the current loop and\n"
-    "applies one motor profile to many amplifiers, over an RS-422 adapter or through a\n"
-    "7I96S/7I92T Ethernet card. It includes drop-in wpd/rpd replacements for Mesa's\n"
-    "WPD/RPD, exports profiles as LinuxCNC HAL setp lines, and ships a strict simulator\n"
-    "of the card (i20sim) for trying everything without hardware.")
+    "i20tools reads and writes the working and EEPROM parameters of Mesa\n"
+    "8I20 servo amplifiers by name, decodes and clears their faults, tunes\n"
+    "the current loop and applies one motor profile to many amplifiers,\n"
+    "over an RS-422 adapter or through a 7I96S/7I92T Ethernet card. It\n"
+    "includes drop-in wpd/rpd replacements for Mesa's WPD/RPD, exports\n"
+    "profiles as LinuxCNC HAL setp lines, and ships a strict simulator of\n"
+    "the card (i20sim) for trying everything without hardware.")
 string(REPLACE ";" "" CPACK_PACKAGE_DESCRIPTION "${CPACK_PACKAGE_DESCRIPTION}")
 set(CPACK_PACKAGE_INSTALL_DIRECTORY i20tools)
+# The license: GPL-2.0-or-later. A Debian control file has no license field; the package
+# states it in /usr/share/doc/i20tools/copyright (DEP-5, packaging/debian/copyright). The
+# generators that have a field or a license page get it here.
+set(CPACK_RESOURCE_FILE_LICENSE ${PROJECT_SOURCE_DIR}/LICENSE)
+set(CPACK_RPM_PACKAGE_LICENSE GPL-2.0-or-later)
 set(CPACK_STRIP_FILES ON)
 
 set(CPACK_DEBIAN_PACKAGE_NAME i20tools)
