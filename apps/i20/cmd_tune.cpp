@@ -190,7 +190,8 @@ std::vector<profile::Finding> write_profile(const Tuned& t, const TuneCliOptions
     options.motor.line_to_line_inductance_h = 2 * t.request.motor.inductance_h;
   const auto tuned = profile::tuning_profile(t.request, t.result, t.step, db, options);
   write_text_file(o.out, profile::to_yaml(tuned, db));
-  return profile::validate(profile::load_profile_file(o.out, db), db);
+  // Forced gains are validated as forced: loop-unstable is then the warning apply would give.
+  return profile::validate(profile::load_profile_file(o.out, db), db, {nullptr, o.force, std::nullopt});
 }
 
 app::Json gains_json(const profile::PhysicalGains& g) {
