@@ -3,6 +3,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cctype>
+#include <charconv>
+#include <cmath>
 #include <set>
 
 #include "params/data_file.hpp"
@@ -21,8 +24,18 @@ const std::set<std::string> kTopKeys{"schema", "name", "description", "motor", "
                                      "parameters",
                                      // `i20 report` files: the profile loader reads their parameters only
                                      "report"};
-const std::set<std::string> kMotorKeys{
-    "make", "model", "continuous_current", "peak_current", "phase_resistance", "phase_inductance"};
+const std::set<std::string> kMotorKeys{"make",
+                                       "model",
+                                       "continuous_current",
+                                       "peak_current",
+                                       "phase_resistance",
+                                       "phase_inductance",
+                                       "line_to_line_resistance",
+                                       "line_to_line_inductance",
+                                       "poles",
+                                       "pole_pairs"};
+// A motor with more poles than this is not one an 8I20 drives (and a typo more likely).
+constexpr int kMaxPoles = 200;
 const std::set<std::string> kSupplyKeys{"description", "bus_voltage"};
 const std::set<std::string> kEntryKeys{"value", "raw", "target"};
 
@@ -75,6 +88,41 @@ class Reader {
   std::string source_;
 };
 
+// The phase (line-to-neutral) value is half the line-to-line one. Both may be given, but
+// then they must agree: a data sheet's line-to-line figure typed as a phase value doubles
+// the gains computed from it.
+void phase_from_line_to_line(const Reader& r, const YAML::Node& node, const std::string& what,
+                             const std::optional<double>& line_to_line, std::optional<double>& phase) {
+  if (!line_to_line) return;
+  const double half = *line_to_line / 2.0;
+  if (phase && std::abs(*phase - half) > 0.01 * half)
+    r.fail(node["phase_" + what], "phase_" + what, "motor",
+           "is not half of line_to_line_" + what + " (give one of them, or values that agree)");
+  phase = half;
+}
+
+int whole_number(const Reader& r, const YAML::Node& node, const std::string& key, int lo, int hi) {
+  const std::string text = trim(r.text(node, key));
+  int value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || value < lo || value > hi)
+    r.fail(node, key, "motor",
+           "must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi));
+  return value;
+}
+
+void read_poles(const Reader& r, const YAML::Node& node, MotorInfo& motor) {
+  if (node["poles"]) {
+    motor.poles = whole_number(r, node["poles"], "poles", 2, kMaxPoles);
+    if (*motor.poles % 2 != 0) r.fail(node["poles"], "poles", "motor", "must be even (poles come in pairs)");
+  }
+  if (!node["pole_pairs"]) return;
+  const int pairs = whole_number(r, node["pole_pairs"], "pole_pairs", 1, kMaxPoles / 2);
+  if (motor.poles && *motor.poles != 2 * pairs)
+    r.fail(node["pole_pairs"], "pole_pairs", "motor", "disagrees with poles (pole_pairs is half of poles)");
+  motor.poles = 2 * pairs;
+}
+
 void read_motor(const Reader& r, const YAML::Node& node, MotorInfo& motor) {
   if (!node.IsMap()) r.fail(node, "motor", "schema", "must be a map (" + list_of(kMotorKeys) + ")");
   r.only_keys(node, kMotorKeys, "motor");
@@ -87,10 +135,18 @@ void read_motor(const Reader& r, const YAML::Node& node, MotorInfo& motor) {
     if (key == "peak_current") motor.peak_current_a = r.quantity(v, key, Quantity::Current);
     if (key == "phase_resistance") motor.phase_resistance_ohm = r.quantity(v, key, Quantity::Resistance);
     if (key == "phase_inductance") motor.phase_inductance_h = r.quantity(v, key, Quantity::Inductance);
+    if (key == "line_to_line_resistance")
+      motor.line_to_line_resistance_ohm = r.quantity(v, key, Quantity::Resistance);
+    if (key == "line_to_line_inductance")
+      motor.line_to_line_inductance_h = r.quantity(v, key, Quantity::Inductance);
   }
   if (motor.continuous_current_a && motor.peak_current_a &&
       *motor.peak_current_a < *motor.continuous_current_a)
     r.fail(node["peak_current"], "peak_current", "motor", "is below continuous_current");
+  phase_from_line_to_line(r, node, "resistance", motor.line_to_line_resistance_ohm,
+                          motor.phase_resistance_ohm);
+  phase_from_line_to_line(r, node, "inductance", motor.line_to_line_inductance_h, motor.phase_inductance_h);
+  read_poles(r, node, motor);
 }
 
 void read_supply(const Reader& r, const YAML::Node& node, SupplyInfo& supply) {

@@ -9,6 +9,7 @@ namespace i20::profile {
 
 bool MotorInfo::empty() const {
   return make.empty() && model.empty() && !continuous_current_a && !peak_current_a && !phase_resistance_ohm &&
+         !line_to_line_resistance_ohm && !line_to_line_inductance_h && !poles &&
          !phase_inductance_h;
 }
 

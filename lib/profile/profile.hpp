@@ -25,6 +25,13 @@ struct MotorInfo {
   std::optional<double> peak_current_a;        // RMS, the motor's maximum (demagnetisation) rating
   std::optional<double> phase_resistance_ohm;  // line to neutral (half the line-to-line value)
   std::optional<double> phase_inductance_h;    // line to neutral (half the line-to-line value)
+  // As data sheets give them, measured between two motor leads. The loader derives the
+  // phase values (half of these: the equivalent star, for star and delta windings alike).
+  std::optional<double> line_to_line_resistance_ohm;
+  std::optional<double> line_to_line_inductance_h;
+  // Documentation for the LinuxCNC side of the machine (e.g. the pole count a commutation
+  // or bldc configuration asks for); the 8I20 does not use it. Given as poles or pole_pairs.
+  std::optional<int> poles;
 
   bool empty() const;
 };

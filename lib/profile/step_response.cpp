@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "profile/error.hpp"
@@ -14,6 +15,9 @@ constexpr std::size_t kMinSamples = 24;
 constexpr double kTimeConstants = 6.0;  // a first-order loop is within 0.25% by then
 constexpr std::size_t kMaxSamples = 200000;
 constexpr double kSettleBand = 0.02;
+// A loop that has not settled after this many of its slowest time constants never will:
+// simulating on (up to kMaxSamples, 16.7 s) only stretches the plot's time axis.
+constexpr double kSettleWindows = 10.0;
 
 void require_positive(double value, const char* what) {
   if (!(value > 0) || !std::isfinite(value))
@@ -80,7 +84,53 @@ StepMetrics measure(const std::vector<StepSample>& s, double step, double vmax) 
   return m;
 }
 
+// The slowest of: the closed loop (L / Kp), the winding (L / R), the integrator's zero
+// (Kp / Ki, which hand-set gains may put far from the winding's pole) and the ramp at the
+// voltage limit (L * step / Vmax, a large step on a low bus).
+double slowest_time_constant(const Loop& loop, const MotorModel& motor) {
+  double slowest = std::max(motor.inductance_h / loop.kp, motor.inductance_h / motor.resistance_ohm);
+  if (loop.ki > 0) slowest = std::max(slowest, loop.kp / loop.ki);
+  return std::max(slowest, motor.inductance_h * loop.step / loop.vmax);
+}
+
+std::string percent(double value) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f%%", value);
+  return buf;
+}
+
 }  // namespace
+
+LoopVerdict judge_step(const StepResponse& response) {
+  const StepMetrics& m = response.metrics;
+  const bool settled = m.settling_time_s && std::abs(m.final_error_pct) <= kMaxFinalErrorPct;
+  const bool overshoots = m.overshoot_pct > kMaxAcceptedOvershootPct;
+  if (settled && !overshoots) return {};
+  std::string reason = "the model's current step ";
+  if (overshoots)
+    reason += "overshoots " + percent(m.overshoot_pct) + " (at most " + percent(kMaxAcceptedOvershootPct) +
+              " is accepted)";
+  if (overshoots && !settled) reason += " and ";
+  if (!settled) {
+    char buf[64];
+    const double window_ms = response.samples.empty() ? 0 : response.samples.back().t_s * 1e3;
+    std::snprintf(buf, sizeof buf, "does not settle within %.3g ms", window_ms);
+    reason += buf;
+  }
+  return {false, reason};
+}
+
+LoopVerdict judge_gains(const MotorModel& motor, double max_current_a, double bus_voltage_v, std::int64_t kp,
+                        std::int64_t ki, const ReferenceTuning& reference) {
+  StepRequest request;
+  request.motor = motor;
+  request.max_current_a = max_current_a;
+  request.bus_voltage_v = bus_voltage_v;
+  request.kp = kp;
+  request.ki = ki;
+  request.reference = reference;
+  return judge_step(simulate_step(request));
+}
 
 StepResponse simulate_step(const StepRequest& r) {
   require_positive(r.motor.resistance_ohm, "the motor's phase resistance");
@@ -108,13 +158,17 @@ StepResponse simulate_step(const StepRequest& r) {
     const auto n = static_cast<std::size_t>(std::ceil(r.duration_s * r.sample_rate_hz - 1e-6)) + 1;
     out.samples = loop.run(std::clamp(n, std::size_t{2}, kMaxSamples));
   } else {
-    // A few closed-loop time constants (L / Kp), longer until the response has settled.
+    // A few closed-loop time constants (L / Kp), longer until the response has settled,
+    // but no longer than the slowest thing the loop can do could need.
     const double tau = r.motor.inductance_h / loop.kp;
+    const std::size_t longest = std::clamp(
+        static_cast<std::size_t>(kSettleWindows * slowest_time_constant(loop, r.motor) * r.sample_rate_hz),
+        kMinSamples, kMaxSamples);
     auto n = std::max(kMinSamples, static_cast<std::size_t>(kTimeConstants * tau * r.sample_rate_hz));
-    for (n = std::min(n, kMaxSamples);; n = std::min(2 * n, kMaxSamples)) {
+    for (n = std::min(n, longest);; n = std::min(2 * n, longest)) {
       out.samples = loop.run(n);
       const auto m = measure(out.samples, out.step_a, out.voltage_limit_v);
-      if ((m.settling_time_s && std::abs(m.final_error_pct) < 1.0) || n == kMaxSamples) break;
+      if ((m.settling_time_s && std::abs(m.final_error_pct) < 1.0) || n == longest) break;
     }
   }
   out.metrics = measure(out.samples, out.step_a, out.voltage_limit_v);

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "profile/tune.hpp"
@@ -28,7 +29,7 @@ struct StepRequest {
   ReferenceTuning reference;
   double step_a = 0;  // 0: half of MAXCURRENT
   double sample_rate_hz = 12000;
-  double duration_s = 0;  // 0: long enough to settle (6 closed-loop time constants or more)
+  double duration_s = 0;  // 0: long enough to settle, at most 10 of the loop's slowest time constants
 };
 
 struct StepSample {
@@ -58,5 +59,26 @@ struct StepResponse {
 
 // Throws TuneError for non-physical inputs (as tune() does).
 StepResponse simulate_step(const StepRequest& request);
+
+// The most overshoot the tool accepts from its own model. A PI current loop designed by
+// pole-zero cancellation overshoots about 5% at the highest bandwidth tune() calls damped
+// (wc*T = 0.35); 20% leaves room for gains rounded to whole counts and a reference that is
+// not this motor, while a loop that rings harder than that is one the model calls unstable.
+inline constexpr double kMaxAcceptedOvershootPct = 20.0;
+// A step that ends further than this from its command has not settled.
+inline constexpr double kMaxFinalErrorPct = 2.0;
+
+// Whether the model calls these gains usable: the step settles within the simulated window
+// and overshoots at most kMaxAcceptedOvershootPct. `reason` says why not, in one phrase.
+struct LoopVerdict {
+  bool acceptable = true;
+  std::string reason;
+};
+LoopVerdict judge_step(const StepResponse& response);
+
+// The verdict on card gains kp/ki (KQP/KQI or KDP/KDI) for this motor, MAXCURRENT and bus:
+// the step simulate_step() draws, judged by judge_step(). Throws TuneError as it does.
+LoopVerdict judge_gains(const MotorModel& motor, double max_current_a, double bus_voltage_v, std::int64_t kp,
+                        std::int64_t ki, const ReferenceTuning& reference = {});
 
 }  // namespace i20::profile

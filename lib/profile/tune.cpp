@@ -12,9 +12,6 @@ namespace i20::profile {
 namespace {
 
 constexpr double kCardMaxCurrentA = 30.0;
-// With a one-period delay, the loop z^2 - z + wc*T = 0 is critically damped at wc*T = 0.25
-// and overshoots about 5% at 0.35 (~670 Hz at 12 kHz); beyond that it rings.
-constexpr double kMaxDampedWcT = 0.35;
 // Below this many counts, rounding to an integer moves the gain by 5% or more.
 constexpr double kCoarseCounts = 10.0;
 

@@ -10,6 +10,7 @@
 #include "params/value.hpp"
 #include "profile/effective.hpp"
 #include "profile/error.hpp"
+#include "profile/step_response.hpp"
 
 namespace i20::profile {
 namespace {
@@ -140,8 +141,8 @@ class Checker {
               cell + " " + std::to_string(s.raw) + " is not an index of the manual's baud rate table (0..11)",
               &s);
         if (base == "MAXCURRENT" && engineering > kCardMaxCurrentA + 1e-9)
-          add(Severity::Error, cell, "maxcurrent-card", text + " (profile) is above the 8I20's 30 A RMS rating",
-              &s);
+          add(Severity::Error, cell, "maxcurrent-card",
+              text + " (profile) is above the 8I20's 30 A RMS rating", &s);
         if (base == "BRAKEONV" && engineering > kFixedBrakeOnV + 1e-9)
           add(Severity::Error, cell, "brake-on-limit",
               text + " (profile) is above the fixed 385 V brake-on that protects the 8I20 module", &s);
@@ -181,6 +182,32 @@ class Checker {
     gain_match("KQI", "KDI", "ki-match");
     supply_rules();
     measured_bus_rules();
+    current_loop_rules();
+  }
+
+  // The PI gains of both axes, simulated on the profile's own motor by the tuning model
+  // (lib/profile/step_response.hpp): gains the model calls unstable are refused, as
+  // `i20 tune` refuses to write them. Needs the motor's R and L and a bus voltage.
+  void current_loop_rules() {
+    const auto& motor = profile_.motor;
+    const auto bus = profile_.supply.bus_voltage_v ? profile_.supply.bus_voltage_v : context_.measured_bus_v;
+    if (!motor.phase_resistance_ohm || !motor.phase_inductance_h || !bus) return;
+    const auto max = value("MAXCURRENT");
+    for (const auto& [kp_name, ki_name] : {std::pair{"KQP", "KQI"}, std::pair{"KDP", "KDI"}}) {
+      const auto kp = value(kp_name), ki = value(ki_name);
+      if (!max || !kp || !ki || !touched({max, kp, ki}) || max->raw <= 0 || kp->raw <= 0) continue;
+      LoopVerdict verdict;
+      try {
+        verdict = judge_gains({*motor.phase_resistance_ohm, *motor.phase_inductance_h}, max->engineering(),
+                              *bus, kp->raw, ki->raw);
+      } catch (const TuneError&) {
+        continue;  // non-physical motor data is the loader's to refuse
+      }
+      if (verdict.acceptable) continue;
+      add(context_.force ? Severity::Warning : Severity::Error, pick({kp, ki, max}), "loop-unstable",
+          kp->describe() + " with " + ki->describe() + " on this motor: " + verdict.reason +
+              (context_.force ? " (forced)" : "; lower the gains (i20 tune) or apply with force"));
+    }
   }
 
   void brake_rules() {

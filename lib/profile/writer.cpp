@@ -74,6 +74,13 @@ void write_motor(std::ostringstream& out, const MotorInfo& m) {
     out << "  phase_resistance: " << format_quantity(Quantity::Resistance, *m.phase_resistance_ohm) << "\n";
   if (m.phase_inductance_h)
     out << "  phase_inductance: " << format_quantity(Quantity::Inductance, *m.phase_inductance_h) << "\n";
+  if (m.line_to_line_resistance_ohm)
+    out << "  line_to_line_resistance: "
+        << format_quantity(Quantity::Resistance, *m.line_to_line_resistance_ohm) << "\n";
+  if (m.line_to_line_inductance_h)
+    out << "  line_to_line_inductance: "
+        << format_quantity(Quantity::Inductance, *m.line_to_line_inductance_h) << "\n";
+  if (m.poles) out << "  poles: " << *m.poles << "\n";
 }
 
 void write_supply(std::ostringstream& out, const SupplyInfo& s) {

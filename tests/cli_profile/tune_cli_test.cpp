@@ -146,3 +146,82 @@ TEST(TuneCli, MissingOrNonsenseInputsAreNamed) {
   r = tune({"tune", "--from", shipped("defaults.yaml")});
   EXPECT_EQ(r.exit_code, 2) << "defaults.yaml has no motor: " << r.out;
 }
+
+// The issue's reproduction: 2 kHz on a 0.6 ohm, 1.75 mH motor rings (overshoot 118%) and
+// never settles. tune refuses (exit 3) and writes neither the profile nor the plot.
+TEST(TuneCli, GainsTheModelCallsUnstableAreRefusedAndNothingIsWritten) {
+  TempDir dir;
+  const auto out = (dir / "t.yaml").string();
+  const auto svg = (dir / "t.svg").string();
+  const std::vector<std::string> hot{"tune",          "-R",  "0.6ohm", "-L",    "1.75mH",
+                                     "--max-current", "15A", "--bus",  "320V",  "--bandwidth",
+                                     "2000Hz",        "-o",  out,      "--svg", svg};
+  auto r = tune(hot);
+  EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
+  EXPECT_NE(r.err.find("refused"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("does not settle"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--force"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nothing written"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_FALSE(std::filesystem::exists(svg));
+  EXPECT_NE(r.out.find("KQP = KDP"), std::string::npos) << "the prediction is still shown: " << r.out;
+  // The plot's time axis stays in milliseconds of the loop, not the 16666 ms it read.
+  EXPECT_EQ(r.out.find("16666"), std::string::npos) << r.out;
+
+  // --force writes it, says so, and validate then refuses the profile as apply would.
+  auto forced = hot;
+  forced.push_back("--force");
+  r = tune(forced);
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.err.find("warning: forced"), std::string::npos) << r.err;
+  ASSERT_TRUE(std::filesystem::exists(out));
+  r = run("i20", {"profile", "validate", out});
+  EXPECT_NE(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("loop-unstable"), std::string::npos) << r.out;
+
+  auto j = json(tune({"--json", "tune", "-R", "0.6ohm", "-L", "1.75mH", "--max-current", "15A", "--bus",
+                      "320V", "--bandwidth", "2000Hz"}));
+  EXPECT_FALSE(j["stable"].as<bool>());
+  EXPECT_TRUE(j["refused"].as<bool>());
+}
+
+// A data sheet's line-to-line 4 ohm / 12 mH is the reference motor's 2 ohm / 6 mH phase.
+TEST(TuneCli, LineToLineValuesAreHalvedAndSaidSo) {
+  TempDir dir;
+  const auto out = (dir / "t.yaml").string();
+  auto r = tune({"tune", "-R", "4ohm", "-L", "12mH", "--line-to-line", "--max-current", "8A", "--bus", "340V",
+                 "-o", out});
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("KQP = KDP = 50 "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("half the line-to-line values given"), std::string::npos) << r.out;
+  const auto text = slurp_file(out);
+  EXPECT_NE(text.find("line_to_line_resistance: 4"), std::string::npos) << text;
+  EXPECT_NE(text.find("phase_resistance: 2"), std::string::npos) << text;
+  r = tune({"tune", "--line-to-line", "--max-current", "8A", "--bus", "340V"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+}
+
+// Without a MAXCURRENT setting, the motor's peak current is what the manual says to set.
+TEST(TuneCli, MotorPeakCurrentIsTheDefaultMaxCurrent) {
+  TempDir dir;
+  const auto motor = (dir / "motor.yaml").string();
+  write_file(motor,
+             "name: servo\nmotor:\n  peak_current: 8 A\n  line_to_line_resistance: 4 ohm\n"
+             "  line_to_line_inductance: 12 mH\n  pole_pairs: 4\nsupply:\n  bus_voltage: 340 V\n"
+             "parameters:\n  NVKQP: 50\n");
+  const auto out = (dir / "t.yaml").string();
+  auto j = json(tune({"--json", "tune", "--from", motor}));
+  EXPECT_EQ(j["kqp"].as<int>(), 50);
+  EXPECT_EQ(j["kqi"].as<int>(), 150000);
+  EXPECT_DOUBLE_EQ(j["inputs"]["max_current_a"].as<double>(), 8.0);
+  EXPECT_EQ(j["max_current_from"].as<std::string>(), "the motor's peak current");
+  auto r = tune({"tune", "--from", motor, "-o", out});
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("(the motor's peak current)"), std::string::npos) << r.out;
+  // The profile carries the motor it was computed for: its ratings, data and poles.
+  const auto text = slurp_file(out);
+  EXPECT_NE(text.find("peak_current: 8"), std::string::npos) << text;
+  EXPECT_NE(text.find("line_to_line_inductance: 12"), std::string::npos) << text;
+  EXPECT_NE(text.find("poles: 8"), std::string::npos) << text;
+  EXPECT_NE(text.find("NVMAXCURRENT: 8"), std::string::npos) << text;
+}

@@ -179,3 +179,56 @@ TEST(TunePlot, TextPlotIsCompact) {
   EXPECT_TRUE(std::ranges::all_of(ascii, [](char c) { return static_cast<unsigned char>(c) < 0x80; }));
   EXPECT_NE(ascii.find('#'), std::string::npos);
 }
+
+// The verdict `i20 tune` and `profile validate` share: a well-tuned loop passes, one that
+// rings past kMaxAcceptedOvershootPct or never settles does not.
+TEST(TuneVerdict, AWellDampedLoopIsAccepted) {
+  const auto verdict = judge_step(tuned_step(400.0));
+  EXPECT_TRUE(verdict.acceptable) << verdict.reason;
+  EXPECT_TRUE(verdict.reason.empty());
+}
+
+TEST(TuneVerdict, TooMuchBandwidthIsCalledUnstableAndSaysWhy) {
+  // 0.6 ohm, 1.75 mH at 15 A on a 320 V bus, 2 kHz: wc*T = 1.05, far past the damped 0.35.
+  TuneRequest r;
+  r.motor = {0.6, 1.75e-3};
+  r.max_current_a = 15.0;
+  r.bus_voltage_v = 320.0;
+  r.bandwidth_hz = 2000.0;
+  const auto t = tune(r, db());
+  const auto step = simulate_step({r.motor, r.max_current_a, r.bus_voltage_v, t.kp, t.ki, {}, 0, 12000, 0});
+  const auto verdict = judge_step(step);
+  EXPECT_FALSE(verdict.acceptable);
+  EXPECT_NE(verdict.reason.find("does not settle"), std::string::npos) << verdict.reason;
+  EXPECT_EQ(judge_gains(r.motor, r.max_current_a, r.bus_voltage_v, t.kp, t.ki).reason, verdict.reason);
+}
+
+TEST(TuneVerdict, OvershootPastTheBoundIsNamed) {
+  // 900 Hz rings (> 10%, TooMuchBandwidthOvershoots); find a bandwidth that settles but
+  // overshoots past the accepted bound, and one just inside it.
+  bool named = false;
+  for (double hz = 700; hz <= 1500 && !named; hz += 50) {
+    const auto step = tuned_step(hz);
+    const auto verdict = judge_step(step);
+    EXPECT_EQ(verdict.acceptable, step.metrics.settling_time_s.has_value() &&
+                                      step.metrics.overshoot_pct <= kMaxAcceptedOvershootPct &&
+                                      std::abs(step.metrics.final_error_pct) <= kMaxFinalErrorPct)
+        << hz << " Hz";
+    named = verdict.reason.find("overshoots") != std::string::npos;
+  }
+  EXPECT_TRUE(named) << "some bandwidth up to 1.5 kHz overshoots more than the bound";
+}
+
+TEST(TuneVerdict, ALoopThatNeverSettlesIsNotSimulatedForSeconds) {
+  // It was simulated up to 200000 samples (16.7 s), which the plot's axis then showed.
+  TuneRequest r;
+  r.motor = {0.6, 1.75e-3};
+  r.max_current_a = 15.0;
+  r.bus_voltage_v = 320.0;
+  r.bandwidth_hz = 2000.0;
+  const auto t = tune(r, db());
+  const auto step = simulate_step({r.motor, r.max_current_a, r.bus_voltage_v, t.kp, t.ki, {}, 0, 12000, 0});
+  // Ten of the slowest time constants: here the winding's L/R, 2.9 ms.
+  EXPECT_LT(step.samples.back().t_s, 0.05);
+  EXPECT_GT(step.samples.back().t_s, 0.02);
+}

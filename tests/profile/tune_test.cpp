@@ -183,3 +183,68 @@ TEST(TuneProfile, ResultIsAProfileReadyToValidateAndApply) {
   EXPECT_NE(yaml.find("starting point"), std::string::npos);
   EXPECT_NE(yaml.find("Predicted step"), std::string::npos);
 }
+
+namespace {
+// A profile with only this motor block (a profile needs a parameters map).
+std::string motor_yaml(const std::string& motor_lines) {
+  return "name: m\nmotor:\n" + motor_lines + "parameters:\n  NVKQP: 50\n";
+}
+}  // namespace
+
+// Data sheets give R and L between two leads: the loader halves them (the equivalent star).
+TEST(MotorData, LineToLineValuesGiveHalfAsPhaseValues) {
+  const auto p =
+      load(motor_yaml("  line_to_line_resistance: 4 ohm\n  line_to_line_inductance: 12 mH\n  poles: 8\n"));
+  EXPECT_DOUBLE_EQ(*p.motor.phase_resistance_ohm, 2.0);
+  EXPECT_DOUBLE_EQ(*p.motor.phase_inductance_h, 6e-3);
+  EXPECT_EQ(*p.motor.poles, 8);
+  // Written back as given, and loading that again gives the same motor.
+  const auto again = load(to_yaml(p, db()));
+  EXPECT_DOUBLE_EQ(*again.motor.line_to_line_resistance_ohm, 4.0);
+  EXPECT_DOUBLE_EQ(*again.motor.phase_inductance_h, 6e-3);
+  EXPECT_EQ(*again.motor.poles, 8);
+}
+
+TEST(MotorData, PhaseAndLineToLineMustAgree) {
+  EXPECT_EQ(load_error(motor_yaml("  phase_resistance: 4 ohm\n  line_to_line_resistance: 4 ohm\n")).key(),
+            "phase_resistance");
+  const auto p = load(motor_yaml("  phase_inductance: 6 mH\n  line_to_line_inductance: 12 mH\n"));
+  EXPECT_DOUBLE_EQ(*p.motor.phase_inductance_h, 6e-3);
+}
+
+TEST(MotorData, PolesAndPolePairsAreWholeAndAgree) {
+  EXPECT_EQ(*load(motor_yaml("  pole_pairs: 5\n")).motor.poles, 10);
+  EXPECT_EQ(load_error(motor_yaml("  poles: 7\n")).key(), "poles");
+  EXPECT_EQ(load_error(motor_yaml("  poles: 2.5\n")).key(), "poles");
+  EXPECT_EQ(load_error(motor_yaml("  poles: 0\n")).key(), "poles");
+  EXPECT_EQ(load_error(motor_yaml("  poles: 8\n  pole_pairs: 3\n")).key(), "pole_pairs");
+  EXPECT_EQ(*load(motor_yaml("  poles: 8\n  pole_pairs: 4\n")).motor.poles, 8);
+}
+
+// profile validate judges a profile's gains on its own motor with the model tune uses.
+TEST(MotorData, ValidateRefusesGainsTheModelCallsUnstable) {
+  const std::string motor =
+      "motor:\n  phase_resistance: 0.6 ohm\n  phase_inductance: 1.75 mH\nsupply:\n  bus_voltage: 320 V\n";
+  // What `i20 tune ... --bandwidth 2000Hz --force` computes for this motor at 15 A.
+  TuneRequest r;
+  r.motor = {0.6, 1.75e-3};
+  r.max_current_a = 15.0;
+  r.bus_voltage_v = 320.0;
+  r.bandwidth_hz = 2000.0;
+  const auto hot = tune(r, db());
+  r.bandwidth_hz = 400.0;
+  const auto calm = tune(r, db());
+  const auto gains = [](const TuneResult& t) {
+    return "  NVMAXCURRENT: 15 A\n  NVKQP: " + std::to_string(t.kp) + "\n  NVKDP: " + std::to_string(t.kp) +
+           "\n  NVKQI: " + std::to_string(t.ki) + "\n  NVKDI: " + std::to_string(t.ki) + "\n";
+  };
+  auto findings = validate(load(with_params(gains(hot), motor)), db());
+  EXPECT_TRUE(has_rule(findings, "loop-unstable", Severity::Error)) << dump(findings);
+  findings = validate(load(with_params(gains(hot), motor)), db(), {nullptr, true, std::nullopt});
+  EXPECT_TRUE(has_rule(findings, "loop-unstable", Severity::Warning)) << "forced: " << dump(findings);
+  findings = validate(load(with_params(gains(calm), motor)), db());
+  EXPECT_FALSE(has_rule(findings, "loop-unstable")) << dump(findings);
+  // Without the motor's R and L the model has nothing to judge.
+  findings = validate(load(with_params(gains(hot))), db());
+  EXPECT_FALSE(has_rule(findings, "loop-unstable")) << dump(findings);
+}
