@@ -136,7 +136,7 @@ TEST_F(Refusals, EveryOutputFileIsCheckedBeforeTheCardIsOpened) {
   refused_before_any_byte({"profile", "save", existing}, "exists");
   refused_before_any_byte({"profile", "save", nowhere}, "does not exist");
   refused_before_any_byte({"discover", "-o", nowhere, "--yes"}, "does not exist");
-  refused_before_any_byte({"profile", "export", shipped("line-120v.yaml"), "-o", existing}, "exists");
+  refused_before_any_byte({"profile", "export", shipped("line-120v.yaml"), "--setsserial", "-o", existing}, "exists");
   // A backup folder that cannot be one (a file is in its place) refuses the apply unsent.
   refused_before_any_byte(
       {"profile", "apply", shipped("line-120v.yaml"), "--yes", "--backup-dir", existing + "/sub"}, "is a file");

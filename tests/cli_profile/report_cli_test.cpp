@@ -123,7 +123,7 @@ TEST_F(Report, RefusesToReplaceAFileUnlessAsked) {
   const auto r = i20({"report", "-o", file.string()}, sim);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err, "i20: error: " + file.string() +
-                       " exists; pass --overwrite to replace it (or choose another name with -o)\n");
+                       " exists; pass --overwrite to replace it (or choose another name)\n");
   std::ifstream in(file);
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "keep me\n");
   EXPECT_EQ(i20({"report", "-o", file.string(), "--overwrite"}, sim).exit_code, 0);
