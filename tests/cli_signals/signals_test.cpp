@@ -69,13 +69,16 @@ class Tool {
   Tool& operator=(const Tool&) = delete;
 
   void signal(int sig) const { ::kill(pid_, sig); }
+  int killed_by() const { return killed_by_; }  // the signal that ended it, 0 if it exited
   // The reader of stdout exits (`i20 ... | head -1` after its line): later writes fail.
   void close_stdout_reader() {
     ::close(out_);
     out_ = -1;
   }
-  // Runs to the end (killed after kValue). exit_code is 128 + N when signal N ended it.
+  // Runs to the end (killed after kPatience). exit_code is 128 + N when signal N ended it
+  // (so 130 for SIGINT: killed_by() tells a death by the signal from a report).
   Result wait() {
+    if (pid_ <= 0) return result_;
     const auto deadline = std::chrono::steady_clock::now() + kPatience;
     while (pump() && std::chrono::steady_clock::now() < deadline) {
     }
@@ -84,6 +87,7 @@ class Tool {
     ::waitpid(pid_, &status, 0);
     pid_ = -1;
     result_.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    killed_by_ = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
     return result_;
   }
   // Reads what is there (both pipes), so the tool never blocks on a full pipe.
@@ -111,6 +115,7 @@ class Tool {
   int pid_ = -1;
   int out_ = -1;
   int err_ = -1;
+  int killed_by_ = 0;
   Result result_;
 };
 
@@ -127,9 +132,17 @@ class Signals : public ::testing::Test {
   }
 
   std::vector<std::string> apply_args() const {
-    return {"--port",     sim.port(), "--no-user-params",           "--timeout",
-            "3000",       "profile",  "apply",                      (dir / "motor.yaml").string(),
-            "--yes",      "--backup-dir", (dir / "backups").string()};
+    return {"--port",
+            sim.port(),
+            "--no-user-params",
+            "--timeout",
+            "3000",
+            "profile",
+            "apply",
+            (dir / "motor.yaml").string(),
+            "--yes",
+            "--backup-dir",
+            (dir / "backups").string()};
   }
   std::string show() { return sim.control("show"); }
   bool settled() {
@@ -150,7 +163,9 @@ class Signals : public ::testing::Test {
 
   // The verdict after a stop in the middle of the change: the EEPROM image is the one the
   // card had before, both modes are off, the tool wrote (and so restored) and exited 130.
-  void expect_restored(const Result& r) {
+  void expect_restored(Tool& tool) {
+    const Result r = tool.wait();
+    EXPECT_EQ(tool.killed_by(), 0) << "the signal ended the process instead of a report";
     EXPECT_EQ(r.exit_code, 130) << r.out << r.err;
     EXPECT_TRUE(settled()) << show();
     EXPECT_TRUE(eeprom() == original) << "the EEPROM image differs from the one before the apply";
@@ -171,6 +186,7 @@ TEST_P(EverySignal, BeforeTheFirstWriteNothingIsWritten) {
   ASSERT_EQ(sim.writes_seen(), 0u) << "the card was written before the test could stop it";
   tool.signal(GetParam());
   const auto r = tool.wait();
+  EXPECT_EQ(tool.killed_by(), 0) << "the signal ended the process instead of a report";
   EXPECT_EQ(r.exit_code, 130) << r.out << r.err;
   EXPECT_EQ(sim.writes_seen(), 0u);
   EXPECT_TRUE(settled()) << show();
@@ -182,7 +198,7 @@ TEST_P(EverySignal, MidWriteStopsRestoresAndSettles) {
   Tool tool("i20", apply_args());
   ASSERT_TRUE(until(tool, [&] { return writes_seen(1); }));
   tool.signal(GetParam());
-  expect_restored(tool.wait());
+  expect_restored(tool);
 }
 
 TEST_P(EverySignal, TwoInARowMidWriteEndTheSameWay) {
@@ -190,15 +206,13 @@ TEST_P(EverySignal, TwoInARowMidWriteEndTheSameWay) {
   ASSERT_TRUE(until(tool, [&] { return writes_seen(1); }));
   tool.signal(GetParam());
   tool.signal(GetParam());  // the "two SIGINTs 10 ms apart", without even the 10 ms
-  expect_restored(tool.wait());
+  expect_restored(tool);
 }
 
-INSTANTIATE_TEST_SUITE_P(Signals, EverySignal, ::testing::Values(SIGINT, SIGTERM, SIGHUP),
-                         [](const auto& info) {
-                           return std::string(info.param == SIGINT    ? "SIGINT"
-                                              : info.param == SIGTERM ? "SIGTERM"
-                                                                      : "SIGHUP");
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Signals, EverySignal, ::testing::Values(SIGINT, SIGTERM, SIGHUP), [](const auto& info) {
+      return std::string(info.param == SIGINT ? "SIGINT" : info.param == SIGTERM ? "SIGTERM" : "SIGHUP");
+    });
 
 // ------------------------------------------------------------------ during the restore
 TEST_F(Signals, ASignalDuringTheRestoreIsAcknowledgedAndDoesNotEndIt) {
@@ -209,9 +223,8 @@ TEST_F(Signals, ASignalDuringTheRestoreIsAcknowledgedAndDoesNotEndIt) {
   ASSERT_TRUE(until(tool, [&] { return writes_seen(2); }));
   tool.signal(SIGINT);
   tool.signal(SIGTERM);
-  const auto r = tool.wait();
-  expect_restored(r);
-  EXPECT_TRUE(has(r.err, "the card settles in a moment")) << r.err;
+  expect_restored(tool);
+  EXPECT_TRUE(has(tool.wait().err, "the card settles in a moment"));
 }
 
 // ------------------------------------------------------------------ wpd, one cell
@@ -219,7 +232,7 @@ TEST_F(Signals, WpdStoppedDuringItsOnlyWriteRestoresIt) {
   Tool tool("wpd", {"--port", sim.port(), "--no-user-params", "--timeout", "3000", "NVMAXCURRENT", "1234"});
   ASSERT_TRUE(until(tool, [&] { return writes_seen(1); }));
   tool.signal(SIGTERM);
-  expect_restored(tool.wait());
+  expect_restored(tool);
 }
 
 // ------------------------------------------------------------------ a closed stdout
@@ -228,6 +241,7 @@ TEST_F(Signals, AStdoutWhoseReaderWentAwayDoesNotStopTheWrite) {
   ASSERT_TRUE(until(tool, [&] { return writes_seen(1); }));
   tool.close_stdout_reader();  // every progress line after this fails with EPIPE
   const auto r = tool.wait();
+  EXPECT_EQ(tool.killed_by(), 0) << "the signal ended the process instead of a report";
   EXPECT_EQ(r.exit_code, 0) << r.err;  // not 141: SIGPIPE did not end it; the apply is done
   EXPECT_TRUE(settled()) << show();
   EXPECT_EQ(sim.control("get NVKQP"), "80");
@@ -253,12 +267,13 @@ TEST_F(Signals, AFleetStoppedMidWriteLeavesEveryCardAsItWas) {
   SimProcess second({"--eeprom", (dir / "second.eeprom").string()});
   ASSERT_EQ(second.control("delay 50"), "ok");
   const auto second_before = slurp(dir / "second.eeprom");
-  Tool tool("i20", {"--no-user-params", "--timeout", "3000", "profile", "apply", (dir / "motor.yaml").string(),
-                    "--target", sim.port(), "--target", second.port(), "--yes", "--backup-dir",
-                    (dir / "backups").string()});
+  Tool tool("i20", {"--no-user-params", "--timeout", "3000", "profile", "apply",
+                    (dir / "motor.yaml").string(), "--target", sim.port(), "--target", second.port(), "--yes",
+                    "--backup-dir", (dir / "backups").string()});
   ASSERT_TRUE(until(tool, [&] { return writes_seen(1) || second.writes_seen() >= 1; }));
   tool.signal(SIGHUP);
   const auto r = tool.wait();
+  EXPECT_EQ(tool.killed_by(), 0) << "the signal ended the process instead of a report";
   EXPECT_EQ(r.exit_code, 130) << r.out << r.err;
   EXPECT_TRUE(settled()) << show();
   const auto s2 = second.control("show");
@@ -269,11 +284,12 @@ TEST_F(Signals, AFleetStoppedMidWriteLeavesEveryCardAsItWas) {
 
 // ------------------------------------------------------------------ the other long-running commands
 TEST_F(Signals, DiscoverStopsOnSigtermWithTheCardSettled) {
-  Tool tool("i20", {"--port", sim.port(), "--no-user-params", "--timeout", "3000", "discover", "-o",
+  Tool tool("i20", {"--port", sim.port(), "--no-user-params", "--timeout", "3000", "discover", "--yes", "-o",
                     (dir / "map.yaml").string()});
   ASSERT_TRUE(until(tool, [&] { return sim.commands_seen() > 40; }));
   tool.signal(SIGTERM);
   const auto r = tool.wait();
+  EXPECT_EQ(tool.killed_by(), 0) << "the signal ended the process instead of a report";
   EXPECT_EQ(r.exit_code, 130) << r.out << r.err;
   EXPECT_TRUE(settled()) << show();
   EXPECT_FALSE(std::filesystem::exists(dir / "map.yaml"));
@@ -287,6 +303,7 @@ TEST_F(Signals, ClearFaultsStopsOnSighupWithTheCardSettled) {
   ASSERT_TRUE(until(tool, [&] { return writes_seen(1); }));  // CLEARFAULT written, never returns to 0
   tool.signal(SIGHUP);
   const auto r = tool.wait();
+  EXPECT_EQ(tool.killed_by(), 0) << "the signal ended the process instead of a report";
   EXPECT_EQ(r.exit_code, 130) << r.out << r.err;
   EXPECT_TRUE(settled()) << show();
 }
@@ -297,6 +314,7 @@ TEST_F(Signals, WatchEndsOnSigtermWithExit130) {
   ASSERT_TRUE(until(tool, [&] { return sim.commands_seen() > 30; }));
   tool.signal(SIGTERM);
   const auto r = tool.wait();
+  EXPECT_EQ(tool.killed_by(), 0) << "the signal ended the process instead of a report";
   EXPECT_EQ(r.exit_code, 130) << r.out << r.err;
   EXPECT_TRUE(settled()) << show();
 }
