@@ -7,8 +7,8 @@
 // Everything here runs against the simulator, not hardware.
 #include <algorithm>
 #include <atomic>
-#include <csignal>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -164,7 +164,9 @@ class Generator {
     i.signal = pick<int>({SIGINT, SIGTERM, SIGHUP});
     i.cancel_after = static_cast<unsigned>(between(0, 30));
     if (chance(0.5)) i.again_after = static_cast<unsigned>(between(0, 20));
-    i.label = std::string(i.signal == SIGINT ? "SIGINT" : i.signal == SIGTERM ? "SIGTERM" : "SIGHUP") +
+    i.label = std::string(i.signal == SIGINT    ? "SIGINT"
+                          : i.signal == SIGTERM ? "SIGTERM"
+                                                : "SIGHUP") +
               (i.again_after ? " x2" : "");
   }
 
@@ -474,7 +476,7 @@ void print(const Tally& t, std::size_t n, std::uint64_t seed, double seconds) {
   std::printf("  applied and verified             %zu\n", count(Verdict::Applied));
   std::printf("  refused (nothing written)        %zu\n", count(Verdict::Refused));
   std::printf("  not reached (nothing written)    %zu\n", count(Verdict::NotReached));
-  std::printf("  rolled back (or signal, restored) %zu\n", count(Verdict::RolledBack));
+  std::printf("  rolled back (or signal restored) %zu\n", count(Verdict::RolledBack));
   std::printf("  uncertain, and said so           %zu\n", count(Verdict::Uncertain));
   std::printf("  must be 0:\n");
   std::printf("    silently wrong                 %zu\n", t.silently_wrong);
@@ -485,8 +487,9 @@ void print(const Tally& t, std::size_t n, std::uint64_t seed, double seconds) {
   std::printf("  (modes left on after a card went silent or dead, reported uncertain: %zu)\n", t.modes_on);
   std::printf("  (reset right after the tool's last reply, unseeable, working values reloaded: %zu)\n",
               t.unseen_resets);
-  std::printf("  (card runs sent SIGINT/SIGTERM/SIGHUP, once or twice: %zu; of them stopped, exit 130: %zu)\n",
-              t.signalled, t.stopped);
+  std::printf(
+      "  (card runs sent SIGINT/SIGTERM/SIGHUP, once or twice: %zu; of them stopped, exit 130: %zu)\n",
+      t.signalled, t.stopped);
   for (std::size_t i = 0; i < t.findings.size() && i < 30; ++i)
     std::printf("  FINDING %s\n", t.findings[i].c_str());
 }

@@ -287,11 +287,11 @@ class Transaction {
 
   // --- restoring
   // Undo in reverse order: the reverse of a safe path is a safe path. A cell that still
-  // holds its original value is not written again (EEPROM wear). Ctrl-C does not stop it.
+  // holds its original value is not written again (EEPROM wear). No stop request ends it.
   void roll_back(std::size_t touched, const std::string& failure) {
     result_.reason = result_.interrupted && failure.empty()
-                         ? "interrupted (" + options_.cancel.cause() + ") after " + std::to_string(touched) + " of " +
-                               std::to_string(result_.plan.steps.size()) + " writes"
+                         ? "interrupted (" + options_.cancel.cause() + ") after " + std::to_string(touched) +
+                               " of " + std::to_string(result_.plan.steps.size()) + " writes"
                          : failure;
     const auto& steps = result_.plan.steps;
     for (std::size_t i = touched; i-- > 0;) {
