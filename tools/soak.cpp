@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -43,11 +44,14 @@ const char* path_name(Path p) {
   return "?";
 }
 
-// One injection, as the simulator's control language says it ("corrupt 0.01"), plus a
-// Ctrl-C after a number of exchanges (not a control line: it is the tool's input).
+// One injection, as the simulator's control language says it ("corrupt 0.01"), or a stop
+// request (SIGINT, SIGTERM or SIGHUP, once or twice) after a number of exchanges: not a
+// control line but the tool's input, set as the apps' signal handler sets it.
 struct Injection {
   std::vector<std::string> control;  // applied once the card is open
   std::optional<unsigned> cancel_after;
+  std::optional<unsigned> again_after;  // the second signal, this many exchanges after the first
+  int signal = SIGINT;
   std::chrono::milliseconds reset_time{1};
   std::string label;
 };
@@ -149,31 +153,49 @@ class Generator {
         i.label = torn ? "power-loss torn" : "power-loss lost";
         break;
       }
-      case 7: i.cancel_after = static_cast<unsigned>(between(0, 30)), i.label = "ctrl-c"; break;
+      case 7: signal(i); break;
     }
     return i;
+  }
+
+  // What a user, an ssh session that drops or a service manager sends: the handler turns
+  // each into the same stop request, so only the moment and the repeat vary.
+  void signal(Injection& i) {
+    i.signal = pick<int>({SIGINT, SIGTERM, SIGHUP});
+    i.cancel_after = static_cast<unsigned>(between(0, 30));
+    if (chance(0.5)) i.again_after = static_cast<unsigned>(between(0, 20));
+    i.label = std::string(i.signal == SIGINT    ? "SIGINT"
+                          : i.signal == SIGTERM ? "SIGTERM"
+                                                : "SIGHUP") +
+              (i.again_after ? " x2" : "");
   }
 
   std::mt19937_64 rng_;
 };
 
-// ---------------------------------------------------------------- Ctrl-C after K exchanges
+// ---------------------------------------------------------------- a signal after K exchanges
 class CancellingLink final : public link::Link {
  public:
-  CancellingLink(std::unique_ptr<link::Link> inner, std::atomic<bool>& flag)
-      : inner_(std::move(inner)), flag_(flag) {}
-  // From now on, Ctrl-C "arrives" just before the exchange after `exchanges` more.
-  void arm(unsigned exchanges) { after_ = exchanges, exchanges_ = 0; }
+  CancellingLink(std::unique_ptr<link::Link> inner, ops::StopRequest& stop)
+      : inner_(std::move(inner)), stop_(stop) {}
+  // From now on, the signal "arrives" just before the exchange after `exchanges` more, and
+  // again `again` exchanges later when it is sent twice.
+  void arm(const Injection& i) {
+    first_ = i.cancel_after, again_ = i.again_after, signal_ = i.signal, exchanges_ = 0;
+  }
   std::vector<lbp::Bytes> execute(std::span<const lbp::Command> batch) override {
-    if (after_ && exchanges_++ >= *after_) flag_ = true;
+    if (first_ && exchanges_ == *first_) stop_.request(signal_);
+    if (first_ && again_ && exchanges_ == *first_ + *again_ + 1) stop_.request(signal_);
+    ++exchanges_;
     return inner_->execute(batch);
   }
   std::string describe() const override { return inner_->describe(); }
 
  private:
   std::unique_ptr<link::Link> inner_;
-  std::atomic<bool>& flag_;
-  std::optional<unsigned> after_;
+  ops::StopRequest& stop_;
+  std::optional<unsigned> first_, again_;
+  int signal_ = SIGINT;
   unsigned exchanges_ = 0;
 };
 
@@ -182,7 +204,7 @@ enum class Verdict { Applied, Refused, NotReached, RolledBack, Uncertain };
 struct Tally {
   std::map<Verdict, std::size_t> outcomes;
   std::size_t scenarios = 0, silently_wrong = 0, stray = 0, crossed = 0, modes_on_exit0 = 0, modes_on = 0,
-              unseen_resets = 0;
+              unseen_resets = 0, signalled = 0, stopped = 0, modes_on_exit130 = 0;
   std::vector<std::string> findings;
 };
 
@@ -316,10 +338,16 @@ void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun
   if (j.modes_on) ++t.modes_on;
   if (j.unseen_reset) ++t.unseen_resets;
   if (j.modes_on && exit0) ++t.modes_on_exit0;
+  // Exit 130 promises a card left in a known state: modes off, what was written restored.
+  if (j.modes_on && run.exit_code() == ops::kExitInterrupted) ++t.modes_on_exit130;
+  if (s.injection.cancel_after) ++t.signalled;
+  if (run.outcome == ops::Outcome::Interrupted) ++t.stopped;
   std::vector<std::string> all = j.wrong;
   all.insert(all.end(), j.stray.begin(), j.stray.end());
   all.insert(all.end(), j.crossed.begin(), j.crossed.end());
   if (j.modes_on && exit0) all.push_back("NV or RPC memory mode left on with exit 0");
+  if (j.modes_on && run.exit_code() == ops::kExitInterrupted)
+    all.push_back("NV or RPC memory mode left on with exit 130");
   for (const auto& f : all)
     t.findings.push_back("#" + std::to_string(index) + " " + path_name(s.path) + " / " + s.injection.label +
                          " -> " + ops::to_string(run.outcome) + ": " + f);
@@ -329,12 +357,12 @@ void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun
               << (all.empty() ? "" : "  FINDING") << "\n";
 }
 
-ops::ApplyJob job_for(const profile::Profile& p, const params::ParamDb& db, const std::atomic<bool>& cancel,
+ops::ApplyJob job_for(const profile::Profile& p, const params::ParamDb& db, const ops::Cancel& cancel,
                       const fs::path& backups, Path path) {
   ops::ApplyJob job;
   job.profile = &p;
   job.db = &db;
-  job.transaction.cancel = ops::Cancel(cancel);
+  job.transaction.cancel = cancel;
   if (path == Path::Apply || path == Path::Fleet) job.transaction.backup_dir = backups;
   job.open.link.timeout_ms = 5;
   return job;
@@ -350,16 +378,17 @@ void run_single(const Scenario& s, std::size_t index, const params::ParamDb& db,
   sim::SimStream& sim = *stream;
   link::PipelinedLinkOptions link_options;
   link_options.base_timeout = std::chrono::milliseconds(5);
-  std::atomic<bool> cancel{false};
+  ops::StopRequest stop;
+  const ops::Cancel cancel(stop, [](const std::string&) {});  // the apps print the acknowledgement
   const auto map = sim.with_card([](sim::Virtual8i20& c) { return c.amplifier().map(); });
   const auto profile = profile_of(s, db);
   const auto job = job_for(profile, db, cancel, dir, s.path);
   auto link = std::make_unique<CancellingLink>(
-      std::make_unique<link::PipelinedLink>(std::move(stream), link_options), cancel);
-  CancellingLink& ctrl_c = *link;
+      std::make_unique<link::PipelinedLink>(std::move(stream), link_options), stop);
+  CancellingLink& signals = *link;
   std::unique_ptr<ops::Card> card;
   try {
-    card = ops::Card::attach(std::move(link), ops::parse_endpoint("sim"), db, {}, ops::Cancel(cancel));
+    card = ops::Card::attach(std::move(link), ops::parse_endpoint("sim"), db, {}, cancel);
   } catch (const Error& e) {
     t.findings.push_back("#" + std::to_string(index) +
                          ": the card could not be opened without a fault: " + e.what());
@@ -373,7 +402,7 @@ void run_single(const Scenario& s, std::size_t index, const params::ParamDb& db,
       return 0;
     });
   for (const auto& line : s.injection.control) sim.control(line);
-  if (s.injection.cancel_after) ctrl_c.arm(*s.injection.cancel_after);  // counted from here
+  if (s.injection.cancel_after) signals.arm(s.injection);  // counted from here
   ops::TargetRun run;
   try {
     ops::precheck(profile, card->db(), job.write);
@@ -407,21 +436,24 @@ void run_fleet(const Scenario& s, std::size_t index, const params::ParamDb& db, 
     before.push_back(g);
     targets.push_back(ops::parse_endpoint("sim:" + image.string(), static_cast<std::size_t>(i)));
   }
-  std::atomic<bool> cancel{false};
+  ops::StopRequest stop;
   const auto profile = profile_of(s, db);
-  auto job = job_for(profile, db, cancel, dir, s.path);
+  auto job = job_for(profile, db, ops::Cancel(stop, [](const std::string&) {}), dir, s.path);
   job.open.link.sim_control = {"busv " + std::to_string(s.busv)};
   job.open.link.sim_control.insert(job.open.link.sim_control.end(), s.injection.control.begin(),
                                    s.injection.control.end());
-  // Ctrl-C after a while (the one scenario kind whose timing is not fixed by the seed).
-  std::thread ctrl_c;
+  // A signal after a while (the one scenario kind whose timing is not fixed by the seed).
+  std::thread signals;
   if (s.injection.cancel_after)
-    ctrl_c = std::thread([&cancel, k = *s.injection.cancel_after] {
-      std::this_thread::sleep_for(std::chrono::microseconds(500 * k));
-      cancel = true;
+    signals = std::thread([&stop, i = s.injection] {
+      std::this_thread::sleep_for(std::chrono::microseconds(500 * *i.cancel_after));
+      stop.request(i.signal);
+      if (!i.again_after) return;
+      std::this_thread::sleep_for(std::chrono::microseconds(500 * *i.again_after));
+      stop.request(i.signal);
     });
   const auto runs = ops::run_fleet(targets, job);
-  if (ctrl_c.joinable()) ctrl_c.join();
+  if (signals.joinable()) signals.join();
   for (std::size_t i = 0; i < runs.size(); ++i) {
     sim::GroundTruth after = before[i];
     std::ifstream in(dir / ("card" + std::to_string(i) + ".eeprom"), std::ios::binary);
@@ -444,16 +476,20 @@ void print(const Tally& t, std::size_t n, std::uint64_t seed, double seconds) {
   std::printf("  applied and verified             %zu\n", count(Verdict::Applied));
   std::printf("  refused (nothing written)        %zu\n", count(Verdict::Refused));
   std::printf("  not reached (nothing written)    %zu\n", count(Verdict::NotReached));
-  std::printf("  rolled back (or Ctrl-C restored) %zu\n", count(Verdict::RolledBack));
+  std::printf("  rolled back (or signal restored) %zu\n", count(Verdict::RolledBack));
   std::printf("  uncertain, and said so           %zu\n", count(Verdict::Uncertain));
   std::printf("  must be 0:\n");
   std::printf("    silently wrong                 %zu\n", t.silently_wrong);
   std::printf("    stray writes                   %zu\n", t.stray);
   std::printf("    unsafe states left             %zu\n", t.crossed);
   std::printf("    modes left on with exit 0      %zu\n", t.modes_on_exit0);
+  std::printf("    modes left on with exit 130    %zu\n", t.modes_on_exit130);
   std::printf("  (modes left on after a card went silent or dead, reported uncertain: %zu)\n", t.modes_on);
   std::printf("  (reset right after the tool's last reply, unseeable, working values reloaded: %zu)\n",
               t.unseen_resets);
+  std::printf(
+      "  (card runs sent SIGINT/SIGTERM/SIGHUP, once or twice: %zu; of them stopped, exit 130: %zu)\n",
+      t.signalled, t.stopped);
   for (std::size_t i = 0; i < t.findings.size() && i < 30; ++i)
     std::printf("  FINDING %s\n", t.findings[i].c_str());
 }
@@ -508,7 +544,7 @@ int main(int argc, char** argv) {
   fs::remove_all(dir);
   print(tally, only.empty() ? n : only.size(), seed,
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  const bool clean =
-      tally.silently_wrong == 0 && tally.stray == 0 && tally.crossed == 0 && tally.modes_on_exit0 == 0;
+  const bool clean = tally.silently_wrong == 0 && tally.stray == 0 && tally.crossed == 0 &&
+                     tally.modes_on_exit0 == 0 && tally.modes_on_exit130 == 0;
   return clean ? 0 : 1;
 }

@@ -59,7 +59,7 @@ std::string text_of(const params::ParamDb& db, const std::string& cell, std::int
 // What stopped the apply, for the rollback line: the write that failed, else the verify.
 std::string failure_of(const TargetRun& run) {
   const auto& r = *run.result;
-  if (r.interrupted) return "Ctrl-C";
+  if (r.interrupted) return "a stop request (Ctrl-C, SIGTERM or SIGHUP)";
   for (const auto& w : r.writes)
     if (!w.ok) return w.cell + " failed";
   return "the read-back verify failed";
@@ -140,7 +140,8 @@ void print_next_steps(std::ostream& out, const TargetRun& run) {
   if (r.outcome == Outcome::RolledBack)
     out << "Every value written was restored and read back. Fix the cause and try again.\n";
   if (r.outcome == Outcome::Interrupted && !r.writes.empty())
-    out << "Stopped by Ctrl-C: every value written was restored and read back.\n";
+    out << "Stopped on request (the line above names the signal): every value written was restored and read "
+           "back.\n";
   if (r.outcome == Outcome::Uncertain && !r.rollback.empty()) print_rollback_failed(out, run);
   if (!run.mode_left_on.empty() && outcome_line(run).find(run.mode_left_on) == std::string::npos)
     out << "WARNING: " << run.mode_left_on << "\n";

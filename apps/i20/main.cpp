@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
   cli::register_scan_command(app, ctx);
   cli::register_report_command(app, ctx);
 
-  app::install_interrupt_handler();
+  app::install_interrupt_handler("i20");  // SIGINT, SIGTERM, SIGHUP stop safely; SIGPIPE ignored
   try {
     app.parse(argc, argv);
     ctx.settle();
@@ -73,8 +73,11 @@ int main(int argc, char** argv) {
     return app::report_parse_error(app, e, "i20");
   } catch (...) {
     ctx.print_notes();
-    return ctx.report_failure();
+    const int code = ctx.report_failure();
+    app::output_failed("i20");  // said after the card is settled
+    return code;
   }
   ctx.print_notes();
+  app::output_failed("i20");  // a closed stdout does not change what the card holds
   return ctx.exit_code;
 }

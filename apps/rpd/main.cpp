@@ -18,7 +18,7 @@
 
 using namespace i20;
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   CLI::App cli{
       "rpd: read an 8I20 parameter by its symbolic name (drop-in for Mesa's RPD).\n"
       "Prints the raw value in decimal, or in hexadecimal when H follows the name.\n"
@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app::report_parse_error(cli, e, "rpd");
   }
-  app::install_interrupt_handler();
+  app::install_interrupt_handler("rpd");  // SIGINT, SIGTERM, SIGHUP stop safely; SIGPIPE ignored
   try {
     app::apply_legacy_environment(options, true);
     app::Session session(options);
@@ -76,4 +76,10 @@ int main(int argc, char** argv) {
   } catch (...) {
     return app::report_current_exception("rpd");
   }
+}
+
+int main(int argc, char** argv) {
+  const int code = run(argc, argv);
+  app::output_failed("rpd");  // after the card is settled: a closed stdout changes nothing on it
+  return code;
 }

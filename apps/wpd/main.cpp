@@ -64,7 +64,7 @@ int report(const ops::TargetRun& run, const params::ParamDb& db) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   CLI::App cli{
       "wpd: write an 8I20 parameter by its symbolic name (drop-in for Mesa's WPD).\n"
       "VALUE is a raw integer in the parameter's units (10 mV, 10 mA, ...), decimal or 0x hex.\n"
@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app::report_parse_error(cli, e, "wpd");
   }
-  app::install_interrupt_handler();
+  app::install_interrupt_handler("wpd");  // SIGINT, SIGTERM, SIGHUP stop safely; SIGPIPE ignored
   try {
     app::apply_legacy_environment(options, true);
     app::Session session(options);
@@ -124,4 +124,10 @@ int main(int argc, char** argv) {
   } catch (...) {
     return app::report_current_exception("wpd");
   }
+}
+
+int main(int argc, char** argv) {
+  const int code = run(argc, argv);
+  app::output_failed("wpd");  // after the card is settled: a closed stdout changes nothing on it
+  return code;
 }

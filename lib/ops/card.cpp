@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "ops/card.hpp"
 
+#include <csignal>
+
 #include "device/discover.hpp"
 #include "device/errors.hpp"
 #include "lbp/bytes.hpp"
@@ -32,7 +34,15 @@ std::string printable(const std::string& name) {
 }  // namespace
 
 void Cancel::check(const std::string& what) const {
-  if (requested()) throw device::Cancelled("interrupted (Ctrl-C) while " + what);
+  if (requested()) throw device::Cancelled("interrupted (" + cause() + ") while " + what);
+}
+
+std::string Cancel::cause() const {
+  switch (stop_ ? stop_->signal() : 0) {
+    case SIGTERM: return "SIGTERM";
+    case SIGHUP: return "SIGHUP";
+    default: return "Ctrl-C";
+  }
 }
 
 Card::Card(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retry, Cancel cancel)
@@ -59,8 +69,12 @@ void Card::identify(const params::ParamDb& loaded) {
   if (info.card_name != "8I20")
     throw UsageError("the card on " + link_->describe() + " answers as '" + printable(info.card_name) +
                      "', not as an 8I20: this tool only knows the 8I20's parameters");
-  if (info.nv_access != lbp::local::NvAccess::Ram || info.rpcmem)
+  if (info.nv_access != lbp::local::NvAccess::Ram || info.rpcmem) {
+    // A stop request now must not leave the card in the mode an earlier session left on.
+    uninterruptible_ = true;
     identity_.modes_left = with_retries([&] { return bootstrap.leave_modes(); });
+    uninterruptible_ = false;
+  }
 
   auto resolved = loaded.for_firmware(*info.swrevision);
   const auto evidence = read_rpc_evidence(resolved);
@@ -113,6 +127,7 @@ std::string Card::settle() {
   unsettled_said_ = false;
   if (mode.empty()) return {};
   for (unsigned attempt = 1; attempt <= retry_.attempts; ++attempt) {
+    cancel_.acknowledge("leaving " + mode);  // a stop request does not end this: it is the way out
     try {
       amp_->leave_modes();
       return mode;

@@ -49,7 +49,8 @@ void DeviceCardAccess::check_write(const std::string& name, std::int64_t raw) {
 }
 
 void DeviceCardAccess::write(const std::string& name, std::int64_t raw) {
-  const bool restoring = failed_ || written_ >= planned_;
+  // After a stop request the transaction writes only to restore (it stops before the next write).
+  const bool restoring = failed_ || written_ >= planned_ || card_.cancel().requested();
   if (restoring)
     note("restoring " + name);
   else

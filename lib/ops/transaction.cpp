@@ -47,8 +47,10 @@ class Transaction {
     if (!device_accepts() || !backup()) return;
     if (interrupted_before("writing")) return;
     auto [touched, failure] = write_plan();
-    if (failure.empty() && !result_.interrupted) failure = verify();
-    if (result_.interrupted || !failure.empty()) return roll_back(touched, failure);
+    if (failure.empty() && !stop_requested()) failure = verify();
+    // A stop that came during the last write or the read-back still undoes the change: the
+    // command was not done yet, and "stop" must mean one thing wherever it lands.
+    if (stop_requested() || !failure.empty()) return roll_back(touched, failure);
     finish(Outcome::Done);
     result_.reset_needed = result_.plan.reset_needed;
     if (options_.reset && result_.plan.reset_needed) reset_card();
@@ -68,8 +70,15 @@ class Transaction {
   bool interrupted_before(const std::string& what) {
     if (!options_.cancel.requested()) return false;
     result_.interrupted = true;
-    stop(Outcome::Interrupted, "interrupted (Ctrl-C) before " + what + ": nothing was written");
+    stop(Outcome::Interrupted,
+         "interrupted (" + options_.cancel.cause() + ") before " + what + ": nothing was written");
     return true;
+  }
+
+  // Has a stop been asked for (SIGINT, SIGTERM, SIGHUP)? Remembered in the result.
+  bool stop_requested() {
+    if (options_.cancel.requested()) result_.interrupted = true;
+    return result_.interrupted;
   }
 
   bool read_card() {
@@ -246,11 +255,8 @@ class Transaction {
   Progress write_plan() {
     const auto& steps = result_.plan.steps;
     for (std::size_t i = 0; i < steps.size(); ++i) {
-      // Ctrl-C between writes: stop here and restore what was written.
-      if (i > 0 && options_.cancel.requested()) {
-        result_.interrupted = true;
-        return {i, {}};
-      }
+      // A stop request between writes: stop here and restore what was written.
+      if (i > 0 && stop_requested()) return {i, {}};
       const WriteRecord record = write_one(steps[i].cell, steps[i].profile_raw);
       result_.writes.push_back(record);
       if (!record.ok) return {i + 1, "writing " + record.cell + " failed: " + record.error};
@@ -283,16 +289,17 @@ class Transaction {
 
   // --- restoring
   // Undo in reverse order: the reverse of a safe path is a safe path. A cell that still
-  // holds its original value is not written again (EEPROM wear). Ctrl-C does not stop it.
+  // holds its original value is not written again (EEPROM wear). No stop request ends it.
   void roll_back(std::size_t touched, const std::string& failure) {
     result_.reason = result_.interrupted && failure.empty()
-                         ? "interrupted (Ctrl-C) after " + std::to_string(touched) + " of " +
-                               std::to_string(result_.plan.steps.size()) + " writes"
+                         ? "interrupted (" + options_.cancel.cause() + ") after " + std::to_string(touched) +
+                               " of " + std::to_string(result_.plan.steps.size()) + " writes"
                          : failure;
     const auto& steps = result_.plan.steps;
     for (std::size_t i = touched; i-- > 0;) {
       const auto& step = steps[i];
       const std::int64_t original = *step.card_raw;
+      options_.cancel.acknowledge("restoring " + step.cell);  // a new stop request is answered, not obeyed
       if (read_one(step.cell).value == original) {
         result_.rollback.push_back({step.cell, original, step.card_text, true, true, {}});
         continue;
@@ -302,6 +309,7 @@ class Transaction {
     result_.cells.clear();
     bool restored = true;
     for (std::size_t i = 0; i < touched; ++i) {
+      options_.cancel.acknowledge("reading back the restored " + steps[i].cell);
       result_.cells.push_back(state_of(steps[i], read_one(steps[i].cell)));
       restored = restored && result_.cells.back().status == CellStatus::Original;
     }

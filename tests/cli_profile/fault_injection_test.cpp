@@ -213,7 +213,7 @@ TEST_F(ProfileCliFaults, AnOverlayTheCardContradictsIsRefusedBeforeAnyWrite) {
 }
 
 // Ctrl-C in the middle of the writes stops the apply, and what was written is restored
-// before the program ends (a second Ctrl-C would end it at once, by design).
+// before the program ends (a second one does not end it: tests/cli_signals).
 TEST_F(ProfileCliFaults, CtrlCMidApplyRestoresWhatWasWritten) {
   SimProcess sim{kLine120Bus};
   const auto before = snapshot(sim);
