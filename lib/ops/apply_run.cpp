@@ -7,6 +7,7 @@
 #include "faults/bit_info.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/device_access.hpp"
+#include "ops/pending.hpp"
 #include "ops/read.hpp"
 
 namespace i20::ops {
@@ -71,22 +72,13 @@ void reload_restored_values(Card& c, TargetRun& run) {
   }
 }
 
-// NV cells of the profile whose working twin holds something else: not live until a reset.
-void check_live(Card& c, const ApplyJob& job, TargetRun& run) {
+// Every NV value on the card whose working twin holds something else after the run, not
+// only the profile's: an earlier write never followed by a reset is not live either.
+void check_live(Card& c, TargetRun& run) {
   const auto& r = *run.result;
   if ((r.outcome != Outcome::Done && r.outcome != Outcome::NothingToDo) || r.reset_done) return;
   try {
-    std::vector<const params::Param*> cells;
-    for (const auto& w : profile::cell_writes(*job.profile, c.db())) {
-      const params::Param& p = c.db().get(w.cell);
-      const params::Param* twin = p.is_nv() && !p.twin.empty() ? c.db().find(p.twin) : nullptr;
-      if (twin && c.db().address_confirmed(*twin)) cells.insert(cells.end(), {&p, twin});
-    }
-    if (cells.empty()) return;
-    const auto values = read_values(c, cells);
-    for (std::size_t i = 0; i + 1 < values.size(); i += 2)
-      if (values[i].fact() && values[i + 1].fact() && *values[i].raw != *values[i + 1].raw)
-        run.not_live.push_back(values[i].param->name);
+    run.not_live = pending_nv_values(c);
   } catch (const std::exception&) {
     // Best effort: the advice below the outcome is then the transaction's reset_needed alone.
   }
@@ -127,7 +119,7 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
   if (run.outcome != Outcome::Refused && run.outcome != Outcome::DryRun && run.outcome != Outcome::BadInput &&
       run.outcome != Outcome::Failed) {
     if (activity) activity("checking");
-    check_live(card, job, run);
+    check_live(card, run);
     check_card_reset(card, status_before, run);  // last: a reset during the checks is seen too
     if (!run.card_reset.empty() && run.outcome == Outcome::RolledBack) reload_restored_values(card, run);
   }
@@ -137,11 +129,8 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
   return run;
 }
 
-namespace {
-
-// Opens the card with `open` and runs the job on it; never throws.
-template <class Open>
-TargetRun run_opened(const Endpoint& target, const ApplyJob& job, const Activity& activity, Open&& open) {
+TargetRun run_apply_opened(const Endpoint& target, const ApplyJob& job, const CardOpener& open,
+                           const Activity& activity) {
   const auto start = std::chrono::steady_clock::now();
   TargetRun run;
   try {
@@ -162,18 +151,17 @@ TargetRun run_opened(const Endpoint& target, const ApplyJob& job, const Activity
   return run;
 }
 
-}  // namespace
-
 TargetRun run_apply(const Endpoint& target, const ApplyJob& job, const Activity& activity) {
-  return run_opened(target, job, activity,
-                    [&] { return Card::open(target, *job.db, job.open, job.transaction.cancel); });
+  return run_apply_opened(
+      target, job, [&] { return Card::open(target, *job.db, job.open, job.transaction.cancel); }, activity);
 }
 
 TargetRun run_apply_over(std::unique_ptr<link::Link> link, const Endpoint& target, const ApplyJob& job,
                          const Activity& activity) {
-  return run_opened(target, job, activity, [&] {
-    return Card::attach(std::move(link), target, *job.db, job.open.retry, job.transaction.cancel);
-  });
+  return run_apply_opened(
+      target, job,
+      [&] { return Card::attach(std::move(link), target, *job.db, job.open.retry, job.transaction.cancel); },
+      activity);
 }
 
 Outcome fleet_outcome(const std::vector<TargetRun>& runs) {
