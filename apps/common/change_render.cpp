@@ -386,10 +386,12 @@ std::vector<std::string> fleet_row(const TargetRun& run, const FleetRequest& req
     row.push_back(!r ? run.error : planned ? cell_names(r->plan) : r->reason);
     return row;
   }
-  row.push_back(r ? std::to_string(std::ranges::count_if(r->writes, [](const auto& w) { return w.ok; })) : "-");
+  row.push_back(r ? std::to_string(std::ranges::count_if(r->writes, [](const auto& w) { return w.ok; }))
+                  : "-");
   if (request.reset) row.push_back(reset_state(run));
   std::string note = !r ? run.error : !r->backup.empty() ? r->backup.string() : r->reason;
-  if (r && run.ok() && !request.reset && (r->reset_needed || !run.not_live.empty())) note += " (reset needed)";
+  if (r && run.ok() && !request.reset && (r->reset_needed || !run.not_live.empty()))
+    note += " (reset needed)";
   if (r && !run.ok() && !r->backup.empty()) note = r->reason + "; backup " + r->backup.string();
   row.push_back(note);
   return row;

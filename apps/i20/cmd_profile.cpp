@@ -15,6 +15,7 @@
 #include "context.hpp"
 #include "fleet_progress.hpp"
 #include "interrupt.hpp"
+#include "lbp/bytes.hpp"
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
 #include "ops/fleet.hpp"
@@ -25,7 +26,6 @@
 #include "profile/save.hpp"
 #include "profile/validate.hpp"
 #include "profile/writer.hpp"
-#include "lbp/bytes.hpp"
 #include "profile_lookup.hpp"
 
 namespace i20::cli {
@@ -44,10 +44,11 @@ bool has_card(const Context& ctx, const std::vector<std::string>& targets) {
 // silently ignored.
 std::vector<ops::Endpoint> targets_of(const Context& ctx, const std::vector<std::string>& targets) {
   auto endpoints = ops::resolve_endpoints(targets, ops::endpoint_from(ctx.options.target));
-  const bool any_sim = std::ranges::any_of(endpoints, [](const auto& e) { return e.kind == ops::Endpoint::Kind::Sim; });
+  const bool any_sim =
+      std::ranges::any_of(endpoints, [](const auto& e) { return e.kind == ops::Endpoint::Kind::Sim; });
   if (!ctx.options.link.sim_control.empty() && !any_sim)
-    throw UsageError("--sim-control reaches only simulators (--sim, sim targets), and " + endpoints.front().text +
-                     " is not one");
+    throw UsageError("--sim-control reaches only simulators (--sim, sim targets), and " +
+                     endpoints.front().text + " is not one");
   return endpoints;
 }
 
@@ -106,7 +107,8 @@ ops::ApplyJob apply_job(Context& ctx, const Profile& profile, const params::Para
 }
 
 // One run per target: one card directly, several as the fleet (concurrent across lines).
-std::vector<ops::TargetRun> run_on_targets(const std::vector<ops::Endpoint>& targets, const ops::ApplyJob& job,
+std::vector<ops::TargetRun> run_on_targets(const std::vector<ops::Endpoint>& targets,
+                                           const ops::ApplyJob& job,
                                            const ops::FleetActivity& activity = {}) {
   if (targets.size() == 1) return {ops::run_apply(targets.front(), job)};
   return ops::run_fleet(targets, job, activity);
@@ -163,11 +165,12 @@ std::string verdict(const ops::TargetRun& run) {
   const std::string card = run.result ? ", checked against " + run.result->card : std::string();
   if (!run.result) return "NOT CHECKED (" + run.target.text + " not reached: " + run.error + ")";
   const auto& r = *run.result;
-  if (run.outcome == ops::Outcome::DryRun) return "valid (" + render::findings_summary(r.findings) + card + ")";
+  if (run.outcome == ops::Outcome::DryRun)
+    return "valid (" + render::findings_summary(r.findings) + card + ")";
   if (run.outcome == ops::Outcome::Failed)
     return "NOT CHECKED (" + render::findings_summary(r.findings) + card + "): " + r.reason;
-  return "INVALID (" + render::findings_summary(r.findings) + card + "): apply would be refused: " +
-         why_refused(r.reason);
+  return "INVALID (" + render::findings_summary(r.findings) + card +
+         "): apply would be refused: " + why_refused(r.reason);
 }
 
 app::Json validation_json(const ops::TargetRun& run) {
@@ -196,8 +199,9 @@ app::Json refused_offline(Context& ctx, const Profile& profile, const params::Pa
 
 // One file against the cards: the transaction's dry run on each (read, validate with the
 // measured bus, order, the device layer's rules), exactly what apply runs before it writes.
-app::Json validate_on_cards(Context& ctx, const params::ParamDb& db, const std::vector<ops::Endpoint>& targets,
-                            const std::string& file, const ValidateOptions& o, ops::Outcome& outcome) {
+app::Json validate_on_cards(Context& ctx, const params::ParamDb& db,
+                            const std::vector<ops::Endpoint>& targets, const std::string& file,
+                            const ValidateOptions& o, ops::Outcome& outcome) {
   const auto loaded = try_load(db, file);
   if (!loaded.profile) return validate_offline(ctx, db, file, o.force, outcome);  // reports the load error
   auto job = apply_job(ctx, *loaded.profile, db, o.force, o.allow_unverified);
@@ -273,8 +277,12 @@ struct TargetDiff {
   std::string error;  // why it was not read
   bool interrupted = false;
 
-  long differ() const { return std::ranges::count_if(rows, [](const auto& r) { return !r.equal && r.card_raw; }); }
-  long unknown() const { return std::ranges::count_if(rows, [](const auto& r) { return !r.card_raw; }); }
+  long differ() const {
+    return std::ranges::count_if(rows, [](const auto& r) { return !r.equal && r.card_raw; });
+  }
+  long unknown() const {
+    return std::ranges::count_if(rows, [](const auto& r) { return !r.card_raw; });
+  }
   int exit_code() const {
     if (interrupted) return ops::kExitInterrupted;
     if (!error.empty() || unknown() > 0) return kDiffTrouble;
@@ -282,8 +290,8 @@ struct TargetDiff {
   }
 };
 
-TargetDiff diff_one(const Profile& profile, const std::vector<std::string>& names, const ops::Endpoint& target,
-                    const ops::CardOpener& open) {
+TargetDiff diff_one(const Profile& profile, const std::vector<std::string>& names,
+                    const ops::Endpoint& target, const ops::CardOpener& open) {
   TargetDiff d;
   d.target = target;
   try {
@@ -324,7 +332,10 @@ void print_diff_summary(const TargetDiff& d, const std::string& file) {
 app::Json diff_entry_json(const TargetDiff& d) {
   auto j = app::Json::object();
   j.set("target", d.target.text).set("card", d.card.empty() ? app::Json() : app::Json(d.card));
-  j.set("differ", d.differ()).set("unknown", d.unknown()).set("exit_code", d.exit_code()).set("error", d.error);
+  j.set("differ", d.differ())
+      .set("unknown", d.unknown())
+      .set("exit_code", d.exit_code())
+      .set("error", d.error);
   return j.set("rows", render::diff_json(d.rows));
 }
 
@@ -340,10 +351,13 @@ void print_diff_text(const Profile& profile, const std::string& file, const std:
     print_diff_summary(d, file);
   }
   if (diffs.size() < 2) return;
-  const auto count = [&](int code) { return std::ranges::count_if(diffs, [code](const auto& d) { return d.exit_code() == code; }); };
+  const auto count = [&](int code) {
+    return std::ranges::count_if(diffs, [code](const auto& d) { return d.exit_code() == code; });
+  };
   std::cout << "\n"
-            << count(kDiffSame) << " of " << diffs.size() << " targets hold every value; " << count(kDiffDiffers)
-            << " differ; " << diffs.size() - count(kDiffSame) - count(kDiffDiffers) << " could not be compared\n";
+            << count(kDiffSame) << " of " << diffs.size() << " targets hold every value; "
+            << count(kDiffDiffers) << " differ; " << diffs.size() - count(kDiffSame) - count(kDiffDiffers)
+            << " could not be compared\n";
 }
 
 void run_diff(Context& ctx, const DiffOptions& o) {
@@ -387,7 +401,7 @@ void run_diff(Context& ctx, const DiffOptions& o) {
 struct ApplyCliOptions {
   std::string file;
   std::vector<std::string> targets;
-  std::string to;  // retarget: nv | working | both
+  std::string to;          // retarget: nv | working | both
   std::string backup_dir;  // empty: $XDG_STATE_HOME/i20/backups
   bool dry_run = false;
   bool force = false;
@@ -405,21 +419,25 @@ std::string names_of(const std::vector<ops::Endpoint>& targets) {
 // A reset makes the new EEPROM values live at once: asked before anything is sent.
 bool reset_confirmed(Context& ctx, const ApplyCliOptions& o, const std::vector<ops::Endpoint>& targets) {
   if (!o.reset || o.dry_run || o.yes) return true;
-  if (ctx.confirm("Reset the 8I20 on " + names_of(targets) +
-                  " after a verified apply (or when a reset is pending)? The new EEPROM values become live at once"))
+  if (ctx.confirm(
+          "Reset the 8I20 on " + names_of(targets) +
+          " after a verified apply (or when a reset is pending)? The new EEPROM values become live at once"))
     return true;
   std::cerr << "i20: reset not confirmed; nothing was sent (pass --yes in scripts)\n";
   ctx.exit_code = app::kBadInput;
   return false;
 }
 
-void print_many(Context& ctx, const Profile& profile, const std::string& file, const std::vector<ops::TargetRun>& runs,
-                const params::ParamDb& db, const render::FleetRequest& request) {
+void print_many(Context& ctx, const Profile& profile, const std::string& file,
+                const std::vector<ops::TargetRun>& runs, const params::ParamDb& db,
+                const render::FleetRequest& request) {
   if (ctx.options.json) {
     auto arr = app::Json::array();
     for (const auto& run : runs) arr.push(render::run_json(run));
     auto j = app::Json::object();
-    j.set("profile", profile.name).set("file", file).set("exit_code", ops::exit_code(ops::fleet_outcome(runs)));
+    j.set("profile", profile.name)
+        .set("file", file)
+        .set("exit_code", ops::exit_code(ops::fleet_outcome(runs)));
     ctx.print_json(j.set("targets", std::move(arr)));
     return;
   }
@@ -434,7 +452,8 @@ using RunJob = std::function<ops::TargetRun(const ops::ApplyJob&, const ops::Act
 void apply_single(Context& ctx, const Profile& profile, const std::string& file, ops::ApplyJob job,
                   const std::string& target, const RunJob& run_job) {
   const bool text = !ctx.options.json;
-  if (text) std::cout << "Profile " << profile.name << " (" << file << ") -> " << target << "\n" << std::flush;
+  if (text)
+    std::cout << "Profile " << profile.name << " (" << file << ") -> " << target << "\n" << std::flush;
   bool plan_shown = false;
   job.transaction.on_plan = [&](const profile::Plan& plan) {
     if (!text || plan.empty()) return;
@@ -482,8 +501,9 @@ void run_apply_command(Context& ctx, const ApplyCliOptions& o) {
   set_change_options(job, o);
   if (targets.size() == 1) {
     const auto& target = targets.front();
-    return apply_single(ctx, *profile, o.file, job, target.text,
-                        [&](const ops::ApplyJob& j, const ops::Activity& a) { return ops::run_apply(target, j, a); });
+    return apply_single(
+        ctx, *profile, o.file, job, target.text,
+        [&](const ops::ApplyJob& j, const ops::Activity& a) { return ops::run_apply(target, j, a); });
   }
   FleetProgress progress(targets, !ctx.options.json && isatty(STDERR_FILENO));
   const auto runs = ops::run_fleet(targets, job, progress.activity());
@@ -536,7 +556,8 @@ void run_undo(Context& ctx, const UndoOptions& o) {
   if (targets.size() != 1) throw UsageError("undo restores one card: give a single --target");
   const auto& target = targets.front();
   if (!reset_confirmed(ctx, o.apply, targets)) return;
-  const auto dir = o.apply.backup_dir.empty() ? profile::default_backup_dir() : std::filesystem::path(o.apply.backup_dir);
+  const auto dir =
+      o.apply.backup_dir.empty() ? profile::default_backup_dir() : std::filesystem::path(o.apply.backup_dir);
   std::unique_ptr<ops::Card> card;
   std::string file = o.apply.file;
   if (o.last) {  // the card names its unit; nothing but its identity is read before the backup is found
@@ -661,7 +682,8 @@ void register_diff(CLI::App& profile, Context& ctx) {
   auto o = std::make_shared<DiffOptions>();
   auto* cmd = profile.add_subcommand(
       "diff",
-      "The cards against a profile, parameter by parameter (one section per --target, read concurrently across "
+      "The cards against a profile, parameter by parameter (one section per --target, read concurrently "
+      "across "
       "lines). Exit codes as diff(1): 0 every card holds every value, 1 some value differs, 2 trouble (bad "
       "input, a card not reached, a value not readable as a fact), 130 interrupted");
   cmd->add_option("FILE", o->file, "Profile file (YAML), or the name of a shipped profile")
@@ -677,9 +699,10 @@ void add_change_options(CLI::App* cmd, ApplyCliOptions& o) {
   cmd->add_option("--backup-dir", o.backup_dir,
                   "Where the backup of the card's values goes (default: $XDG_STATE_HOME/i20/backups, i.e. "
                   "~/.local/state/i20/backups)");
-  cmd->add_flag("--reset", o.reset,
-                "Reset the card after a verified change, or when an earlier EEPROM write is still not live, so "
-                "the EEPROM values are live at once (asks first)");
+  cmd->add_flag(
+      "--reset", o.reset,
+      "Reset the card after a verified change, or when an earlier EEPROM write is still not live, so "
+      "the EEPROM values are live at once (asks first)");
   cmd->add_flag("--yes,-y", o.yes, "Do not ask before --reset");
   cmd->add_flag("--force", o.force,
                 "Allow guarded parameters (NVBAUDRATE), and BUSOVERV/BRAKEONV at or below the measured bus");
@@ -692,8 +715,10 @@ void register_apply(CLI::App& profile, Context& ctx) {
   auto* cmd = profile.add_subcommand(
       "apply",
       "Validate against the card, back up its current values, write only what differs in a safe order, read "
-      "every value back; on any failure or Ctrl-C restore the old values. Exit 0 applied and verified or nothing "
-      "to do, 1 card not reached, 2 profile cannot be read, 3 refused by a rule (nothing written), 4 rolled back "
+      "every value back; on any failure or Ctrl-C restore the old values. Exit 0 applied and verified or "
+      "nothing "
+      "to do, 1 card not reached, 2 profile cannot be read, 3 refused by a rule (nothing written), 4 rolled "
+      "back "
       "or state uncertain (cells named), 130 interrupted");
   cmd->add_option("FILE", o->file, "Profile file (YAML), or the name of a shipped profile")
       ->required()

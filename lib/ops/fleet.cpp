@@ -40,9 +40,11 @@ std::vector<EthPort> by_port(const std::vector<Endpoint>& targets) {
   for (std::size_t i = 0; i < targets.size(); ++i) {
     if (!targets[i].is_eth()) continue;
     const auto t = eth::parse_target(targets[i].eth_url);
-    auto it = std::find_if(ports.begin(), ports.end(),
-                           [&](const EthPort& p) { return p.card == t.card && p.sserial_port == t.sserial_port; });
-    if (it == ports.end()) it = ports.insert(ports.end(), EthPort{t.card, t.sserial_port, 0, {}, nullptr, {}, {}});
+    auto it = std::find_if(ports.begin(), ports.end(), [&](const EthPort& p) {
+      return p.card == t.card && p.sserial_port == t.sserial_port;
+    });
+    if (it == ports.end())
+      it = ports.insert(ports.end(), EthPort{t.card, t.sserial_port, 0, {}, nullptr, {}, {}});
     it->mask = static_cast<std::uint8_t>(it->mask | t.channel_mask());
     it->targets.push_back(i);
   }
@@ -87,7 +89,9 @@ void for_each_target(const std::vector<Endpoint>& targets, const params::ParamDb
       }
       const unsigned channel = eth::parse_target(targets[i].eth_url).channel;
       threads.emplace_back([&, i, channel, port = p.port] {
-        task(i, [&, i, channel, port] { return Card::attach(port->link(channel), targets[i], db, open.retry, cancel); });
+        task(i, [&, i, channel, port] {
+          return Card::attach(port->link(channel), targets[i], db, open.retry, cancel);
+        });
       });
     }
   for (auto& t : threads) t.join();
@@ -96,12 +100,13 @@ void for_each_target(const std::vector<Endpoint>& targets, const params::ParamDb
 std::vector<TargetRun> run_fleet(const std::vector<Endpoint>& targets, const ApplyJob& job,
                                  const FleetActivity& activity) {
   std::vector<TargetRun> runs(targets.size());
-  for_each_target(targets, *job.db, job.open, job.transaction.cancel, [&](std::size_t i, const CardOpener& open) {
-    Activity one;
-    if (activity) one = [&activity, i](const std::string& s) { activity(i, s); };
-    runs[i] = run_apply_opened(targets[i], job, open, one);
-    if (activity) activity(i, to_string(runs[i].outcome));
-  });
+  for_each_target(targets, *job.db, job.open, job.transaction.cancel,
+                  [&](std::size_t i, const CardOpener& open) {
+                    Activity one;
+                    if (activity) one = [&activity, i](const std::string& s) { activity(i, s); };
+                    runs[i] = run_apply_opened(targets[i], job, open, one);
+                    if (activity) activity(i, to_string(runs[i].outcome));
+                  });
   return runs;
 }
 

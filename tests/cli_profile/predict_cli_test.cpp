@@ -51,21 +51,23 @@ TEST_F(PredictCli, ValidateAgainstACardJudgesWhatApplyJudges) {
   EXPECT_NE(validate.out.find("[bus-measured-brake]"), std::string::npos) << validate.out;
   EXPECT_NE(validate.out.find("INVALID"), std::string::npos) << validate.out;
   EXPECT_EQ(validate.out.find(": valid"), std::string::npos) << validate.out;
-  const auto apply = i20({"--sim", "--sim-eeprom", card, "profile", "apply", "line-120v", "--backup-dir",
-                          dir.path().string()});
+  const auto apply = i20(
+      {"--sim", "--sim-eeprom", card, "profile", "apply", "line-120v", "--backup-dir", dir.path().string()});
   EXPECT_EQ(apply.exit_code, validate.exit_code) << apply.out << apply.err;
 
   const auto v = json(i20({"--json", "--sim", "--sim-eeprom", card, "profile", "validate", "line-120v"}));
-  const auto a = json(i20({"--json", "--sim", "--sim-eeprom", card, "profile", "apply", "line-120v", "--dry-run"}));
+  const auto a =
+      json(i20({"--json", "--sim", "--sim-eeprom", card, "profile", "apply", "line-120v", "--dry-run"}));
   EXPECT_FALSE(v["valid"].as<bool>());
   EXPECT_EQ(v["exit_code"].as<int>(), a["exit_code"].as<int>());
-  EXPECT_EQ(rules_of(v["files"][0]["findings"]), rules_of(a["findings"])) << "the same rules, the same findings";
+  EXPECT_EQ(rules_of(v["files"][0]["findings"]), rules_of(a["findings"]))
+      << "the same rules, the same findings";
   EXPECT_EQ(slurp_file(card), before) << "validate and a refused apply leave the EEPROM as it was";
   EXPECT_TRUE(backups_in(dir.path()).empty());
 
   // On a 120 V line (160 V of bus) both go ahead.
-  const auto ok = i20({"--sim", "--sim-eeprom", card, "--sim-control", "busv 160", "profile", "validate",
-                       "line-120v"});
+  const auto ok =
+      i20({"--sim", "--sim-eeprom", card, "--sim-control", "busv 160", "profile", "validate", "line-120v"});
   EXPECT_EQ(ok.exit_code, 0) << ok.out << ok.err;
   EXPECT_NE(ok.out.find(": valid ("), std::string::npos) << ok.out;
   EXPECT_NE(ok.out.find("checked against 8I20"), std::string::npos) << ok.out;
@@ -105,13 +107,13 @@ TEST_F(PredictCli, ValidateOverManyTargetsJudgesEachCard) {
   SimProcess high;  // 320 V bus
   const auto low = fresh_image("low.eeprom");
   const auto before = slurp_file(low);
-  const auto r = i20({"--sim-control", "busv 160", "profile", "validate", "line-120v", "--target", high.port(),
-                      "--target", "sim:" + low});
+  const auto r = i20({"--sim-control", "busv 160", "profile", "validate", "line-120v", "--target",
+                      high.port(), "--target", "sim:" + low});
   EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
   EXPECT_NE(r.out.find("== " + high.port()), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("== sim:" + low), std::string::npos) << r.out;
-  const auto j = json(i20({"--json", "--sim-control", "busv 160", "profile", "validate", "line-120v", "--target",
-                           high.port(), "--target", "sim:" + low}));
+  const auto j = json(i20({"--json", "--sim-control", "busv 160", "profile", "validate", "line-120v",
+                           "--target", high.port(), "--target", "sim:" + low}));
   const auto targets = j["files"][0]["targets"];
   ASSERT_EQ(targets.size(), 2u) << r.out;
   EXPECT_FALSE(targets[0]["valid"].as<bool>());
@@ -125,12 +127,13 @@ TEST_F(PredictCli, FleetDryRunSaysWhatItWouldWrite) {
   SimProcess one{kLine120Bus};
   const auto two = fresh_image("two.eeprom");
   const auto before = slurp_file(two);
-  const auto r = i20({"--sim-control", "busv 160", "profile", "apply", "line-120v", "--dry-run", "--backup-dir",
-                      dir.path().string(), "--target", one.port(), "--target", "sim:" + two});
+  const auto r = i20({"--sim-control", "busv 160", "profile", "apply", "line-120v", "--dry-run",
+                      "--backup-dir", dir.path().string(), "--target", one.port(), "--target", "sim:" + two});
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("WOULD WRITE"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("NVBRAKEOFFV, NVBRAKEONV"), std::string::npos) << "names the cells: " << r.out;
-  EXPECT_NE(r.out.find("DRY RUN: would write 10 cells on 2 of 2 targets; nothing was written"), std::string::npos)
+  EXPECT_NE(r.out.find("DRY RUN: would write 10 cells on 2 of 2 targets; nothing was written"),
+            std::string::npos)
       << r.out;
   EXPECT_EQ(r.out.find("applied and verified"), std::string::npos) << r.out;
   EXPECT_EQ(one.writes_seen(), 0u);
@@ -141,8 +144,8 @@ TEST_F(PredictCli, FleetDryRunSaysWhatItWouldWrite) {
 TEST_F(PredictCli, FleetResetShowsInTheTable) {
   SimProcess one{kLine120Bus};
   const auto two = image("two.eeprom");
-  auto r = i20({"--sim-control", "busv 160", "profile", "apply", "line-120v", "--reset", "--yes", "--backup-dir",
-                dir.path().string(), "--target", one.port(), "--target", "sim:" + two});
+  auto r = i20({"--sim-control", "busv 160", "profile", "apply", "line-120v", "--reset", "--yes",
+                "--backup-dir", dir.path().string(), "--target", one.port(), "--target", "sim:" + two});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("RESET"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("  done  "), std::string::npos) << r.out;
@@ -173,10 +176,13 @@ TEST_F(PredictCli, DiffExitsAsDiffAndTakesManyTargets) {
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
   EXPECT_NE(r.out.find("== " + one.port()), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("== sim:" + other), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("0 of 2 targets hold every value; 2 differ; 0 could not be compared"), std::string::npos)
+  EXPECT_NE(r.out.find("0 of 2 targets hold every value; 2 differ; 0 could not be compared"),
+            std::string::npos)
       << r.out;
 
-  ASSERT_EQ(i20_on(one.port(), {"profile", "apply", "line-120v", "--backup-dir", dir.path().string()}).exit_code, 0);
+  ASSERT_EQ(
+      i20_on(one.port(), {"profile", "apply", "line-120v", "--backup-dir", dir.path().string()}).exit_code,
+      0);
   r = i20({"profile", "diff", "line-120v", "--target", one.port()});
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   const auto j = json(i20({"--json", "profile", "diff", "line-120v", "--target", one.port(), "--target",
@@ -200,7 +206,8 @@ TEST_F(PredictCli, NotLiveYetCountsEveryPendingValueOnTheCard) {
   EXPECT_NE(r.out.find("not live yet: 2 of them"), std::string::npos) << r.out;
   r = i20_on(card.port(), {"set", "NVMAXCURRENT=11A"});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("not live yet: 3 of them"), std::string::npos) << "the first set's two count too: " << r.out;
+  EXPECT_NE(r.out.find("not live yet: 3 of them"), std::string::npos)
+      << "the first set's two count too: " << r.out;
   const auto j = json(i20_on(card.port(), {"--json", "set", "NVMAXCURRENT=11A"}));
   EXPECT_EQ(j["not_live"].size(), 3u) << "nothing to do, still three pending";
 }
@@ -217,7 +224,9 @@ TEST_F(PredictCli, SimControlWithARealTargetIsBadInput) {
   r = i20({"--sim-control", "busv 160", "profile", "apply", "line-120v", "--target", card.port()});
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find("--sim-control"), std::string::npos) << r.err;
-  EXPECT_EQ(i20({"--sim-control", "busv 160", "profile", "diff", "line-120v", "--target", card.port()}).exit_code, 2);
+  EXPECT_EQ(
+      i20({"--sim-control", "busv 160", "profile", "diff", "line-120v", "--target", card.port()}).exit_code,
+      2);
   EXPECT_EQ(card.commands_seen(), 0u) << "nothing was sent: " << card.trace();
 }
 
@@ -231,7 +240,8 @@ TEST_F(PredictCli, UndoPutsTheBackupBackThroughTheTransaction) {
   const auto saved = backups_in(dir.path());
   ASSERT_EQ(saved.size(), 1u);
 
-  auto r = i20_on(card.port(), {"profile", "undo", saved.front().string(), "--dry-run", "--backup-dir", backups});
+  auto r =
+      i20_on(card.port(), {"profile", "undo", saved.front().string(), "--dry-run", "--backup-dir", backups});
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("Plan: 5 writes"), std::string::npos) << "the diff first: " << r.out;
   EXPECT_NE(r.out.find("360.00 V"), std::string::npos) << r.out;
@@ -262,7 +272,9 @@ TEST_F(PredictCli, UndoRefusesBadRequestsBeforeWriting) {
   EXPECT_EQ(i20_on(card.port(), {"profile", "undo", (dir / "missing.yaml").string()}).exit_code, 2);
   // A backup whose values the rules refuse on this card (a 190 V brake-on on a 320 V bus).
   SimProcess high;
-  ASSERT_EQ(i20_on(card.port(), {"profile", "apply", "line-120v", "--backup-dir", dir.path().string()}).exit_code, 0);
+  ASSERT_EQ(
+      i20_on(card.port(), {"profile", "apply", "line-120v", "--backup-dir", dir.path().string()}).exit_code,
+      0);
   const auto undo_file = write_file(dir / "low.yaml", slurp_file(shipped("line-120v.yaml")));
   r = i20_on(high.port(), {"profile", "undo", undo_file, "--backup-dir", dir.path().string()});
   EXPECT_EQ(r.exit_code, 3) << r.out << r.err;

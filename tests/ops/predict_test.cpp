@@ -36,9 +36,11 @@ TEST(OpsPredict, ADryRunIsRefusedByTheDeviceRulesAsTheApplyIs) {
 }
 
 TEST(OpsPredict, PendingNvValuesAreThePairsThatDiffer) {
-  const RawValues values{{"NVBRAKEONV", 19000}, {"BRAKEONV", 36000},  // pending
-                         {"NVMAXCURRENT", 1200}, {"MAXCURRENT", 1200},  // live
-                         {"NVKQP", 50}};                                // twin unknown: not judged
+  const RawValues values{{"NVBRAKEONV", 19000},
+                         {"BRAKEONV", 36000},  // pending
+                         {"NVMAXCURRENT", 1200},
+                         {"MAXCURRENT", 1200},  // live
+                         {"NVKQP", 50}};        // twin unknown: not judged
   EXPECT_EQ(pending_nv_values(db(), values), std::vector<std::string>{"NVBRAKEONV"});
   EXPECT_TRUE(pending_nv_values(db(), {}).empty());
 }
@@ -59,7 +61,7 @@ TEST(OpsPredict, NotLiveCountsEveryPendingValueOnTheCard) {
   job.profile = &second;
   run = run_apply_on(*card, job);
   ASSERT_EQ(run.outcome, Outcome::Done) << (run.result ? run.result->reason : run.error);
-  EXPECT_EQ(run.not_live, (std::vector<std::string>{"NVMAXCURRENT", "NVBRAKEONV", "NVBRAKEOFFV"}) )
+  EXPECT_EQ(run.not_live, (std::vector<std::string>{"NVMAXCURRENT", "NVBRAKEONV", "NVBRAKEOFFV"}))
       << "in database order";
   EXPECT_EQ(pending_nv_values(*card), run.not_live);
 }
