@@ -148,7 +148,7 @@ app::Json validate_offline(Context& ctx, const params::ParamDb& db, const std::s
   if (!ctx.options.json) {
     render::print_findings(std::cout, findings, file);
     std::cout << file << ": " << (valid ? "valid" : "INVALID") << " (" << render::findings_summary(findings)
-              << ", without a card)\n";
+              << "), without a card\n";
   }
   return j.set("valid", valid).set("findings", render::findings_json(findings));
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "ops/apply_run.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
 
@@ -73,12 +74,18 @@ void reload_restored_values(Card& c, TargetRun& run) {
 }
 
 // Every NV value on the card whose working twin holds something else after the run, not
-// only the profile's: an earlier write never followed by a reset is not live either.
-void check_live(Card& c, TargetRun& run) {
+// only the profile's: an earlier write never followed by a reset is not live either. A
+// working cell the profile itself set (target working) differs from its EEPROM twin on
+// purpose: that twin is not an EEPROM value waiting to go live.
+void check_live(Card& c, const ApplyJob& job, TargetRun& run) {
   const auto& r = *run.result;
   if ((r.outcome != Outcome::Done && r.outcome != Outcome::NothingToDo) || r.reset_done) return;
   try {
-    run.not_live = pending_nv_values(c);
+    std::vector<std::string> set_live;
+    for (const auto& w : profile::cell_writes(*job.profile, c.db()))
+      if (const params::Param& p = c.db().get(w.cell); !p.is_nv()) set_live.push_back(p.twin);
+    for (auto& name : pending_nv_values(c))
+      if (std::ranges::find(set_live, name) == set_live.end()) run.not_live.push_back(std::move(name));
   } catch (const std::exception&) {
     // Best effort: the advice below the outcome is then the transaction's reset_needed alone.
   }
@@ -119,7 +126,7 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
   if (run.outcome != Outcome::Refused && run.outcome != Outcome::DryRun && run.outcome != Outcome::BadInput &&
       run.outcome != Outcome::Failed) {
     if (activity) activity("checking");
-    check_live(card, run);
+    check_live(card, job, run);
     check_card_reset(card, status_before, run);  // last: a reset during the checks is seen too
     if (!run.card_reset.empty() && run.outcome == Outcome::RolledBack) reload_restored_values(card, run);
   }
