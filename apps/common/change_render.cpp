@@ -358,20 +358,69 @@ app::Json run_json(const TargetRun& run) {
   return j;
 }
 
-void print_fleet(std::ostream& out, const std::vector<TargetRun>& runs, const params::ParamDb& db,
-                 const std::string& source) {
-  Table t({"TARGET", "OUTCOME", "WRITES", "BACKUP / REASON"});
-  std::size_t ok = 0;
-  for (const auto& run : runs) {
-    ok += run.ok() ? 1 : 0;
-    const auto* r = run.result ? &*run.result : nullptr;
-    const std::string writes =
-        r ? std::to_string(std::ranges::count_if(r->writes, [](const auto& w) { return w.ok; })) : "-";
-    std::string note = !r ? run.error : !r->backup.empty() ? r->backup.string() : r->reason;
-    if (r && run.ok() && (r->reset_needed || !run.not_live.empty())) note += " (reset needed)";
-    if (r && !run.ok() && !r->backup.empty()) note = r->reason + "; backup " + r->backup.string();
-    t.add({run.target.text, outcome_name(run), writes, note});
+std::string reset_state(const TargetRun& run) {
+  if (!run.result) return "not sent";
+  const auto& r = *run.result;
+  if (!r.reset_error.empty()) return "FAILED";
+  if (r.reset_done) return "done";
+  if (run.outcome == Outcome::DryRun) return r.plan.reset_needed ? "would reset" : "only if one is pending";
+  if (run.outcome != Outcome::Done && run.outcome != Outcome::NothingToDo) return "not sent";
+  return r.reset_needed || !run.not_live.empty() ? "PENDING" : "not needed";
+}
+
+namespace {
+
+std::string cell_names(const profile::Plan& plan) {
+  std::string names;
+  for (const auto& step : plan.steps) names += (names.empty() ? "" : ", ") + step.cell;
+  return names;
+}
+
+// One row: what the target wrote (or would write, on a dry run), and why not.
+std::vector<std::string> fleet_row(const TargetRun& run, const FleetRequest& request) {
+  const auto* r = run.result ? &*run.result : nullptr;
+  std::vector<std::string> row{run.target.text, outcome_name(run)};
+  if (request.dry_run) {
+    const bool planned = r && run.outcome == Outcome::DryRun;
+    row.push_back(planned ? std::to_string(r->plan.steps.size()) : "-");
+    if (request.reset) row.push_back(reset_state(run));
+    row.push_back(!r ? run.error : planned ? cell_names(r->plan) : r->reason);
+    return row;
   }
+  row.push_back(r ? std::to_string(std::ranges::count_if(r->writes, [](const auto& w) { return w.ok; }))
+                  : "-");
+  if (request.reset) row.push_back(reset_state(run));
+  std::string note = !r ? run.error : !r->backup.empty() ? r->backup.string() : r->reason;
+  if (r && run.ok() && !request.reset && (r->reset_needed || !run.not_live.empty()))
+    note += " (reset needed)";
+  if (r && !run.ok() && !r->backup.empty()) note = r->reason + "; backup " + r->backup.string();
+  row.push_back(note);
+  return row;
+}
+
+std::string fleet_summary(const std::vector<TargetRun>& runs, const FleetRequest& request) {
+  const auto ok = static_cast<std::size_t>(std::ranges::count_if(runs, [](const auto& r) { return r.ok(); }));
+  if (!request.dry_run)
+    return std::to_string(ok) + " of " + plural(runs.size(), "target", "targets") +
+           " applied and verified (or had nothing to do); " + std::to_string(runs.size() - ok) + " did not";
+  std::size_t cells = 0;
+  for (const auto& run : runs)
+    if (run.result && run.outcome == Outcome::DryRun) cells += run.result->plan.steps.size();
+  std::string line = "DRY RUN: would write " + plural(cells, "cell", "cells") + " on " + std::to_string(ok) +
+                     " of " + plural(runs.size(), "target", "targets") + "; nothing was written";
+  if (ok < runs.size()) line += "; " + std::to_string(runs.size() - ok) + " would not be applied (below)";
+  return line;
+}
+
+}  // namespace
+
+void print_fleet(std::ostream& out, const std::vector<TargetRun>& runs, const params::ParamDb& db,
+                 const std::string& source, const FleetRequest& request) {
+  std::vector<std::string> headers{"TARGET", "OUTCOME", request.dry_run ? "WOULD WRITE" : "WRITES"};
+  if (request.reset) headers.push_back("RESET");
+  headers.push_back(request.dry_run ? "CELLS / REASON" : "BACKUP / REASON");
+  Table t(headers);
+  for (const auto& run : runs) t.add(fleet_row(run, request));
   t.print(out, "");
   for (const auto& run : runs) {
     // Not reached: the table's reason is the whole story.
@@ -379,9 +428,7 @@ void print_fleet(std::ostream& out, const std::vector<TargetRun>& runs, const pa
     out << "\n== " << run.target.text << "\n";
     print_run(out, run, db, source);
   }
-  out << "\n"
-      << ok << " of " << plural(runs.size(), "target", "targets")
-      << " applied and verified (or had nothing to do); " << runs.size() - ok << " did not\n";
+  out << "\n" << fleet_summary(runs, request) << "\n";
 }
 
 }  // namespace i20::app::render

@@ -64,8 +64,17 @@ std::string error_line(const TargetRun& run);
 std::string outcome_name(const TargetRun& run);
 app::Json run_json(const TargetRun& run);
 
-// One row per target, then the details of every target that did not end well.
+// What the fleet was asked for, so its table shows it.
+struct FleetRequest {
+  bool reset = false;    // --reset: a RESET column (done, not needed, pending, would reset, failed, not sent)
+  bool dry_run = false;  // --dry-run: what each target would write, instead of what it wrote
+};
+
+// One row per target, then the details of every target that did not end well. A dry run's
+// table names the cells each target would write and ends "DRY RUN: would write N cells".
 void print_fleet(std::ostream& out, const std::vector<TargetRun>& runs, const params::ParamDb& db,
-                 const std::string& source);
+                 const std::string& source, const FleetRequest& request = {});
+// The RESET column's state of one target.
+std::string reset_state(const TargetRun& run);
 
 }  // namespace i20::app::render

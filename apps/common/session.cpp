@@ -37,7 +37,9 @@ void add_target_options(CLI::App& app, GlobalOptions& o) {
   app.add_option(
       "--sim-control", o.link.sim_control,
       "A simulator control line applied before the first command, e.g. \"busv 160\" (a card on a 120 V "
-      "line) or \"enable off\"; repeatable, for --sim and sim targets. `i20sim --help` lists them");
+      "line) or \"enable off\"; repeatable, for --sim and sim targets. `i20sim --help` lists them")
+      ->excludes(port)
+      ->excludes(eth);  // a real card would silently ignore it: refused before any byte
   app.add_option("--baud", o.link.baud, "Serial baud rate; setup mode is always 115200 (manual)")
       ->needs(port)
       ->check(CLI::Range(1200u, 12000000u));

@@ -16,6 +16,7 @@
 #include "output_file.hpp"
 #include "fleet_progress.hpp"
 #include "interrupt.hpp"
+#include "lbp/bytes.hpp"
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
 #include "ops/fleet.hpp"
@@ -39,10 +40,23 @@ bool has_card(const Context& ctx, const std::vector<std::string>& targets) {
   return !targets.empty() || ctx.options.has_target();
 }
 
-// The one card validate/diff/save read (read-only: Ctrl-C may stop them anywhere).
+// The targets a command names: --target (repeatable) or the global --port/--sim/--eth.
+// `--sim-control` only reaches simulators: with no simulator among them it is an error, not
+// silently ignored.
+std::vector<ops::Endpoint> targets_of(const Context& ctx, const std::vector<std::string>& targets) {
+  auto endpoints = ops::resolve_endpoints(targets, ops::endpoint_from(ctx.options.target));
+  const bool any_sim =
+      std::ranges::any_of(endpoints, [](const auto& e) { return e.kind == ops::Endpoint::Kind::Sim; });
+  if (!ctx.options.link.sim_control.empty() && !any_sim)
+    throw UsageError("--sim-control reaches only simulators (--sim, sim targets), and " +
+                     endpoints.front().text + " is not one");
+  return endpoints;
+}
+
+// The one card save reads (read-only: Ctrl-C may stop it anywhere).
 std::unique_ptr<ops::Card> open_card(Context& ctx, const std::vector<std::string>& targets,
                                      const params::ParamDb& db) {
-  const auto endpoints = ops::resolve_endpoints(targets, ops::endpoint_from(ctx.options.target));
+  const auto endpoints = targets_of(ctx, targets);
   if (endpoints.size() != 1) throw UsageError("this command reads one card: give a single --target");
   ops::OpenOptions open;
   open.link = ctx.options.link;
@@ -78,129 +92,317 @@ std::optional<Profile> load(Context& ctx, const params::ParamDb& db, const std::
   return loaded.profile;
 }
 
+// The apply that `validate` and `apply --dry-run` predict, and `apply` and `undo` run:
+// one job for every command, so a prediction uses exactly the rules of the real thing.
+ops::ApplyJob apply_job(Context& ctx, const Profile& profile, const params::ParamDb& db, bool force,
+                        bool allow_unverified) {
+  ops::ApplyJob job;
+  job.profile = &profile;
+  job.db = &db;
+  job.write = {allow_unverified, force};
+  job.transaction.force = force;
+  job.transaction.when = std::chrono::system_clock::now();
+  job.transaction.cancel = ops::Cancel(app::install_interrupt_handler());
+  job.open.link = ctx.options.link;
+  return job;
+}
+
+// One run per target: one card directly, several as the fleet (concurrent across lines).
+std::vector<ops::TargetRun> run_on_targets(const std::vector<ops::Endpoint>& targets,
+                                           const ops::ApplyJob& job,
+                                           const ops::FleetActivity& activity = {}) {
+  if (targets.size() == 1) return {ops::run_apply(targets.front(), job)};
+  return ops::run_fleet(targets, job, activity);
+}
+
 // ------------------------------------------------------------------ validate
 struct ValidateOptions {
   std::vector<std::string> files;
   std::vector<std::string> targets;
   bool force = false;
+  bool allow_unverified = false;
 };
 
-// What the rules compare, as read from the card: only facts (a working cell whose address
-// is not confirmed for this firmware is judged by its default, as without a card).
-profile::RawValues read_for_rules(ops::Card& card, const Profile& p) {
-  std::vector<const params::Param*> params;
-  const auto add = [&](const std::string& name) {
-    const params::Param* param = card.db().find(name);
-    if (param && std::find(params.begin(), params.end(), param) == params.end()) params.push_back(param);
-  };
-  for (const auto& s : p.settings) add(s.name);
-  for (const auto& base : ops::rule_parameters())
-    if (const params::Param* param = card.db().find(base)) {
-      add(param->name);
-      add(param->twin);
-    }
-  profile::RawValues values;
-  for (const auto& r : ops::read_values(card, params))
-    if (r.fact()) values[r.param->name] = *r.raw;
-  return values;
-}
+// What validate cannot judge without a card (the rules compare with what it measures).
+constexpr const char* kNeedsCard =
+    "the measured-bus rules (bus-measured-*: each threshold against the bus voltage the card measures now) "
+    "need a card and were not judged; values the profile does not set were judged by their database "
+    "defaults. Give --target, --port or --sim to judge the profile as apply does";
 
-// One file: findings printed as they are found (text), its entry returned (JSON).
-app::Json validate_file(Context& ctx, const params::ParamDb& db, ops::Card* card, const std::string& file,
-                        bool force, bool& valid) {
+// One file without a card: findings printed as they are found (text), its entry returned (JSON).
+app::Json validate_offline(Context& ctx, const params::ParamDb& db, const std::string& file, bool force,
+                           ops::Outcome& outcome) {
   auto j = app::Json::object();
   j.set("file", file);
   const auto loaded = try_load(db, file);
   if (!loaded.profile) {
-    valid = false;
+    outcome = ops::Outcome::BadInput;
     if (!ctx.options.json) {
       render::print_load_error(std::cout, *loaded.error, file);
       std::cout << file << ": INVALID (cannot be loaded)\n";
     }
     return j.set("valid", false).set("findings", render::load_error_json(*loaded.error));
   }
-  profile::RawValues values;
-  if (card) values = read_for_rules(*card, *loaded.profile);
-  const auto findings = profile::validate(*loaded.profile, db, {card ? &values : nullptr, force, std::nullopt});
-  valid = !profile::has_errors(findings);
+  const auto findings = profile::validate(*loaded.profile, db, {nullptr, force, std::nullopt});
+  const bool valid = !profile::has_errors(findings);
+  outcome = valid ? ops::Outcome::DryRun : ops::Outcome::Refused;  // apply would refuse it (exit 3)
   if (!ctx.options.json) {
     render::print_findings(std::cout, findings, file);
     std::cout << file << ": " << (valid ? "valid" : "INVALID") << " (" << render::findings_summary(findings)
-              << (card ? ", checked against " + card->describe() : std::string()) << ")\n";
+              << "), without a card\n";
   }
   return j.set("valid", valid).set("findings", render::findings_json(findings));
 }
 
-void run_validate(Context& ctx, const ValidateOptions& o) {
-  const auto db_base = app::load_database(ctx.options);
-  std::unique_ptr<ops::Card> card;
-  if (has_card(ctx, o.targets)) card = open_card(ctx, o.targets, db_base);
-  const params::ParamDb& db = card ? card->db() : db_base;
-  auto files = app::Json::array();
-  bool all_valid = true;
-  for (const auto& file : o.files) {
-    bool valid = true;
-    files.push(validate_file(ctx, db, card.get(), file, o.force, valid));
-    all_valid = all_valid && valid;
-  }
-  if (!all_valid) ctx.exit_code = app::kBadInput;
-  if (!ctx.options.json) return;
+// The transaction's reason without its "; nothing was written" (validate never writes).
+std::string why_refused(std::string reason) {
+  const std::string tail = "; nothing was written";
+  if (reason.ends_with(tail)) reason.erase(reason.size() - tail.size());
+  return reason;
+}
+
+// "valid (no findings, checked against CARD)" or why apply would not go ahead.
+std::string verdict(const ops::TargetRun& run) {
+  const std::string card = run.result ? ", checked against " + run.result->card : std::string();
+  if (!run.result) return "NOT CHECKED (" + run.target.text + " not reached: " + run.error + ")";
+  const auto& r = *run.result;
+  if (run.outcome == ops::Outcome::DryRun)
+    return "valid (" + render::findings_summary(r.findings) + card + ")";
+  if (run.outcome == ops::Outcome::Failed)
+    return "NOT CHECKED (" + render::findings_summary(r.findings) + card + "): " + r.reason;
+  return "INVALID (" + render::findings_summary(r.findings) + card +
+         "): apply would be refused: " + why_refused(r.reason);
+}
+
+app::Json validation_json(const ops::TargetRun& run) {
   auto j = app::Json::object();
-  j.set("valid", all_valid).set("card", card ? app::Json(card->describe()) : app::Json());
+  j.set("target", run.target.text).set("valid", run.outcome == ops::Outcome::DryRun);
+  j.set("outcome", run.outcome == ops::Outcome::DryRun ? "valid" : ops::to_string(run.outcome));
+  j.set("exit_code", run.exit_code()).set("card", run.result ? app::Json(run.result->card) : app::Json());
+  j.set("reason", run.result ? run.result->reason : run.error);
+  return j.set("findings", run.result ? render::findings_json(run.result->findings) : app::Json::array());
+}
+
+// Refused by the rules that need no card (range, guard, read-only, the card's limits), as
+// apply refuses before it opens a link: the findings, and the refusal's one line.
+app::Json refused_offline(Context& ctx, const Profile& profile, const params::ParamDb& db,
+                          const std::string& file, bool force, const Error& e) {
+  const auto findings = profile::validate_values(profile, db, force);
+  if (!ctx.options.json) {
+    render::print_findings(std::cout, findings, file);
+    std::cout << file << ": INVALID (" << render::findings_summary(findings)
+              << "): apply would be refused before the card is asked: " << e.what() << "\n";
+  }
+  auto j = app::Json::object();
+  j.set("file", file).set("valid", false).set("outcome", "refused").set("reason", e.what());
+  return j.set("findings", render::findings_json(findings));
+}
+
+// One file against the cards: the transaction's dry run on each (read, validate with the
+// measured bus, order, the device layer's rules), exactly what apply runs before it writes.
+app::Json validate_on_cards(Context& ctx, const params::ParamDb& db,
+                            const std::vector<ops::Endpoint>& targets, const std::string& file,
+                            const ValidateOptions& o, ops::Outcome& outcome) {
+  const auto loaded = try_load(db, file);
+  if (!loaded.profile) return validate_offline(ctx, db, file, o.force, outcome);  // reports the load error
+  auto job = apply_job(ctx, *loaded.profile, db, o.force, o.allow_unverified);
+  job.transaction.dry_run = true;
+  try {
+    ops::precheck(*loaded.profile, db, job.write);
+  } catch (const Error& e) {
+    outcome = ops::outcome_of(e.kind());
+    return refused_offline(ctx, *loaded.profile, db, file, o.force, e);
+  }
+  const auto runs = run_on_targets(targets, job);
+  outcome = ops::fleet_outcome(runs);
+  auto j = app::Json::object();
+  j.set("file", file).set("valid", outcome == ops::Outcome::DryRun);
+  if (targets.size() == 1) {  // the one card's verdict on the file's own entry, as without a card
+    const auto& run = runs.front();
+    j.set("outcome", run.outcome == ops::Outcome::DryRun ? "valid" : ops::to_string(run.outcome));
+    j.set("reason", run.result ? run.result->reason : run.error);
+    j.set("findings", run.result ? render::findings_json(run.result->findings) : app::Json::array());
+  }
+  auto per_target = app::Json::array();
+  for (const auto& run : runs) {
+    per_target.push(validation_json(run));
+    if (ctx.options.json) continue;
+    if (targets.size() > 1) std::cout << "== " << run.target.text << "\n";
+    if (run.result) render::print_findings(std::cout, run.result->findings, file);
+    std::cout << file << ": " << verdict(run) << "\n";
+  }
+  return j.set("targets", per_target);
+}
+
+void run_validate(Context& ctx, const ValidateOptions& o) {
+  const auto db = app::load_database(ctx.options);
+  std::vector<ops::Endpoint> targets;
+  if (has_card(ctx, o.targets)) targets = targets_of(ctx, o.targets);
+  auto files = app::Json::array();
+  ops::Outcome worst = ops::Outcome::DryRun;
+  for (const auto& file : o.files) {
+    ops::Outcome outcome = ops::Outcome::DryRun;
+    files.push(targets.empty() ? validate_offline(ctx, db, file, o.force, outcome)
+                               : validate_on_cards(ctx, db, targets, file, o, outcome));
+    worst = ops::most_serious(worst, outcome);
+  }
+  ctx.exit_code = ops::exit_code(worst);
+  if (!ctx.options.json) {
+    if (targets.empty()) std::cout << "note: " << kNeedsCard << "\n";
+    return;
+  }
+  auto j = app::Json::object();
+  j.set("valid", worst == ops::Outcome::DryRun).set("exit_code", ctx.exit_code);
+  j.set("card", targets.size() == 1 ? app::Json(targets.front().text) : app::Json());
+  if (targets.empty()) j.set("not_judged", kNeedsCard);
   ctx.print_json(j.set("files", files));
 }
 
 // ------------------------------------------------------------------ diff
+// Exit codes as diff(1)'s: 0 every target holds every value, 1 some value differs, 2 trouble
+// (bad input, a card not reached, a value that is not a fact on the card); 130 Ctrl-C.
+constexpr int kDiffSame = ops::kExitOk;
+constexpr int kDiffDiffers = 1;
+constexpr int kDiffTrouble = 2;
+
 struct DiffOptions {
   std::string file;
   std::vector<std::string> targets;
 };
 
-void print_diff_summary(const std::vector<profile::DiffRow>& rows, const std::string& file,
-                        const std::string& flags) {
-  const auto differ = std::ranges::count_if(rows, [](const auto& r) { return !r.equal; });
-  const auto nv = std::ranges::count_if(rows, [](const auto& r) { return !r.equal && r.nv; });
-  if (differ == 0) {
+struct TargetDiff {
+  ops::Endpoint target;
+  std::string card;   // describe(), when reached
+  std::string flags;  // the target's flags, for the advice
+  std::vector<profile::DiffRow> rows;
+  std::string error;  // why it was not read
+  bool interrupted = false;
+
+  long differ() const {
+    return std::ranges::count_if(rows, [](const auto& r) { return !r.equal && r.card_raw; });
+  }
+  long unknown() const {
+    return std::ranges::count_if(rows, [](const auto& r) { return !r.card_raw; });
+  }
+  int exit_code() const {
+    if (interrupted) return ops::kExitInterrupted;
+    if (!error.empty() || unknown() > 0) return kDiffTrouble;
+    return differ() > 0 ? kDiffDiffers : kDiffSame;
+  }
+};
+
+TargetDiff diff_one(const Profile& profile, const std::vector<std::string>& names,
+                    const ops::Endpoint& target, const ops::CardOpener& open) {
+  TargetDiff d;
+  d.target = target;
+  try {
+    const auto card = open();
+    d.card = card->describe();
+    d.flags = card->endpoint().flags();
+    profile::RawValues values;
+    for (const auto& r : ops::read_values(*card, names))
+      if (r.fact()) values[r.param->name] = *r.raw;
+    d.rows = profile::diff(profile, card->db(), values);
+  } catch (const Error& e) {
+    d.error = e.what();
+    d.interrupted = e.kind() == ErrorKind::Cancelled;
+  } catch (const std::exception& e) {
+    d.error = e.what();
+  }
+  return d;
+}
+
+void print_diff_summary(const TargetDiff& d, const std::string& file) {
+  const auto differ = d.differ();
+  const auto nv = std::ranges::count_if(d.rows, [](const auto& r) { return !r.equal && r.card_raw && r.nv; });
+  if (d.unknown() > 0)
+    std::cout << d.unknown() << " of " << d.rows.size()
+              << " values cannot be read as facts on this card (address not confirmed for its firmware): "
+                 "not compared; `i20 "
+              << d.flags << " discover` confirms them\n";
+  if (differ == 0 && d.unknown() == 0) {
     std::cout << "The card holds every value of the profile: applying it would write nothing.\n";
     return;
   }
-  std::cout << differ << " of " << rows.size() << " values differ"
+  if (differ == 0) return;
+  std::cout << differ << " of " << d.rows.size() << " values differ"
             << (nv ? " (" + std::to_string(nv) + " in the EEPROM: they take effect after a reset)" : "")
-            << "; `i20 " << flags << " profile apply " << file << "` writes only those.\n";
+            << "; `i20 " << d.flags << " profile apply " << file << "` writes only those.\n";
+}
+
+app::Json diff_entry_json(const TargetDiff& d) {
+  auto j = app::Json::object();
+  j.set("target", d.target.text).set("card", d.card.empty() ? app::Json() : app::Json(d.card));
+  j.set("differ", d.differ())
+      .set("unknown", d.unknown())
+      .set("exit_code", d.exit_code())
+      .set("error", d.error);
+  return j.set("rows", render::diff_json(d.rows));
+}
+
+void print_diff_text(const Profile& profile, const std::string& file, const std::vector<TargetDiff>& diffs) {
+  for (const auto& d : diffs) {
+    if (diffs.size() > 1) std::cout << "== " << d.target.text << "\n";
+    if (!d.error.empty()) {
+      std::cout << d.target.text << ": NOT READ: " << d.error << "\n";
+      continue;
+    }
+    std::cout << profile.name << " (" << file << ") against " << d.card << ":\n";
+    render::print_diff(std::cout, d.rows);
+    print_diff_summary(d, file);
+  }
+  if (diffs.size() < 2) return;
+  const auto count = [&](int code) {
+    return std::ranges::count_if(diffs, [code](const auto& d) { return d.exit_code() == code; });
+  };
+  std::cout << "\n"
+            << count(kDiffSame) << " of " << diffs.size() << " targets hold every value; "
+            << count(kDiffDiffers) << " differ; " << diffs.size() - count(kDiffSame) - count(kDiffDiffers)
+            << " could not be compared\n";
 }
 
 void run_diff(Context& ctx, const DiffOptions& o) {
-  const auto db_base = app::load_database(ctx.options);
-  const auto profile = load(ctx, db_base, o.file);
+  const auto db = app::load_database(ctx.options);
+  const auto profile = load(ctx, db, o.file);
   if (!profile) return;
   std::vector<std::string> names;
   try {
-    for (const auto& w : profile::cell_writes(*profile, db_base)) names.push_back(w.cell);
+    for (const auto& w : profile::cell_writes(*profile, db)) names.push_back(w.cell);
   } catch (const profile::ProfileError& e) {  // a cell set twice, a target that cannot be met
     return report_invalid(ctx, o.file, e);
   }
-  const auto card = open_card(ctx, o.targets, db_base);
-  profile::RawValues values;
-  for (const auto& r : ops::read_values(*card, names))
-    if (r.fact()) values[r.param->name] = *r.raw;
-  const auto rows = profile::diff(*profile, card->db(), values);
-  if (ctx.options.json) {
-    const auto differ = std::ranges::count_if(rows, [](const auto& r) { return !r.equal; });
-    auto j = app::Json::object();
-    j.set("file", o.file).set("profile", profile->name).set("card", card->describe());
-    ctx.print_json(j.set("differ", differ).set("rows", render::diff_json(rows)));
+  const auto targets = targets_of(ctx, o.targets);
+  std::vector<TargetDiff> diffs(targets.size());
+  ops::OpenOptions open;
+  open.link = ctx.options.link;
+  ops::for_each_target(targets, db, open, ops::Cancel(app::install_interrupt_handler()),
+                       [&](std::size_t i, const ops::CardOpener& opener) {
+                         diffs[i] = diff_one(*profile, names, targets[i], opener);
+                       });
+  int code = kDiffSame;
+  for (const auto& d : diffs) code = std::max(code, d.exit_code());
+  ctx.exit_code = code;
+  if (!ctx.options.json) {
+    print_diff_text(*profile, o.file, diffs);
+    for (const auto& d : diffs)
+      if (!d.error.empty()) std::cerr << "i20: error: " << d.target.text << ": " << d.error << "\n";
     return;
   }
-  std::cout << profile->name << " (" << o.file << ") against " << card->describe() << ":\n";
-  render::print_diff(std::cout, rows);
-  print_diff_summary(rows, o.file, card->endpoint().flags());
+  auto j = targets.size() == 1 ? diff_entry_json(diffs.front()) : app::Json::object();
+  j.set("file", o.file).set("profile", profile->name).set("exit_code", code);
+  if (targets.size() > 1) {
+    auto arr = app::Json::array();
+    for (const auto& d : diffs) arr.push(diff_entry_json(d));
+    j.set("targets", std::move(arr));
+  }
+  ctx.print_json(j);
 }
 
 // ------------------------------------------------------------------ apply
 struct ApplyCliOptions {
   std::string file;
   std::vector<std::string> targets;
-  std::string to;  // retarget: nv | working | both
+  std::string to;          // retarget: nv | working | both
   std::string backup_dir;  // empty: $XDG_STATE_HOME/i20/backups
   bool dry_run = false;
   bool force = false;
@@ -218,33 +420,41 @@ std::string names_of(const std::vector<ops::Endpoint>& targets) {
 // A reset makes the new EEPROM values live at once: asked before anything is sent.
 bool reset_confirmed(Context& ctx, const ApplyCliOptions& o, const std::vector<ops::Endpoint>& targets) {
   if (!o.reset || o.dry_run || o.yes) return true;
-  if (ctx.confirm("Reset the 8I20 on " + names_of(targets) +
-                  " after a verified apply (or when a reset is pending)? The new EEPROM values become live at once"))
+  if (ctx.confirm(
+          "Reset the 8I20 on " + names_of(targets) +
+          " after a verified apply (or when a reset is pending)? The new EEPROM values become live at once"))
     return true;
   std::cerr << "i20: reset not confirmed; nothing was sent (pass --yes in scripts)\n";
   ctx.exit_code = app::kBadInput;
   return false;
 }
 
-void print_many(Context& ctx, const Profile& profile, const std::string& file, const std::vector<ops::TargetRun>& runs,
-                const params::ParamDb& db) {
+void print_many(Context& ctx, const Profile& profile, const std::string& file,
+                const std::vector<ops::TargetRun>& runs, const params::ParamDb& db,
+                const render::FleetRequest& request) {
   if (ctx.options.json) {
     auto arr = app::Json::array();
     for (const auto& run : runs) arr.push(render::run_json(run));
     auto j = app::Json::object();
-    j.set("profile", profile.name).set("file", file).set("exit_code", ops::exit_code(ops::fleet_outcome(runs)));
+    j.set("profile", profile.name)
+        .set("file", file)
+        .set("exit_code", ops::exit_code(ops::fleet_outcome(runs)));
     ctx.print_json(j.set("targets", std::move(arr)));
     return;
   }
   std::cout << "Profile " << profile.name << " (" << file << ") -> " << runs.size() << " targets\n";
-  render::print_fleet(std::cout, runs, db, file);
+  render::print_fleet(std::cout, runs, db, file, request);
 }
 
 // One card: the plan as soon as it is known, each write as it happens, then the report.
+// `run` runs the job (on a target it opens, or on a card already open).
+using RunJob = std::function<ops::TargetRun(const ops::ApplyJob&, const ops::Activity&)>;
+
 void apply_single(Context& ctx, const Profile& profile, const std::string& file, ops::ApplyJob job,
-                  const ops::Endpoint& target) {
+                  const std::string& target, const RunJob& run_job) {
   const bool text = !ctx.options.json;
-  if (text) std::cout << "Profile " << profile.name << " (" << file << ") -> " << target.text << "\n" << std::flush;
+  if (text)
+    std::cout << "Profile " << profile.name << " (" << file << ") -> " << target << "\n" << std::flush;
   bool plan_shown = false;
   job.transaction.on_plan = [&](const profile::Plan& plan) {
     if (!text || plan.empty()) return;
@@ -252,7 +462,7 @@ void apply_single(Context& ctx, const Profile& profile, const std::string& file,
     std::cout << std::flush;
     plan_shown = true;
   };
-  const auto run = ops::run_apply(target, job, [text](const std::string& what) {
+  const auto run = run_job(job, [text](const std::string& what) {
     if (text && (what.rfind("writing", 0) == 0 || what.rfind("restoring", 0) == 0 || what == "resetting"))
       std::cout << "  " << what << "\n" << std::flush;
   });
@@ -266,6 +476,15 @@ void apply_single(Context& ctx, const Profile& profile, const std::string& file,
   if (!run.ok()) std::cerr << "i20: " << render::error_line(run) << "\n";
 }
 
+// The transaction's settings apply, undo and a fleet share.
+void set_change_options(ops::ApplyJob& job, const ApplyCliOptions& o) {
+  job.transaction.dry_run = o.dry_run;
+  job.transaction.reset = o.reset;
+  job.transaction.backup_dir =
+      o.backup_dir.empty() ? profile::default_backup_dir() : std::filesystem::path(o.backup_dir);
+  if (!o.dry_run) check_output_dir(*job.transaction.backup_dir);  // before the first byte
+}
+
 void run_apply_command(Context& ctx, const ApplyCliOptions& o) {
   const auto db = app::load_database(ctx.options);
   auto profile = load(ctx, db, o.file);
@@ -277,28 +496,90 @@ void run_apply_command(Context& ctx, const ApplyCliOptions& o) {
       return report_invalid(ctx, o.file, e);
     }
   }
-  const auto targets = ops::resolve_endpoints(o.targets, ops::endpoint_from(ctx.options.target));
-  ops::ApplyJob job;
-  job.profile = &*profile;
-  job.db = &db;
-  job.write = {o.allow_unverified, o.force};
+  const auto targets = targets_of(ctx, o.targets);
+  auto job = apply_job(ctx, *profile, db, o.force, o.allow_unverified);
   ops::precheck(*profile, db, job.write);  // the rules that need no card: nothing is sent when they refuse
   if (!reset_confirmed(ctx, o, targets)) return;
-  job.transaction.dry_run = o.dry_run;
-  job.transaction.force = o.force;
-  job.transaction.reset = o.reset;
-  job.transaction.backup_dir =
-      o.backup_dir.empty() ? profile::default_backup_dir() : std::filesystem::path(o.backup_dir);
-  if (!o.dry_run) check_output_dir(*job.transaction.backup_dir);  // before the first byte
-  job.transaction.when = std::chrono::system_clock::now();
-  job.transaction.cancel = ops::Cancel(app::install_interrupt_handler());
-  job.open.link = ctx.options.link;
-  if (targets.size() == 1) return apply_single(ctx, *profile, o.file, job, targets.front());
+  set_change_options(job, o);
+  if (targets.size() == 1) {
+    const auto& target = targets.front();
+    return apply_single(
+        ctx, *profile, o.file, job, target.text,
+        [&](const ops::ApplyJob& j, const ops::Activity& a) { return ops::run_apply(target, j, a); });
+  }
   FleetProgress progress(targets, !ctx.options.json && isatty(STDERR_FILENO));
   const auto runs = ops::run_fleet(targets, job, progress.activity());
   progress.stop();
-  print_many(ctx, *profile, o.file, runs, db);
+  print_many(ctx, *profile, o.file, runs, db, {o.reset, o.dry_run});
   ctx.exit_code = ops::exit_code(ops::fleet_outcome(runs));
+}
+
+// ------------------------------------------------------------------ undo
+struct UndoOptions {
+  ApplyCliOptions apply;  // file: the backup; targets: the one card
+  bool last = false;
+};
+
+// The unit part apply gives its backups' names ("...-unit00012345.yaml", lib/ops/apply_run).
+std::string unit_tag(std::uint32_t unit) {
+  return "-unit" + lbp::hex_value(unit, 8).substr(2);
+}
+
+// The newest backup apply wrote of this unit in `dir` (names sort by their UTC time stamp;
+// "-2", "-3" for the same second sort after the first).
+std::filesystem::path newest_backup(const std::filesystem::path& dir, std::uint32_t unit) {
+  std::vector<std::filesystem::path> found;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("i20-backup-", 0) == 0 && name.ends_with(".yaml") &&
+        name.find(unit_tag(unit)) != std::string::npos)
+      found.push_back(entry.path());
+  }
+  if (found.empty())
+    throw UsageError("no backup of unit " + lbp::hex_value(unit, 8) + " in " + dir.string() +
+                     (ec ? " (" + ec.message() + ")" : std::string()) +
+                     ": name the backup file, or give --backup-dir");
+  return *std::ranges::max_element(found, [&](const auto& a, const auto& b) {
+    return std::pair(a.filename().string().substr(0, 26), std::filesystem::last_write_time(a, ec)) <
+           std::pair(b.filename().string().substr(0, 26), std::filesystem::last_write_time(b, ec));
+  });
+}
+
+// The backup back onto the card through apply's own transaction: validated against the
+// card (the measured bus included), the card's current values backed up first, the plan
+// (the card against the backup) shown before any write, verified, restored on failure.
+void run_undo(Context& ctx, const UndoOptions& o) {
+  if (o.last == !o.apply.file.empty())
+    throw UsageError(o.last ? "give either a BACKUP file or --last, not both"
+                            : "name the BACKUP file to restore, or pass --last for the unit's newest backup");
+  const auto db = app::load_database(ctx.options);
+  const auto targets = targets_of(ctx, o.apply.targets);
+  if (targets.size() != 1) throw UsageError("undo restores one card: give a single --target");
+  const auto& target = targets.front();
+  if (!reset_confirmed(ctx, o.apply, targets)) return;
+  const auto dir =
+      o.apply.backup_dir.empty() ? profile::default_backup_dir() : std::filesystem::path(o.apply.backup_dir);
+  std::unique_ptr<ops::Card> card;
+  std::string file = o.apply.file;
+  if (o.last) {  // the card names its unit; nothing but its identity is read before the backup is found
+    ops::OpenOptions open;
+    open.link = ctx.options.link;
+    card = ops::Card::open(target, db, open, ops::Cancel(app::install_interrupt_handler()));
+    file = newest_backup(dir, card->identity().info.unit_number.value_or(0)).string();
+  }
+  auto backup = load(ctx, db, file);
+  if (!backup) return;
+  backup->name = "undo";  // names the backup this change takes in turn: "...-undo-unit00012345.yaml"
+  auto job = apply_job(ctx, *backup, db, o.apply.force, o.apply.allow_unverified);
+  ops::precheck(*backup, db, job.write);
+  set_change_options(job, o.apply);
+  if (!ctx.options.json) std::cout << "Undo: restoring the values saved in " << file << "\n";
+  apply_single(ctx, *backup, file, job, target.text, [&](const ops::ApplyJob& j, const ops::Activity& a) {
+    if (!card) return ops::run_apply(target, j, a);
+    if (a) a("connecting");
+    return ops::run_apply_on(*card, j, a);
+  });
 }
 
 // ------------------------------------------------------------------ save
@@ -368,9 +649,9 @@ void run_save(Context& ctx, const SaveCliOptions& o) {
 // ------------------------------------------------------------------ registration
 CLI::Option* add_target_option(CLI::App* cmd, std::vector<std::string>& targets, bool many) {
   const std::string help =
-      std::string(many ? "The 8I20s to apply to, repeatable; each in its own thread unless "
-                         "they share a line. "
-                       : "The 8I20 to read (instead of --port/--sim). ") +
+      std::string(many ? "The 8I20s, repeatable (instead of --port/--sim); each line in its own thread, the "
+                         "targets of one line one after another. "
+                       : "The 8I20 (instead of --port/--sim). ") +
       "Forms: " + ops::kEndpointForms;
   auto* opt = cmd->add_option("--target,-t", targets, help);
   if (!many) opt->expected(1);
@@ -381,25 +662,53 @@ void register_validate(CLI::App& profile, Context& ctx) {
   auto o = std::make_shared<ValidateOptions>();
   auto* cmd = profile.add_subcommand(
       "validate",
-      "Check profiles against the parameter database and the manual's cross-parameter rules; with a card "
-      "(--target or --port/--sim) rules use the card's values for what the profile does not set. Exit 2 if "
-      "any profile has errors");
+      "Check profiles against the parameter database and the manual's cross-parameter rules. With cards "
+      "(--target, repeatable, or --port/--sim) it runs apply's own checks as a dry run on each: the card's "
+      "values, the measured bus, a safe write order, the card's write rules; nothing is written. Without a "
+      "card it says which rules were not judged. Exit 0 valid, 2 a file cannot be read, 3 apply would be "
+      "refused, 1 a card not reached");
   cmd->add_option("FILE", o->files, "Profile files (YAML), or names of shipped profiles")
       ->required()
       ->transform(profile_file());
-  add_target_option(cmd, o->targets, false);
-  cmd->add_flag("--force", o->force, "Guarded parameters (NVBAUDRATE) are a warning, not an error");
+  add_target_option(cmd, o->targets, true);
+  cmd->add_flag("--force", o->force,
+                "Judge as apply --force does: guarded parameters (NVBAUDRATE) and thresholds at or below the "
+                "measured bus are warnings, not errors");
+  cmd->add_flag("--allow-unverified", o->allow_unverified,
+                "Judge as apply --allow-unverified does (working addresses the database does not confirm)");
   cmd->callback([&ctx, o] { run_validate(ctx, *o); });
 }
 
 void register_diff(CLI::App& profile, Context& ctx) {
   auto o = std::make_shared<DiffOptions>();
-  auto* cmd = profile.add_subcommand("diff", "The card against a profile, parameter by parameter");
+  auto* cmd = profile.add_subcommand(
+      "diff",
+      "The cards against a profile, parameter by parameter (one section per --target, read concurrently "
+      "across "
+      "lines). Exit codes as diff(1): 0 every card holds every value, 1 some value differs, 2 trouble (bad "
+      "input, a card not reached, a value not readable as a fact), 130 interrupted");
   cmd->add_option("FILE", o->file, "Profile file (YAML), or the name of a shipped profile")
       ->required()
       ->transform(profile_file());
-  add_target_option(cmd, o->targets, false);
+  add_target_option(cmd, o->targets, true);
   cmd->callback([&ctx, o] { run_diff(ctx, *o); });
+}
+
+// The options apply and undo share: how the change is made.
+void add_change_options(CLI::App* cmd, ApplyCliOptions& o) {
+  cmd->add_flag("--dry-run,-n", o.dry_run, "Read the card and print the plan; write nothing");
+  cmd->add_option("--backup-dir", o.backup_dir,
+                  "Where the backup of the card's values goes (default: $XDG_STATE_HOME/i20/backups, i.e. "
+                  "~/.local/state/i20/backups)");
+  cmd->add_flag(
+      "--reset", o.reset,
+      "Reset the card after a verified change, or when an earlier EEPROM write is still not live, so "
+      "the EEPROM values are live at once (asks first)");
+  cmd->add_flag("--yes,-y", o.yes, "Do not ask before --reset");
+  cmd->add_flag("--force", o.force,
+                "Allow guarded parameters (NVBAUDRATE), and BUSOVERV/BRAKEONV at or below the measured bus");
+  cmd->add_flag("--allow-unverified", o.allow_unverified,
+                "Write working (RAM) addresses the database does not confirm for this firmware");
 }
 
 void register_apply(CLI::App& profile, Context& ctx) {
@@ -407,28 +716,34 @@ void register_apply(CLI::App& profile, Context& ctx) {
   auto* cmd = profile.add_subcommand(
       "apply",
       "Validate against the card, back up its current values, write only what differs in a safe order, read "
-      "every value back; on any failure or Ctrl-C restore the old values. Exit 0 applied and verified or nothing "
-      "to do, 1 card not reached, 2 profile cannot be read, 3 refused by a rule (nothing written), 4 rolled back "
+      "every value back; on any failure or Ctrl-C restore the old values. Exit 0 applied and verified or "
+      "nothing "
+      "to do, 1 card not reached, 2 profile cannot be read, 3 refused by a rule (nothing written), 4 rolled "
+      "back "
       "or state uncertain (cells named), 130 interrupted");
   cmd->add_option("FILE", o->file, "Profile file (YAML), or the name of a shipped profile")
       ->required()
       ->transform(profile_file());
   add_target_option(cmd, o->targets, true);
-  cmd->add_flag("--dry-run,-n", o->dry_run, "Read the card and print the plan; write nothing");
-  cmd->add_option("--backup-dir", o->backup_dir,
-                  "Where the backup of the card's values goes (default: $XDG_STATE_HOME/i20/backups, i.e. "
-                  "~/.local/state/i20/backups)");
   cmd->add_option("--to", o->to, "Aim every entry at the EEPROM (nv), the working values (working) or both")
       ->check(CLI::IsMember({"nv", "working", "both"}));
-  cmd->add_flag("--reset", o->reset,
-                "Reset the card after a verified apply, or when an earlier EEPROM write is still not live, so the "
-                "EEPROM values are live at once (asks first)");
-  cmd->add_flag("--yes,-y", o->yes, "Do not ask before --reset");
-  cmd->add_flag("--force", o->force,
-                "Allow guarded parameters (NVBAUDRATE), and BUSOVERV/BRAKEONV at or below the measured bus");
-  cmd->add_flag("--allow-unverified", o->allow_unverified,
-                "Write working (RAM) addresses the database does not confirm for this firmware");
+  add_change_options(cmd, *o);
   cmd->callback([&ctx, o] { run_apply_command(ctx, *o); });
+}
+
+void register_undo(CLI::App& profile, Context& ctx) {
+  auto o = std::make_shared<UndoOptions>();
+  auto* cmd = profile.add_subcommand(
+      "undo",
+      "Put back the values a backup holds (the file apply wrote before it changed the card, or --last: the "
+      "unit's newest in the backup directory), through apply's own transaction: the plan (the card against "
+      "the backup) first, then the writes, verified; the current values are backed up in turn. Exit codes as "
+      "apply's");
+  cmd->add_option("BACKUP", o->apply.file, "A backup file apply wrote (i20-backup-...yaml)");
+  cmd->add_flag("--last", o->last, "The newest backup of this card's unit number in the backup directory");
+  add_target_option(cmd, o->apply.targets, false);
+  add_change_options(cmd, o->apply);
+  cmd->callback([&ctx, o] { run_undo(ctx, *o); });
 }
 
 void register_save(CLI::App& profile, Context& ctx) {
@@ -450,12 +765,13 @@ void register_save(CLI::App& profile, Context& ctx) {
 void register_profile_commands(CLI::App& app, Context& ctx) {
   auto* profile = app.add_subcommand(
       "profile",
-      "Motor profiles: validate, diff against a card, apply safely (backup, verify, rollback; many cards at "
-      "once with --target), save a card. See profiles/README.md");
+      "Motor profiles: validate, diff against cards, apply safely (backup, verify, rollback; many cards at "
+      "once with --target), undo an apply from its backup, save a card. See profiles/README.md");
   profile->require_subcommand(1);
   register_validate(*profile, ctx);
   register_diff(*profile, ctx);
   register_apply(*profile, ctx);
+  register_undo(*profile, ctx);
   register_save(*profile, ctx);
   register_profile_export(*profile, ctx);
   register_tune_command(app, ctx);

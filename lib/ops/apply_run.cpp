@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "ops/apply_run.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
 
 #include "faults/bit_info.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/device_access.hpp"
+#include "ops/pending.hpp"
 #include "ops/read.hpp"
 #include "ops/reset.hpp"
 
@@ -72,22 +74,19 @@ void reload_restored_values(Card& c, TargetRun& run) {
   }
 }
 
-// NV cells of the profile whose working twin holds something else: not live until a reset.
+// Every NV value on the card whose working twin holds something else after the run, not
+// only the profile's: an earlier write never followed by a reset is not live either. A
+// working cell the profile itself set (target working) differs from its EEPROM twin on
+// purpose: that twin is not an EEPROM value waiting to go live.
 void check_live(Card& c, const ApplyJob& job, TargetRun& run) {
   const auto& r = *run.result;
   if ((r.outcome != Outcome::Done && r.outcome != Outcome::NothingToDo) || r.reset_done) return;
   try {
-    std::vector<const params::Param*> cells;
-    for (const auto& w : profile::cell_writes(*job.profile, c.db())) {
-      const params::Param& p = c.db().get(w.cell);
-      const params::Param* twin = p.is_nv() && !p.twin.empty() ? c.db().find(p.twin) : nullptr;
-      if (twin && c.db().address_confirmed(*twin)) cells.insert(cells.end(), {&p, twin});
-    }
-    if (cells.empty()) return;
-    RawValues facts;
-    for (const auto& v : read_values(c, cells))
-      if (v.fact()) facts[v.param->name] = *v.raw;
-    run.not_live = pending_nv_values(c.db(), facts);
+    std::vector<std::string> set_live;
+    for (const auto& w : profile::cell_writes(*job.profile, c.db()))
+      if (const params::Param& p = c.db().get(w.cell); !p.is_nv()) set_live.push_back(p.twin);
+    for (auto& name : pending_nv_values(c))
+      if (std::ranges::find(set_live, name) == set_live.end()) run.not_live.push_back(std::move(name));
   } catch (const std::exception&) {
     // Best effort: the advice below the outcome is then the transaction's reset_needed alone.
   }
@@ -138,11 +137,8 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
   return run;
 }
 
-namespace {
-
-// Opens the card with `open` and runs the job on it; never throws.
-template <class Open>
-TargetRun run_opened(const Endpoint& target, const ApplyJob& job, const Activity& activity, Open&& open) {
+TargetRun run_apply_opened(const Endpoint& target, const ApplyJob& job, const CardOpener& open,
+                           const Activity& activity) {
   const auto start = std::chrono::steady_clock::now();
   TargetRun run;
   try {
@@ -163,18 +159,17 @@ TargetRun run_opened(const Endpoint& target, const ApplyJob& job, const Activity
   return run;
 }
 
-}  // namespace
-
 TargetRun run_apply(const Endpoint& target, const ApplyJob& job, const Activity& activity) {
-  return run_opened(target, job, activity,
-                    [&] { return Card::open(target, *job.db, job.open, job.transaction.cancel); });
+  return run_apply_opened(
+      target, job, [&] { return Card::open(target, *job.db, job.open, job.transaction.cancel); }, activity);
 }
 
 TargetRun run_apply_over(std::unique_ptr<link::Link> link, const Endpoint& target, const ApplyJob& job,
                          const Activity& activity) {
-  return run_opened(target, job, activity, [&] {
-    return Card::attach(std::move(link), target, *job.db, job.open.retry, job.transaction.cancel);
-  });
+  return run_apply_opened(
+      target, job,
+      [&] { return Card::attach(std::move(link), target, *job.db, job.open.retry, job.transaction.cancel); },
+      activity);
 }
 
 Outcome fleet_outcome(const std::vector<TargetRun>& runs) {

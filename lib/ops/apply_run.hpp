@@ -19,6 +19,8 @@
 namespace i20::ops {
 
 using Activity = std::function<void(const std::string&)>;
+// Opens one card (a fleet target over its own line or a shared Ethernet port); throws.
+using CardOpener = std::function<std::unique_ptr<Card>()>;
 
 struct ApplyJob {
   const profile::Profile* profile = nullptr;
@@ -57,6 +59,9 @@ TargetRun run_apply(const Endpoint& target, const ApplyJob& job, const Activity&
 // The same over a link the caller opened (the fleet's shared Ethernet ports).
 TargetRun run_apply_over(std::unique_ptr<link::Link> link, const Endpoint& target, const ApplyJob& job,
                          const Activity& activity = {});
+// The same on the card `open` opens (the fleet's scheduling, lib/ops/fleet.hpp).
+TargetRun run_apply_opened(const Endpoint& target, const ApplyJob& job, const CardOpener& open,
+                           const Activity& activity = {});
 // The same on a card that is already open (the single-target commands).
 TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity = {});
 

@@ -40,9 +40,11 @@ std::vector<EthPort> by_port(const std::vector<Endpoint>& targets) {
   for (std::size_t i = 0; i < targets.size(); ++i) {
     if (!targets[i].is_eth()) continue;
     const auto t = eth::parse_target(targets[i].eth_url);
-    auto it = std::find_if(ports.begin(), ports.end(),
-                           [&](const EthPort& p) { return p.card == t.card && p.sserial_port == t.sserial_port; });
-    if (it == ports.end()) it = ports.insert(ports.end(), EthPort{t.card, t.sserial_port, 0, {}, nullptr, {}, {}});
+    auto it = std::find_if(ports.begin(), ports.end(), [&](const EthPort& p) {
+      return p.card == t.card && p.sserial_port == t.sserial_port;
+    });
+    if (it == ports.end())
+      it = ports.insert(ports.end(), EthPort{t.card, t.sserial_port, 0, {}, nullptr, {}, {}});
     it->mask = static_cast<std::uint8_t>(it->mask | t.channel_mask());
     it->targets.push_back(i);
   }
@@ -51,12 +53,12 @@ std::vector<EthPort> by_port(const std::vector<Endpoint>& targets) {
 
 // Opened one after another before any thread starts; the ports of one card share its
 // transport, or each would take the other's packets for another host's.
-void open_ports(std::vector<EthPort>& ports, const ApplyJob& job) {
+void open_ports(std::vector<EthPort>& ports, const OpenOptions& open) {
   std::map<std::string, std::shared_ptr<eth::Lbp16Transport>> transports;
   for (auto& p : ports) {
     eth::PassthroughOptions options;
-    options.udp.timeout = std::chrono::milliseconds(job.open.link.timeout_ms);
-    options.running_host.take_over = job.open.link.take_over;
+    options.udp.timeout = std::chrono::milliseconds(open.link.timeout_ms);
+    options.running_host.take_over = open.link.take_over;
     try {
       auto& transport = transports[p.card.describe()];
       if (!transport) transport = eth::PassthroughPort::card_transport(p.card, options.udp);
@@ -70,42 +72,41 @@ void open_ports(std::vector<EthPort>& ports, const ApplyJob& job) {
 
 }  // namespace
 
-std::vector<TargetRun> run_fleet(const std::vector<Endpoint>& targets, const ApplyJob& job,
-                                 const FleetActivity& activity) {
-  std::vector<TargetRun> runs(targets.size());
-  const auto one = [&](std::size_t i) -> Activity {
-    if (!activity) return {};
-    return [&activity, i](const std::string& s) { activity(i, s); };
-  };
-  const auto finish = [&](std::size_t i) {
-    if (activity) activity(i, to_string(runs[i].outcome));
-  };
+void for_each_target(const std::vector<Endpoint>& targets, const params::ParamDb& db, const OpenOptions& open,
+                     const Cancel& cancel, const FleetTask& task) {
   auto ports = by_port(targets);
-  open_ports(ports, job);
+  open_ports(ports, open);
   std::vector<std::thread> threads;
   for (const auto& line : by_line(targets))
     threads.emplace_back([&, line] {
-      for (const std::size_t i : line) {
-        runs[i] = run_apply(targets[i], job, one(i));
-        finish(i);
-      }
+      for (const std::size_t i : line) task(i, [&, i] { return Card::open(targets[i], db, open, cancel); });
     });
   for (const auto& p : ports)
     for (const std::size_t i : p.targets) {
       if (!p.port) {
-        runs[i].target = targets[i];
-        runs[i].error = p.error;
-        runs[i].outcome = outcome_of(p.kind);
-        finish(i);
+        task(i, [&p]() -> std::unique_ptr<Card> { throw Error(p.error, p.kind); });
         continue;
       }
       const unsigned channel = eth::parse_target(targets[i].eth_url).channel;
       threads.emplace_back([&, i, channel, port = p.port] {
-        runs[i] = run_apply_over(port->link(channel), targets[i], job, one(i));
-        finish(i);
+        task(i, [&, i, channel, port] {
+          return Card::attach(port->link(channel), targets[i], db, open.retry, cancel);
+        });
       });
     }
   for (auto& t : threads) t.join();
+}
+
+std::vector<TargetRun> run_fleet(const std::vector<Endpoint>& targets, const ApplyJob& job,
+                                 const FleetActivity& activity) {
+  std::vector<TargetRun> runs(targets.size());
+  for_each_target(targets, *job.db, job.open, job.transaction.cancel,
+                  [&](std::size_t i, const CardOpener& open) {
+                    Activity one;
+                    if (activity) one = [&activity, i](const std::string& s) { activity(i, s); };
+                    runs[i] = run_apply_opened(targets[i], job, open, one);
+                    if (activity) activity(i, to_string(runs[i].outcome));
+                  });
   return runs;
 }
 

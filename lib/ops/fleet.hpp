@@ -21,4 +21,12 @@ using FleetActivity = std::function<void(std::size_t index, const std::string& w
 std::vector<TargetRun> run_fleet(const std::vector<Endpoint>& targets, const ApplyJob& job,
                                  const FleetActivity& activity = {});
 
+// The fleet's scheduling for any per-card work (apply, validate, diff): `task(i, open)` is
+// called once per target, in the threads described above; `open()` opens that target's card
+// (or throws the error that kept its line or Ethernet port from opening). `task` must not
+// throw.
+using FleetTask = std::function<void(std::size_t index, const CardOpener& open)>;
+void for_each_target(const std::vector<Endpoint>& targets, const params::ParamDb& db, const OpenOptions& open,
+                     const Cancel& cancel, const FleetTask& task);
+
 }  // namespace i20::ops

@@ -15,12 +15,6 @@ using profile::Finding;
 using profile::Severity;
 
 // The NV cells a reset copies into a working twin the database knows.
-std::vector<const params::Param*> nv_with_twins(const params::ParamDb& db) {
-  std::vector<const params::Param*> cells;
-  for (const auto& p : db.all())
-    if (p.is_nv() && !p.twin.empty() && db.find(p.twin)) cells.push_back(&p);
-  return cells;
-}
 
 // The validator calls a value it judges "(profile)"; here it is what the EEPROM holds.
 std::string as_eeprom_value(std::string message) {
@@ -43,17 +37,6 @@ profile::Profile live_after_reset(const ResetJudgement& j) {
 
 }  // namespace
 
-std::vector<std::string> pending_nv_values(const params::ParamDb& db, const RawValues& values) {
-  std::vector<std::string> pending;
-  for (const auto* p : nv_with_twins(db)) {
-    const auto nv = values.find(p->name);
-    const auto working = values.find(p->twin);
-    if (nv != values.end() && working != values.end() && nv->second != working->second)
-      pending.push_back(p->name);
-  }
-  return pending;
-}
-
 std::string ResetJudgement::reason() const {
   std::string text;
   for (const auto& f : findings)
@@ -65,7 +48,7 @@ std::string ResetJudgement::reason() const {
 ResetJudgement judge_reset(const params::ParamDb& db, CardAccess& card, bool force,
                            const profile::Profile* planned) {
   std::vector<std::string> names;
-  for (const auto* p : nv_with_twins(db)) names.insert(names.end(), {p->name, p->twin});
+  for (const auto* p : nv_cells_with_twins(db)) names.insert(names.end(), {p->name, p->twin});
   if (db.find("BUSV")) names.push_back("BUSV");
   RawValues values = card.read(names);  // cells that are no fact on this firmware are left out
   ResetJudgement j;
@@ -77,7 +60,7 @@ ResetJudgement judge_reset(const params::ParamDb& db, CardAccess& card, bool for
     for (const auto& w : profile::cell_writes(*planned, db))
       if (db.get(w.cell).is_nv()) values[w.cell] = w.raw;
   j.pending = pending_nv_values(db, values);
-  for (const auto* p : nv_with_twins(db)) {
+  for (const auto* p : nv_cells_with_twins(db)) {
     if (values.contains(p->name)) j.nv[p->name] = values.at(p->name);
     if (values.contains(p->name) && !values.contains(p->twin)) j.unknown_live.push_back(p->name);
   }

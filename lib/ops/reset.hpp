@@ -14,16 +14,12 @@
 
 #include "ops/card.hpp"
 #include "ops/card_access.hpp"
+#include "ops/pending.hpp"
 #include "params/param_db.hpp"
 #include "profile/finding.hpp"
 #include "profile/profile.hpp"
 
 namespace i20::ops {
-
-// NV cells whose value in `values` differs from their working twin's: the values a reset
-// would make live. Only pairs whose both cells are in `values` count; in database order.
-// The one definition of "pending" (report, apply's "not live yet", the transaction's reset).
-std::vector<std::string> pending_nv_values(const params::ParamDb& db, const RawValues& values);
 
 struct ResetJudgement {
   std::vector<std::string> pending;  // NV cells whose value the reset makes live

@@ -40,11 +40,13 @@ class Transaction {
     if (interrupted_before("reading the card")) return;
     if (!read_card()) return;
     result_.plan = profile::make_plan(profile_, db_, snapshot_);  // shown even when refused
-    if (!check() || !order_is_safe()) return;
+    // The device layer's rules too before a dry run ends: a dry run (and `profile validate`
+    // against a card) is refused exactly when the real apply would be.
+    if (!check() || !order_is_safe() || !device_accepts()) return;
     if (options_.on_plan) options_.on_plan(result_.plan);
     if (options_.dry_run) return finish(Outcome::DryRun);
     if (result_.plan.empty()) return nothing_to_do();
-    if (!device_accepts() || !backup()) return;
+    if (!backup()) return;
     if (interrupted_before("writing")) return;
     auto [touched, failure] = write_plan();
     if (failure.empty() && !stop_requested()) failure = verify();

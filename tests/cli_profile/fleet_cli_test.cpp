@@ -3,6 +3,8 @@
 // target failing never changes what happens on another; exit 0 only if all are verified.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "cli_profile_util.hpp"
 
 using namespace i20::test;
@@ -12,8 +14,11 @@ namespace {
 class FleetCli : public ::testing::Test {
  protected:
   Result fleet(const std::vector<std::string>& targets, std::vector<std::string> extra = {}) {
-    // In-process simulators on the same 120 V line as the pty ones (kLine120Bus).
-    std::vector<std::string> args{"--no-user-params", "--sim-control", "busv 160"};
+    // In-process simulators on the same 120 V line as the pty ones (kLine120Bus); the
+    // control line is refused when no target is a simulator.
+    std::vector<std::string> args{"--no-user-params"};
+    if (std::ranges::any_of(targets, [](const auto& t) { return t.rfind("sim", 0) == 0; }))
+      args.insert(args.end(), {"--sim-control", "busv 160"});
     if (json_mode) args.push_back("--json");
     args.insert(args.end(),
                 {"profile", "apply", shipped("line-120v.yaml"), "--backup-dir", dir.path().string()});

@@ -52,7 +52,7 @@ TEST_F(ProfileCli, ValidateNamesFileLineKeyAndRule) {
                               "  NVBRAKEOFFV: 320 V\n"
                               "  NVMAXCURRENT: 45 A\n");
   auto r = run("i20", {"profile", "validate", bad});
-  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_EQ(r.exit_code, 3) << "apply would refuse it: " << r.out << r.err;
   EXPECT_NE(r.out.find(bad + ":4: error: NVBRAKEOFFV: "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("[brake-order]"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(bad + ":5: error: NVMAXCURRENT: "), std::string::npos) << r.out;
@@ -60,7 +60,7 @@ TEST_F(ProfileCli, ValidateNamesFileLineKeyAndRule) {
 
   const auto typo = write_file(dir / "typo.yaml", "name: typo\nparameters:\n  NVBRAKONV: 190 V\n");
   r = run("i20", {"profile", "validate", typo});
-  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.exit_code, 2) << "a file that cannot be loaded is bad input";
   EXPECT_NE(r.out.find(typo + ":3: error: NVBRAKONV: "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("NVBRAKEONV"), std::string::npos) << "suggests the right name: " << r.out;
   EXPECT_NE(r.out.find("[unknown-parameter]"), std::string::npos) << r.out;
@@ -79,7 +79,7 @@ TEST_F(ProfileCli, ValidateNamesFileLineKeyAndRule) {
 TEST_F(ProfileCli, ValidateWithACardJudgesAgainstTheCardsValues) {
   const auto file = write_file(dir / "brake.yaml", kBrakeOnly);
   auto r = run("i20", {"profile", "validate", file});
-  EXPECT_EQ(r.exit_code, 2) << "factory NVBRAKEOFFV 340 V is above 190 V: " << r.out;
+  EXPECT_EQ(r.exit_code, 3) << "factory NVBRAKEOFFV 340 V is above 190 V: " << r.out;
   EXPECT_NE(r.out.find("[brake-order]"), std::string::npos) << r.out;
   ASSERT_EQ(i20({"set", "NVBRAKEOFFV=170V"}).exit_code, 0);
   const auto before = data_writes(sim.trace());
@@ -92,7 +92,7 @@ TEST_F(ProfileCli, ValidateWithACardJudgesAgainstTheCardsValues) {
 
 TEST_F(ProfileCli, DiffListsEveryParameterInEngineeringUnits) {
   const auto r = i20({"profile", "diff", shipped("line-120v.yaml")});
-  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_EQ(r.exit_code, 1) << "values differ, as diff(1): " << r.err;
   EXPECT_NE(r.out.find("NVBRAKEONV"), std::string::npos);
   EXPECT_NE(r.out.find("190.00 V"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("360.00 V"), std::string::npos) << r.out;
