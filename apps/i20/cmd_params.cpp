@@ -91,14 +91,20 @@ void run_info(Context& ctx) {
     ctx.print_json(j);
     return;
   }
-  const bool is_sim = db.simulator_swrevision() == info.swrevision;
+  // Only the --sim endpoint is known to be the simulator; a card behind a port that reports
+  // the simulator's revision is named by that fact alone.
+  const bool sim_endpoint = card.endpoint().kind == ops::Endpoint::Kind::Sim;
+  const bool sim_revision = db.simulator_swrevision() == info.swrevision;
+  const char* firmware_note = sim_endpoint   ? ", the built-in simulator"
+                              : sim_revision ? ", the revision the simulator reports"
+                                             : "";
   std::string rpc_names;
   for (const auto& n : id.rpc_confirmed) rpc_names += (rpc_names.empty() ? "" : " ") + n;
   std::cout
       << info.card_name << " on " << card.endpoint().text << "\n"
       << "  unit number    " << *info.unit_number << " (" << lbp::hex_value(*info.unit_number, 8) << ")\n"
       << "  firmware       SWREVISION " << lbp::hex_value(*info.swrevision, 4) << " (" << *info.swrevision
-      << ")" << (is_sim ? ", the i20sim simulator" : "") << "\n"
+      << ")" << firmware_note << "\n"
       << "  working map    "
       << (info.working_map_confirmed
               ? "confirmed for this firmware: working parameters can be written"

@@ -260,7 +260,10 @@ app::Json readings_json(const Readings& r) {
   j.set("busv_v", optional_number(r.busv_v)).set("temperature_c", optional_number(r.temperature_c));
   j.set("busunderv_v", optional_number(r.busunderv_v)).set("busoverv_v", optional_number(r.busoverv_v));
   j.set("brake_on", brake_on(r)).set("brakeonv_v", optional_number(r.brakeonv_v));
-  j.set("addresses_confirmed", true);  // FAULT/STATUS are only ever read from confirmed addresses
+  // FAULT and STATUS are only ever read from confirmed addresses; the rest are named when not.
+  auto not_confirmed = app::Json::array();
+  for (const auto& name : r.not_confirmed) not_confirmed.push(name);
+  j.set("addresses_confirmed", r.not_confirmed.empty()).set("not_confirmed", std::move(not_confirmed));
   return j;
 }
 

@@ -53,7 +53,10 @@ FaultReadings read_fault_registers(Card& card) {
     if (const auto* p = db.find(name)) list.push_back(p);
   FaultReadings r;
   for (const auto& v : read_values(card, list)) {
-    if (!v.fact()) continue;
+    if (!v.fact()) {
+      r.not_confirmed.push_back(v.param->name);
+      continue;
+    }
     const std::string& n = v.param->name;
     const auto raw16 = static_cast<std::uint16_t>(*v.raw);
     if (n == "FAULT") r.fault = raw16;

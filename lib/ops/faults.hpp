@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "device/amp.hpp"
 #include "ops/apply_run.hpp"
@@ -26,6 +27,9 @@ struct FaultReadings {
   std::optional<double> busunderv_v;
   std::optional<double> busoverv_v;
   std::optional<double> brakeonv_v;  // the working threshold the brake compares the bus with
+  // Cells asked for but not read as facts (address not confirmed for this firmware, or no
+  // answer): their fields above stay empty, and a claim about them says so.
+  std::vector<std::string> not_confirmed;
 };
 
 // FAULT and STATUS are required: throws SafetyError (nothing read, exit 3) when their

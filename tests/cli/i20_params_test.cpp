@@ -154,3 +154,28 @@ TEST(I20CliDiscover, DiscoveredOverlayUnlocksWorkingWritesOnAnUnknownFirmware) {
   r = run("i20", with({"--params", overlay, "set", "KQP=60"}));
   EXPECT_EQ(r.exit_code, 3) << "KQP stays unknown on this firmware";
 }
+
+// Claims are computed, not constants: only the --sim endpoint is called the simulator; a
+// card behind a port that reports the simulator's revision is named by that fact.
+TEST_F(I20Cli, InfoNamesTheSimulatorOnlyWhereTheToolKnowsIt) {
+  auto r = i20({"info"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("0xE120 (57632), the revision the simulator reports"), std::string::npos) << r.out;
+  r = run("i20", {"--sim", "--no-user-params", "info"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find(", the built-in simulator"), std::string::npos) << r.out;
+}
+
+// watch's and faults' JSON say which readings were not read from a confirmed address: on a
+// firmware whose working map is a guess, BUSUNDERV/BUSOVERV/BRAKEONV are not facts.
+TEST(I20CliClaims, ReadingsSayWhichAddressesAreNotConfirmed) {
+  SimProcess sim({"--random-map", "9"});
+  auto r = run("i20", {"--port", sim.port(), "--no-user-params", "--json", "faults"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"addresses_confirmed\": false"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"BUSUNDERV\""), std::string::npos) << r.out;
+  SimProcess known;
+  r = run("i20", {"--port", known.port(), "--no-user-params", "--json", "faults"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"addresses_confirmed\": true"), std::string::npos) << r.out;
+}
