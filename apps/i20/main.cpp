@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "cmd_inventory.hpp"
 #include "context.hpp"
 #include "interrupt.hpp"
 #include "params/closest.hpp"
@@ -60,6 +61,7 @@ int main(int argc, char** argv) {
   cli::register_profile_commands(app, ctx);
   cli::register_scan_command(app, ctx);
   cli::register_report_command(app, ctx);
+  cli::register_inventory_command(app, ctx);
 
   app::install_interrupt_handler("i20");  // SIGINT, SIGTERM, SIGHUP stop safely; SIGPIPE ignored
   try {

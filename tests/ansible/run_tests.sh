@@ -19,7 +19,8 @@ trap 'rm -rf "$work"' EXIT
 # Nothing from the user running the tests: no parameter overlay, no backups in their home,
 # no Ansible configuration or temporary files of theirs.
 export XDG_CONFIG_HOME=$work/config XDG_STATE_HOME=$work/state I20_PARAMS= I20_PROFILE_PATH=
-export ANSIBLE_CONFIG=/dev/null ANSIBLE_LOCAL_TEMP=$work/ansible-tmp ANSIBLE_REMOTE_TEMP=$work/ansible-tmp
+: >"$work/ansible.cfg"
+export ANSIBLE_CONFIG=$work/ansible.cfg ANSIBLE_LOCAL_TEMP=$work/ansible-tmp ANSIBLE_REMOTE_TEMP=$work/ansible-tmp
 export ANSIBLE_LIBRARY=$src/contrib/ansible/library ANSIBLE_NOCOLOR=1 ANSIBLE_RETRY_FILES_ENABLED=0
 export ANSIBLE_LOCALHOST_WARNING=0 ANSIBLE_INVENTORY_UNPARSED_WARNING=0 ANSIBLE_PYTHON_INTERPRETER=auto_silent
 export PATH=$bin:$PATH  # the example playbook finds i20 on PATH, as on a machine with the package
@@ -28,6 +29,9 @@ echo "== modules.yml"
 ansible-playbook -i localhost, "$src/tests/ansible/modules.yml" -e "i20=$bin/i20" -e "work=$work"
 
 # Several machines, several axes each: every host is this machine (connection: local).
+# The recap counts a looped task once: changed=1 is the apply task having changed an axis.
+# (The lathe is not on a 120 V line here: a simulator image with line-120v values powers up at
+# its default 320 V bus and latches BUSHIVFAULT before --sim-control lowers the bus.)
 cat >"$work/inventory.yml" <<INV
 i20_machines:
   vars:
@@ -40,8 +44,8 @@ i20_machines:
         - {name: y, sim_eeprom: $work/mill-1-y.eeprom, profile: line-240v}
     lathe-1:
       i20_axes:
-        - {name: x, sim_eeprom: $work/lathe-1-x.eeprom, sim_control: [busv 160], profile: line-120v}
-        - {name: z, sim_eeprom: $work/lathe-1-z.eeprom, sim_control: [busv 160], profile: line-120v}
+        - {name: x, sim_eeprom: $work/lathe-1-x.eeprom, profile: line-240v}
+        - {name: z, sim_eeprom: $work/lathe-1-z.eeprom, profile: line-240v}
 INV
 recap() {  # the PLAY RECAP line of host $2 in file $1
   grep -E "^$2 +:" "$1"
@@ -57,7 +61,7 @@ for run in first second; do
   ansible-playbook -i "$work/inventory.yml" "$src/contrib/ansible/playbook.yml" | tee "$work/$run.out"
 done
 for host in mill-1 lathe-1; do
-  expect "$work/first.out" $host 'changed=2 .*failed=0'
+  expect "$work/first.out" $host 'changed=1 .*failed=0'
   expect "$work/second.out" $host 'changed=0 .*failed=0'
 done
 [ "$(ls "$work/fleet-backups" | wc -l)" -eq 4 ] || { echo "FAILED: expected 4 backups"; ls "$work/fleet-backups"; exit 1; }

@@ -222,7 +222,7 @@ def parse_json(stdout):
 
 
 def finding_text(f):
-    text = "%s: %s" % (f.get("key"), f.get("message")) if f.get("key") else f.get("message", "")
+    text = f.get("message", "")
     return text + (" [%s]" % f["rule"] if f.get("rule") else "")
 
 

@@ -1,0 +1,123 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "ops/inventory.hpp"
+
+#include <map>
+#include <thread>
+
+#include "device/errors.hpp"
+#include "eth/target.hpp"
+#include "ops/read.hpp"
+
+namespace i20::ops {
+namespace {
+
+// Targets that share a line (a serial port, a simulator image, an Ethernet card) are read
+// one after another; lines run side by side.
+std::vector<std::vector<std::size_t>> by_line(const std::vector<Endpoint>& targets) {
+  std::vector<std::vector<std::size_t>> groups;
+  std::map<std::string, std::size_t> group_of;
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    const auto [it, fresh] = group_of.try_emplace(targets[i].line_key, groups.size());
+    if (fresh) groups.emplace_back();
+    groups[it->second].push_back(i);
+  }
+  return groups;
+}
+
+std::string linuxcnc_name_of(const Endpoint& target) {
+  if (!target.is_eth()) return {};
+  const auto t = eth::parse_target(target.eth_url);
+  return "8i20." + std::to_string(t.sserial_port) + "." + std::to_string(t.channel);
+}
+
+void read_faults(Card& card, InventoryRow& row) {
+  try {
+    row.faults = read_fault_registers(card);
+  } catch (
+      const device::SafetyError& e) {  // FAULT/STATUS not confirmed for this firmware: unknown, not guessed
+    row.faults_error = e.what();
+  }
+}
+
+void read_row(Card& card, const InventoryJob& job, InventoryRow& row) {
+  row.identity = card.identity();
+  row.card = card.describe();
+  read_faults(card, row);
+  if (job.profile) row.diff = diff_card(card, *job.profile);
+  row.outcome = Outcome::Done;
+}
+
+InventoryRow read_one(const Endpoint& target, const InventoryJob& job) {
+  InventoryRow row;
+  row.target = target;
+  row.linuxcnc_name = linuxcnc_name_of(target);
+  try {
+    const auto card = Card::open(target, *job.db, job.open, job.cancel);
+    try {
+      read_row(*card, job, row);
+      card->settle();
+    } catch (...) {
+      try {
+        card->settle();  // never leave NV access mode on, whatever stopped the read
+      } catch (const Error&) {
+        row.outcome = Outcome::Uncertain;
+      }
+      throw;
+    }
+  } catch (const Error& e) {
+    row.error = e.what();
+    if (row.outcome != Outcome::Uncertain) row.outcome = outcome_of(e.kind());
+  } catch (const std::exception& e) {
+    row.error = e.what();
+    row.outcome = Outcome::Failed;
+  }
+  return row;
+}
+
+}  // namespace
+
+std::optional<bool> InventoryRow::matches() const {
+  if (!reached() || !outcome_ok()) return std::nullopt;
+  return profile_matches(diff);
+}
+
+bool InventoryRow::outcome_ok() const {
+  return exit_code(outcome) == kExitOk;
+}
+
+std::optional<bool> profile_matches(const std::vector<profile::DiffRow>& rows) {
+  bool all = true;
+  for (const auto& r : rows) {
+    if (!r.card_raw) return std::nullopt;
+    all = all && r.equal;
+  }
+  return all;
+}
+
+std::vector<profile::DiffRow> diff_card(Card& card, const profile::Profile& profile) {
+  std::vector<std::string> names;
+  for (const auto& w : profile::cell_writes(profile, card.db())) names.push_back(w.cell);
+  profile::RawValues values;
+  for (const auto& r : read_values(card, names))
+    if (r.fact()) values[r.param->name] = *r.raw;
+  return profile::diff(profile, card.db(), values);
+}
+
+std::vector<InventoryRow> read_inventory(const std::vector<Endpoint>& targets, const InventoryJob& job) {
+  std::vector<InventoryRow> rows(targets.size());
+  std::vector<std::thread> threads;
+  for (const auto& line : by_line(targets))
+    threads.emplace_back([&, line] {
+      for (const std::size_t i : line) rows[i] = read_one(targets[i], job);
+    });
+  for (auto& t : threads) t.join();
+  return rows;
+}
+
+Outcome inventory_outcome(const std::vector<InventoryRow>& rows) {
+  Outcome worst = Outcome::Done;
+  for (const auto& r : rows) worst = most_serious(worst, r.outcome);
+  return worst;
+}
+
+}  // namespace i20::ops
