@@ -60,6 +60,12 @@ constexpr BusRule kBusRules[] = {
      "a bus under-voltage fault could never clear (the bus must rise above this level again)"},
 };
 
+// The manual (MOTOR POWER): motor power ranges from 35 to 400 V, and "all communication to
+// the 8I20 will work down to 0V motor power". A bus below 35 V is a supply that is off or
+// not up yet (setup on the bench with logic power only): it says nothing about the supply
+// the under-voltage thresholds will meet, so they are not judged against it.
+constexpr double kLowestMotorSupplyV = 35.0;
+
 const BusRule* bus_rule_of(const params::Param& p) {
   const std::string base = p.is_nv() && !p.twin.empty() ? p.twin : p.name;
   for (const auto& rule : kBusRules)
@@ -389,6 +395,7 @@ std::vector<Finding> measured_bus_findings(const RawValues& cells, double measur
     const params::Param* p = db.find(name);
     const BusRule* rule = p ? bus_rule_of(*p) : nullptr;
     if (!rule) continue;
+    if (!rule->unsafe_at_or_below && measured_bus_v < kLowestMotorSupplyV) continue;
     const double v = static_cast<double>(raw) * p->scale;
     // "At" the bus within a thousandth of a count: 17000 x 0.01 V is 170 V, whatever the doubles say.
     const double at = 1e-3 * p->scale;

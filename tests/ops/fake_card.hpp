@@ -26,6 +26,8 @@ class FakeCard : public CardAccess {
       values[p.name] = value.value_or(0);
     }
     values["NVMAXCURRENT"] = values["MAXCURRENT"] = 1000;  // 10 A: the manual gives no default
+    // No published factory value either; the simulator's 40 V keeps the pair ordered (35 V below).
+    values["NVBUSUNDERVMAX"] = values["BUSUNDERVMAX"] = 4000;
   }
 
   RawValues read(const std::vector<std::string>& names) override {
