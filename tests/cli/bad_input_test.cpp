@@ -437,7 +437,7 @@ std::vector<BadInput> table() {
        with(i20, {"profile", "apply", "{DIR}/comma.yaml", "--yes"}),
        {},
        2,
-       "{DIR}/comma.yaml:3: error: NVMAXCURRENT: '12,5 A' has a decimal comma; write the fraction with a "
+       "{DIR}/comma.yaml:3: error: NVMAXCURRENT: '12,5 A': decimal comma: write the fraction with a "
        "point "
        "[value]"},
       {"ProfileNameTwice",

@@ -56,7 +56,7 @@ TEST_F(I20Cli, BitRegistersPrintInHexEverywhere) {
 }
 
 TEST_F(I20Cli, SetAcceptsUnitsAndRawAndSaysWhenAResetIsNeeded) {
-  sim.control("busv 300");  // below the new 320 V brake-on
+  sim.control("busv 290");  // below the new 320 V brake-on and 300 V brake-off
   const auto r =
       i20({"set", "NVBRAKEONV=320V", "NVBRAKEOFFV=300V", "NVMAXCURRENT=7.5A", "BRAKEOFFV=raw:34000"});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;

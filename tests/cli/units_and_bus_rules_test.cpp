@@ -86,11 +86,12 @@ TEST_F(BusRulesCli, UnderVoltageAtOrAboveTheMeasuredBusIsRefused) {
   sim.control("busv 160");
   const std::string nv = card("NVBUSUNDERV");
   const std::string working = card("BUSUNDERV");
-  auto r = i20({"set", "NVBUSUNDERV=170V"});
+  // With the high threshold above it too, so the pair stays ordered and the bus is the reason.
+  auto r = i20({"set", "NVBUSUNDERV=170V", "NVBUSUNDERVMAX=180V"});
   EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
   EXPECT_NE(r.err.find("[bus-measured-undervoltage]"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("from the next reset on"), std::string::npos) << r.err;
-  r = i20({"set", "BUSUNDERV=170V"});  // faults at once
+  r = i20({"set", "BUSUNDERV=170V", "BUSUNDERVMAX=180V"});  // faults at once
   EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
   EXPECT_NE(r.err.find("at once"), std::string::npos) << r.err;
   EXPECT_EQ(i20({"set", "BUSUNDERV=160V"}).exit_code, 3) << "at the bus is already a fault";
