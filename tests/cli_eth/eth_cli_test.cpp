@@ -55,7 +55,7 @@ TEST(EthCli, NvWrittenThroughTheSerialPortReadsBackOverEthernet) {
   TempDir dir;
   const auto image = (dir / "amp.eeprom").string();
   {
-    SimProcess bench({"--eeprom", image});
+    SimProcess bench({"--eeprom", image, "--busv", "160"});  // a 120 V line: brake-off above its bus
     ASSERT_EQ(run("wpd", {"--port", bench.port(), "--no-user-params", "NVBRAKEOFFV", "17000"}).exit_code, 0);
   }
   SimProcess card({"--eeprom", image}, Transport::Eth);

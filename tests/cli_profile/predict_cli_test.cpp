@@ -132,7 +132,7 @@ TEST_F(PredictCli, FleetDryRunSaysWhatItWouldWrite) {
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("WOULD WRITE"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("NVBRAKEOFFV, NVBRAKEONV"), std::string::npos) << "names the cells: " << r.out;
-  EXPECT_NE(r.out.find("DRY RUN: would write 10 cells on 2 of 2 targets; nothing was written"),
+  EXPECT_NE(r.out.find("DRY RUN: would write 12 cells on 2 of 2 targets; nothing was written"),
             std::string::npos)
       << r.out;
   EXPECT_EQ(r.out.find("applied and verified"), std::string::npos) << r.out;
@@ -166,7 +166,7 @@ TEST_F(PredictCli, DiffExitsAsDiffAndTakesManyTargets) {
   SimProcess one{kLine120Bus};
   auto r = i20_on(one.port(), {"profile", "diff", "line-120v"});
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
-  EXPECT_NE(r.out.find("5 of 5 values differ"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("6 of 6 values differ"), std::string::npos) << r.out;
   r = i20_on(one.port(), {"profile", "diff", "defaults"});
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_EQ(i20_on(one.port(), {"profile", "diff", (dir / "none.yaml").string()}).exit_code, 2);
@@ -191,7 +191,7 @@ TEST_F(PredictCli, DiffExitsAsDiffAndTakesManyTargets) {
   ASSERT_EQ(j["targets"].size(), 3u);
   EXPECT_EQ(j["targets"][0]["exit_code"].as<int>(), 0);
   EXPECT_EQ(j["targets"][1]["exit_code"].as<int>(), 1);
-  EXPECT_EQ(j["targets"][1]["differ"].as<int>(), 5);
+  EXPECT_EQ(j["targets"][1]["differ"].as<int>(), 6);
   EXPECT_EQ(j["targets"][2]["exit_code"].as<int>(), 2);
   const auto writes = one.writes_seen();
   EXPECT_EQ(i20({"profile", "diff", "line-120v", "--target", one.port()}).exit_code, 0);
@@ -243,7 +243,7 @@ TEST_F(PredictCli, UndoPutsTheBackupBackThroughTheTransaction) {
   auto r =
       i20_on(card.port(), {"profile", "undo", saved.front().string(), "--dry-run", "--backup-dir", backups});
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("Plan: 5 writes"), std::string::npos) << "the diff first: " << r.out;
+  EXPECT_NE(r.out.find("Plan: 6 writes"), std::string::npos) << "the diff first: " << r.out;
   EXPECT_NE(r.out.find("360.00 V"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("DRY RUN"), std::string::npos) << r.out;
   EXPECT_EQ(sim_value(card, "NVBRAKEONV"), 19000) << "a dry run writes nothing";
@@ -252,8 +252,8 @@ TEST_F(PredictCli, UndoPutsTheBackupBackThroughTheTransaction) {
   r = i20_on(card.port(), {"profile", "undo", "--last", "--backup-dir", backups});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find(saved.front().string()), std::string::npos) << "names the backup: " << r.out;
-  EXPECT_NE(r.out.find("APPLIED AND VERIFIED: 5 values written"), std::string::npos) << r.out;
-  EXPECT_EQ(eeprom_writes(card.trace()), writes + 5);
+  EXPECT_NE(r.out.find("APPLIED AND VERIFIED: 6 values written"), std::string::npos) << r.out;
+  EXPECT_EQ(eeprom_writes(card.trace()), writes + 6);
   EXPECT_EQ(sim_value(card, "NVBRAKEONV"), 36000);
   EXPECT_EQ(sim_value(card, "NVBRAKEOFFV"), 34000);
   ASSERT_EQ(backups_in(dir.path()).size(), 2u) << "the undone values are backed up too";

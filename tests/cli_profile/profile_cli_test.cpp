@@ -171,10 +171,10 @@ TEST_F(ProfileCli, ApplyJsonIsCompleteForScripts) {
   EXPECT_EQ(j["profile"].as<std::string>(), "bench-48v");
   EXPECT_NE(j["card"].as<std::string>().find("SWREVISION 0xE120"), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(j["backup"].as<std::string>()));
-  EXPECT_EQ(j["plan"]["steps"].size(), 4u);
+  EXPECT_EQ(j["plan"]["steps"].size(), 5u);
   ASSERT_EQ(j["plan"]["unchanged"].size(), 1u) << "the simulator's MAXCURRENT is 10 A already";
   EXPECT_EQ(j["plan"]["unchanged"][0]["cell"].as<std::string>(), "NVMAXCURRENT");
-  EXPECT_EQ(j["writes"].size(), 4u);
+  EXPECT_EQ(j["writes"].size(), 5u);
   EXPECT_EQ(j["writes"][0]["ok"].as<bool>(), true);
   EXPECT_TRUE(j["reset_needed"].as<bool>());
   expect_report_matches_card(

@@ -187,3 +187,16 @@ TEST(ThresholdRules, TheWriteOrderKeepsTheUnderVoltagePair) {
             std::string::npos)
       << unsafe_step(wrong, db(), card);
 }
+
+// Manual, MOTOR POWER: motor power is 35 to 400 V and communication works down to 0 V. A
+// bus below 35 V is a supply that is off (a bench with logic power only): the under-voltage
+// thresholds are not judged against it, while the brake and over-voltage ones still are.
+TEST(ThresholdRules, AnOffSupplyDoesNotJudgeTheUnderVoltageThresholds) {
+  for (const double bus : {0.0, 12.0, 34.9}) {
+    EXPECT_TRUE(measured_bus_findings({{"NVBUSUNDERV", 3500}, {"BUSUNDERVMAX", 4000}}, bus, db(), false).empty())
+        << bus << " V";
+    EXPECT_FALSE(measured_bus_findings({{"NVBRAKEOFFV", 100}}, bus + 5, db(), false).empty()) << bus << " V";
+  }
+  // From the lowest motor supply on, they are judged again.
+  EXPECT_FALSE(measured_bus_findings({{"NVBUSUNDERV", 3600}}, 35.0, db(), false).empty());
+}
