@@ -182,6 +182,17 @@ TEST(TunePlot, TextPlotIsCompact) {
 
 // The verdict `i20 tune` and `profile validate` share: a well-tuned loop passes, one that
 // rings past kMaxAcceptedOvershootPct or never settles does not.
+// The example: 0.6 ohm, 1.75 mH at 15 A on a 320 V bus, 2 kHz (wc*T = 1.05, far
+// past the damped 0.35).
+TuneRequest ringing_request() {
+  TuneRequest r;
+  r.motor = {0.6, 1.75e-3};
+  r.max_current_a = 15.0;
+  r.bus_voltage_v = 320.0;
+  r.bandwidth_hz = 2000.0;
+  return r;
+}
+
 TEST(TuneVerdict, AWellDampedLoopIsAccepted) {
   const auto verdict = judge_step(tuned_step(400.0));
   EXPECT_TRUE(verdict.acceptable) << verdict.reason;
@@ -189,12 +200,7 @@ TEST(TuneVerdict, AWellDampedLoopIsAccepted) {
 }
 
 TEST(TuneVerdict, TooMuchBandwidthIsCalledUnstableAndSaysWhy) {
-  // 0.6 ohm, 1.75 mH at 15 A on a 320 V bus, 2 kHz: wc*T = 1.05, far past the damped 0.35.
-  TuneRequest r;
-  r.motor = {0.6, 1.75e-3};
-  r.max_current_a = 15.0;
-  r.bus_voltage_v = 320.0;
-  r.bandwidth_hz = 2000.0;
+  const TuneRequest r = ringing_request();
   const auto t = tune(r, db());
   const auto step = simulate_step({r.motor, r.max_current_a, r.bus_voltage_v, t.kp, t.ki, {}, 0, 12000, 0});
   const auto verdict = judge_step(step);
@@ -221,11 +227,7 @@ TEST(TuneVerdict, OvershootPastTheBoundIsNamed) {
 
 TEST(TuneVerdict, ALoopThatNeverSettlesIsNotSimulatedForSeconds) {
   // It was simulated up to 200000 samples (16.7 s), which the plot's axis then showed.
-  TuneRequest r;
-  r.motor = {0.6, 1.75e-3};
-  r.max_current_a = 15.0;
-  r.bus_voltage_v = 320.0;
-  r.bandwidth_hz = 2000.0;
+  const TuneRequest r = ringing_request();
   const auto t = tune(r, db());
   const auto step = simulate_step({r.motor, r.max_current_a, r.bus_voltage_v, t.kp, t.ki, {}, 0, 12000, 0});
   // Ten of the slowest time constants: here the winding's L/R, 2.9 ms.
