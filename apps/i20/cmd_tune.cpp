@@ -12,6 +12,7 @@
 
 #include "change_render.hpp"
 #include "context.hpp"
+#include "output_file.hpp"
 #include "profile/error.hpp"
 #include "profile/loader.hpp"
 #include "profile/plot_scale.hpp"
@@ -38,6 +39,7 @@ struct TuneCliOptions {
   bool ascii = false;
   bool line_to_line = false;  // -R and -L are the data sheet's line-to-line values
   bool force = false;         // write gains the model calls unstable
+  bool overwrite = false;     // replace an existing --out or --svg file
 };
 
 // Where the request's values came from, for the output and the profile written.
@@ -272,6 +274,9 @@ void refuse_unstable(Context& ctx, const Tuned& t, const TuneCliOptions& o) {
 }
 
 void run_tune(Context& ctx, const TuneCliOptions& o) {
+  // As report -o and profile save: an existing file is replaced only when asked.
+  check_output_file(o.out, o.overwrite);
+  check_output_file(o.svg, o.overwrite);
   const auto db = app::load_database(ctx.options);
   std::optional<profile::Profile> motor;
   try {
@@ -332,6 +337,7 @@ void register_tune_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--out,-o", o->out, "Write the result as a tuning profile (YAML) to validate and apply");
   cmd->add_option("--name", o->name, "Name of the tuning profile (default: tune-<motor profile> or tuning)");
   cmd->add_flag("--ascii", o->ascii, "Plot with ASCII characters only");
+  cmd->add_flag("--overwrite", o->overwrite, "Replace the --out and --svg files if they exist");
   cmd->add_flag("--force", o->force,
                 "Write the profile even when the model's step overshoots more than 20% or does not settle "
                 "(otherwise refused: exit 3, nothing written)");

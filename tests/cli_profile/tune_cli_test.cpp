@@ -225,3 +225,20 @@ TEST(TuneCli, MotorPeakCurrentIsTheDefaultMaxCurrent) {
   EXPECT_NE(text.find("poles: 8"), std::string::npos) << text;
   EXPECT_NE(text.find("NVMAXCURRENT: 8"), std::string::npos) << text;
 }
+
+// Like report -o and profile save: an existing --out or --svg file is not replaced unasked.
+TEST(TuneCli, AnExistingOutputFileIsReplacedOnlyWithOverwrite) {
+  TempDir dir;
+  const auto out = (dir / "t.yaml").string();
+  write_file(out, "keep me\n");
+  auto args = kReference;
+  args.insert(args.end(), {"-o", out});
+  auto r = tune(args);
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("--overwrite"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp_file(out), "keep me\n");
+  args.push_back("--overwrite");
+  r = tune(args);
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(slurp_file(out).find("NVKQP: 50"), std::string::npos);
+}
