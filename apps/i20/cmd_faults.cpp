@@ -21,6 +21,7 @@
 #include "lbp/bytes.hpp"
 #include "live_source.hpp"
 #include "ops/faults.hpp"
+#include "passive.hpp"
 
 namespace i20::cli {
 namespace {
@@ -348,8 +349,15 @@ void register_faults(CLI::App& app, Context& ctx) {
   add_allow_unverified(mask, mask_options->write);
   mask->callback([&ctx, mask_options] { run_mask(ctx, *mask_options); });
 
-  faults->callback([&ctx, faults] {
-    if (faults->get_subcommands().empty()) run_faults(ctx);
+  auto passive = std::make_shared<bool>(false);
+  faults->add_flag("--passive", *passive,
+                   passive_flag_help("FAULT and STATUS of every 8I20 of the card, explained,"));
+  faults->callback([&ctx, faults, passive] {
+    if (!faults->get_subcommands().empty()) return;
+    if (*passive)
+      run_passive_faults(ctx);
+    else
+      run_faults(ctx);
   });
 }
 

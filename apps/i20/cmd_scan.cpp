@@ -13,6 +13,7 @@
 #include "eth/scan.hpp"
 #include "eth/target.hpp"
 #include "lbp/bytes.hpp"
+#include "passive.hpp"
 
 namespace i20::cli {
 namespace {
@@ -76,12 +77,14 @@ void print_scan(const eth::ScanResult& r) {
 
 void run_scan(Context& ctx, bool deprecated_force) {
   if (deprecated_force)
-    std::cerr << "i20: `scan --force` is deprecated: it is the global --take-over (i20 --take-over scan --eth IP)\n";
+    std::cerr << "i20: `scan --force` is deprecated: it is the global --take-over (i20 --take-over scan "
+                 "--eth IP)\n";
   const bool take_over = ctx.options.link.take_over || deprecated_force;
   if (ctx.options.target.eth.empty())
     throw UsageError("scan needs the Ethernet card's address: i20 scan --eth 192.168.1.121");
-  const auto address = eth::is_eth_url(ctx.options.target.eth) ? eth::parse_target(ctx.options.target.eth).card
-                                                        : eth::parse_host_port(ctx.options.target.eth);
+  const auto address = eth::is_eth_url(ctx.options.target.eth)
+                           ? eth::parse_target(ctx.options.target.eth).card
+                           : eth::parse_host_port(ctx.options.target.eth);
   eth::ScanOptions options;
   options.udp.timeout = std::chrono::milliseconds(ctx.options.link.timeout_ms);
   options.running_host.take_over = take_over;
@@ -113,7 +116,17 @@ void register_scan_command(CLI::App& app, Context& ctx) {
   auto force = std::make_shared<bool>(false);
   // The old spelling of --take-over, kept (hidden) so scripts keep working.
   scan->add_flag("--force", *force, "Deprecated: the global --take-over")->group("");
-  scan->callback([&ctx, force] { run_scan(ctx, *force); });
+  auto passive = std::make_shared<bool>(false);
+  scan->add_flag(
+      "--passive", *passive,
+      passive_flag_help("the 8I20s the running host has on each channel, with their bus voltage and FAULT,") +
+          "; unit numbers need a setup start and are not shown");
+  scan->callback([&ctx, force, passive] {
+    if (*passive)
+      run_passive_scan(ctx);
+    else
+      run_scan(ctx, *force);
+  });
 }
 
 }  // namespace i20::cli

@@ -29,6 +29,7 @@
 #include "interrupt.hpp"
 #include "lbp/bytes.hpp"
 #include "live_source.hpp"
+#include "passive.hpp"
 
 namespace i20::cli {
 namespace {
@@ -49,6 +50,8 @@ struct WatchOptions {
   double duration_s = 0;    // 0: no limit
   bool plain = false;
   bool registers = false;  // Ethernet: passthrough register reads instead of normal mode
+  bool passive = false;    // Ethernet beside a running host: its process data, reads only
+  double busv_step_v = 0.5;
   std::string log;
 };
 
@@ -192,13 +195,12 @@ std::vector<Event> warning_events(const Readings* before, const Readings& after,
   const auto was = before ? live_status_report(*before) : F::Report{};
   for (const auto& line : live_status_report(after).lines) {
     if (!line.escalated) continue;
-    const bool already = std::any_of(was.lines.begin(), was.lines.end(),
-                                     [&](const F::ReportLine& w) { return w.bit == line.bit && w.escalated; });
+    const bool already = std::any_of(was.lines.begin(), was.lines.end(), [&](const F::ReportLine& w) {
+      return w.bit == line.bit && w.escalated;
+    });
     if (already) continue;
-    out.push_back({when,
-                   Kind::StatusSet,
-                   "WARNING: " + bit_label(line) + ": " + line.meaning + " (" + line.evidence + ")",
-                   line.bit,
+    out.push_back({when, Kind::StatusSet,
+                   "WARNING: " + bit_label(line) + ": " + line.meaning + " (" + line.evidence + ")", line.bit,
                    line.name});
   }
   return out;
@@ -680,6 +682,18 @@ std::unique_ptr<View> make_view(const Context& ctx, const WatchOptions& o) {
 }
 
 void run_watch(Context& ctx, const WatchOptions& o) {
+  if (o.passive) {
+    if (o.registers)
+      throw UsageError(
+          "watch: --passive and --registers exclude each other (--passive reads no register through the "
+          "passthrough)");
+    run_passive_watch(ctx, PassiveWatchOptions{.interval_ms = o.interval_ms,
+                                               .count = o.count,
+                                               .duration_s = o.duration_s,
+                                               .busv_step_v = o.busv_step_v,
+                                               .log = o.log});
+    return;
+  }
   std::unique_ptr<CsvLog> log;
   if (!o.log.empty()) log = std::make_unique<CsvLog>(o.log);  // a bad path fails before the link opens
   auto view = make_view(ctx, o);
@@ -710,6 +724,16 @@ void register_watch_command(CLI::App& app, Context& ctx) {
       "Ethernet targets: keep reading registers through the setup-mode passthrough instead of switching to "
       "SSLBP normal mode after the first look (normal mode feeds the watchdog, but its start clears latched "
       "faults)");
+  watch->add_flag(
+      "--passive", o->passive,
+      passive_flag_help("every 8I20 of the card at once, with a timestamped line per change of bus voltage, "
+                        "temperature, FAULT or STATUS,") +
+          "; --interval 50 or more");
+  watch
+      ->add_option("--busv-step", o->busv_step_v,
+                   "--passive: report a bus voltage change of at least this much, V")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   watch->add_option("--log", o->log, "Also write a CSV time series (one row per sample, gaps marked)")
       ->type_name("FILE.csv");
   watch->callback([&ctx, o] { run_watch(ctx, *o); });

@@ -5,8 +5,10 @@
 
 #include "cmd_inventory.hpp"
 #include "context.hpp"
+#include "eth/running_host.hpp"
 #include "interrupt.hpp"
 #include "params/closest.hpp"
+#include "passive.hpp"
 #include "version/build_info.hpp"
 
 using namespace i20;
@@ -37,6 +39,22 @@ std::string unknown_command(const CLI::App& app, const CLI::ParseError& e) {
   const auto near = i20::params::closest(word, names, 1);
   return "unknown command '" + word + "'" +
          (near.empty() ? "; `i20 --help` lists them" : ": did you mean " + near.front() + "?");
+}
+
+// A refusal beside a running host says how to read without stopping anything (the
+// library names no i20 flags; the app knows its --passive).
+int report_failure_with_passive_hint(cli::Context& ctx) {
+  try {
+    throw;
+  } catch (const eth::RunningHostError& e) {
+    try {
+      throw eth::RunningHostError(e.what() + cli::passive_hint(ctx), e.activity());
+    } catch (...) {
+      return ctx.report_failure();
+    }
+  } catch (...) {
+    return ctx.report_failure();
+  }
 }
 
 }  // namespace
@@ -75,7 +93,7 @@ int main(int argc, char** argv) {
     return app::report_parse_error(app, e, "i20");
   } catch (...) {
     ctx.print_notes();
-    const int code = ctx.report_failure();
+    const int code = report_failure_with_passive_hint(ctx);
     app::output_failed("i20");  // said after the card is settled
     return code;
   }

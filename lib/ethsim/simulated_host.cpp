@@ -17,7 +17,9 @@ std::uint32_t word(const lbp::Bytes& bytes) {
 
 }  // namespace
 
-SimulatedHost::SimulatedHost(HostOptions options) : options_(options) {}
+SimulatedHost::SimulatedHost(HostOptions options) : options_(options) {
+  if (options_.mask == 0) options_.mask = 0x01;
+}
 
 std::vector<lbp::Bytes> SimulatedHost::send(VirtualCard& card, const std::vector<lbp16::Command>& packet,
                                             Clock::time_point now) {

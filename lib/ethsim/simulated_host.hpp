@@ -20,8 +20,10 @@
 namespace i20::ethsim {
 
 struct HostOptions {
-  unsigned port = 0;                                      // SSERIAL port it runs
-  std::uint8_t mask = 0x01;                               // channels it starts
+  unsigned port = 0;  // SSERIAL port it runs
+  // Channels it starts. 0: every 8I20 of the port, as LinuxCNC starts every remote it
+  // finds (CardServer::start_host resolves it; a SimulatedHost on its own takes channel 0).
+  std::uint8_t mask = 0;
   Clock::duration period = std::chrono::milliseconds(1);  // LinuxCNC's default servo period
 };
 

@@ -1,0 +1,382 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "passive.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <memory>
+#include <thread>
+
+#include "eth/target.hpp"
+#include "faults/decode.hpp"
+#include "faults_render.hpp"
+#include "interrupt.hpp"
+#include "lbp/bytes.hpp"
+#include "link/link.hpp"
+#include "ops/passive_monitor.hpp"
+
+namespace i20::cli {
+namespace {
+
+namespace F = i20::faults;
+using Clock = std::chrono::steady_clock;
+using WallClock = std::chrono::system_clock;
+using ops::PassiveChange;
+using ops::PassiveSample;
+
+constexpr std::chrono::milliseconds kSleepSlice{20};  // how fast Ctrl-C is noticed
+
+std::string card_text(const Context& ctx) {
+  const auto& o = ctx.options.target;
+  if (!o.eth.empty()) return o.eth;
+  return o.port;
+}
+
+// The card named by --eth (an address or an eth:// URL) or an eth:// --port. A passive
+// monitor always watches every channel of the card.
+eth::HostPort passive_card(const Context& ctx, const char* command) {
+  const auto& o = ctx.options.target;
+  const std::string text = !o.eth.empty() ? o.eth : (eth::is_eth_url(o.port) ? o.port : std::string());
+  if (text.empty())
+    throw UsageError(
+        std::string(command) +
+        " --passive reads what a running host leaves in an Ethernet card's SSERIAL registers: give "
+        "the card's address, e.g. i20 --eth 192.168.1.121 " +
+        command + " --passive");
+  return eth::is_eth_url(text) ? eth::parse_target(text).card : eth::parse_host_port(text);
+}
+
+ops::PassiveMonitorOptions monitor_options(const Context& ctx) {
+  ops::PassiveMonitorOptions m;
+  m.read.timeout = std::chrono::milliseconds(std::max(ctx.options.link.timeout_ms, 200u));
+  return m;
+}
+
+std::string clock_text(WallClock::time_point t, bool with_date) {
+  const auto tt = WallClock::to_time_t(t);
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count() % 1000;
+  std::tm tm{};
+  localtime_r(&tt, &tm);
+  char buf[40];
+  std::strftime(buf, sizeof buf, with_date ? "%Y-%m-%dT%H:%M:%S" : "%H:%M:%S", &tm);
+  char out[48];
+  std::snprintf(out, sizeof out, "%s.%03d", buf, static_cast<int>(ms));
+  return out;
+}
+
+std::string fixed(double v, const char* format = "%.2f") {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string bit_names(F::Register reg, std::uint16_t value) {
+  std::string out;
+  for (const auto& b : F::decode(reg, value).bits) out += (out.empty() ? "" : " ") + b.label();
+  return out;
+}
+
+std::string amp_line(const ops::PassiveAmplifier& a) {
+  const auto& d = a.data;
+  std::string s = "port " + std::to_string(d.port) + " ch " + std::to_string(d.channel) + ": ";
+  if (!d.live()) return s + "8I20, not in a running cycle (" + a.link_status + ")";
+  s += "BUSV " + fixed(d.busv_v()) + " V  TEMP " + std::to_string(d.temperature_c()) + " degC  STATUS " +
+       lbp::hex_value(d.status(), 4) + "  FAULT " + lbp::hex_value(d.fault(), 4);
+  if (d.fault()) s += " (" + bit_names(F::Register::Fault, d.fault()) + ")";
+  return s;
+}
+
+app::Json amp_json(const ops::PassiveAmplifier& a) {
+  const auto& d = a.data;
+  auto j = app::Json::object();
+  j.set("port", d.port)
+      .set("channel", d.channel)
+      .set("target", a.target)
+      .set("linuxcnc_name", a.linuxcnc_name);
+  j.set("live", d.live()).set("cs", lbp::hex_value(d.cs, 8)).set("link_status", a.link_status);
+  j.set("doit_failed", d.doit_failed);
+  j.set("busv_v", d.busv_v()).set("temperature_c", d.temperature_c());
+  j.set("fault", static_cast<unsigned>(d.fault())).set("status", static_cast<unsigned>(d.status()));
+  j.set("fault_bits", bit_names(F::Register::Fault, d.fault()));
+  j.set("status_bits", bit_names(F::Register::Status, d.status()));
+  return j;
+}
+
+app::Json change_json(const PassiveChange& c) {
+  auto j = app::Json::object();
+  j.set("time", clock_text(c.when, true)).set("kind", ops::to_string(c.kind)).set("text", c.text);
+  j.set("port", c.port ? app::Json(*c.port) : app::Json())
+      .set("channel", c.channel ? app::Json(*c.channel) : app::Json());
+  j.set("bit", c.bit ? app::Json(*c.bit) : app::Json())
+      .set("name", c.name.empty() ? app::Json() : app::Json(c.name));
+  return j;
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+// One row per 8I20 per sample; the row carries the changes of that channel.
+class PassiveCsv {
+ public:
+  explicit PassiveCsv(const std::string& path) : out_(path, std::ios::out | std::ios::trunc) {
+    if (!out_) throw UsageError("cannot write the log file " + path + ": check the directory exists");
+    out_ << "time,elapsed_s,port,channel,live,busv_v,temperature_c,status,fault,fault_bits,status_bits,"
+            "events\n";
+    out_.flush();
+  }
+  void sample(const PassiveSample& s) {
+    for (const auto& a : s.amplifiers) {
+      const auto& d = a.data;
+      std::string events;
+      for (const auto& c : s.changes)
+        if (c.port == d.port && c.channel == d.channel) events += (events.empty() ? "" : " | ") + c.text;
+      out_ << clock_text(s.when, true) << "," << fixed(s.elapsed_s, "%.3f") << "," << d.port << ","
+           << d.channel << "," << (d.live() ? 1 : 0) << "," << fixed(d.busv_v()) << "," << d.temperature_c()
+           << "," << lbp::hex_value(d.status(), 4) << "," << lbp::hex_value(d.fault(), 4) << ","
+           << csv_field(bit_names(F::Register::Fault, d.fault())) << ","
+           << csv_field(bit_names(F::Register::Status, d.status())) << "," << csv_field(events) << "\n";
+    }
+    out_.flush();
+  }
+
+ private:
+  std::ofstream out_;
+};
+
+bool sleep_until(Clock::time_point t, const std::function<bool()>& done) {
+  while (Clock::now() < t) {
+    if (done()) return false;
+    std::this_thread::sleep_for(std::min<Clock::duration>(kSleepSlice, t - Clock::now()));
+  }
+  return !done();
+}
+
+// Two samples a request spacing apart: the second one knows whether another host talks.
+PassiveSample two_samples(ops::PassiveMonitor& monitor) {
+  monitor.sample();
+  return monitor.sample();
+}
+
+std::string host_text(const PassiveSample& s) {
+  const auto active = s.host_active();
+  if (!active) return "unknown";
+  return *active ? "running (" + std::to_string(*s.foreign_packets) +
+                       " packets of another host between two reads)"
+                 : "silent: no other host talked to the card between two reads, the values are stale";
+}
+
+}  // namespace
+
+std::string passive_flag_help(const std::string& what) {
+  return "Ethernet beside a running machine: " + what +
+         " only from the process data the running host's DOITs leave in the SSERIAL registers (CS, "
+         "INTERFACE0/1, "
+         "DATA). Reads only: no write, no DOIT, no start or stop; at most " +
+         std::to_string(eth::kPassiveMaxRequestsPerSecond) + " UDP requests a second";
+}
+
+std::string passive_hint(const Context& ctx) {
+  const std::string card = card_text(ctx).empty() ? "IP" : card_text(ctx);
+  return "; to only read beside it, without stopping anything: i20 --eth " + card +
+         " watch --passive (also faults --passive, scan --passive)";
+}
+
+void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
+  const auto card = passive_card(ctx, "watch");
+  const auto spacing = 1000u / eth::kPassiveMaxRequestsPerSecond;
+  if (o.interval_ms < spacing)
+    throw UsageError("watch --passive --interval " + std::to_string(o.interval_ms) +
+                     ": the passive monitor sends at most " +
+                     std::to_string(eth::kPassiveMaxRequestsPerSecond) +
+                     " requests a second, use --interval " + std::to_string(spacing) + " or more");
+  std::unique_ptr<PassiveCsv> log;
+  if (!o.log.empty()) log = std::make_unique<PassiveCsv>(o.log);
+  auto options = monitor_options(ctx);
+  options.busv_step_v = o.busv_step_v;
+  ops::PassiveMonitor monitor(card, options);
+  const bool json = ctx.options.json;
+  const auto start = Clock::now();
+  std::uint64_t samples = 0, changes = 0, missed = 0;
+  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  const auto done = [&] {
+    return app::interrupted() || (o.count && samples >= o.count) ||
+           (o.duration_s > 0 && elapsed() >= o.duration_s);
+  };
+  if (json) {
+    ctx.print_json(app::Json::object()
+                       .set("type", "start")
+                       .set("mode", "passive")
+                       .set("card", monitor.describe())
+                       .set("interval_ms", o.interval_ms)
+                       .set("max_requests_per_second", eth::kPassiveMaxRequestsPerSecond));
+  } else {
+    std::cout << "watching every 8I20 of the " << monitor.describe() << " passively (reads only, every "
+              << o.interval_ms << " ms, at most " << eth::kPassiveMaxRequestsPerSecond
+              << " requests a second); a line per change; Ctrl-C stops\n"
+              << std::flush;
+  }
+  std::optional<WallClock::time_point> lost_since;
+  auto next = Clock::now();
+  while (!done()) {
+    if (samples > 0 || lost_since)
+      if (!sleep_until(next, done)) break;
+    next += std::chrono::milliseconds(o.interval_ms);
+    if (next < Clock::now()) next = Clock::now();
+    PassiveSample s;
+    try {
+      s = monitor.sample();
+    } catch (const link::LinkError& e) {
+      ++missed;
+      if (!lost_since) {
+        lost_since = WallClock::now();
+        const std::string text = std::string("no reply from the card: ") + e.what() + "; still trying";
+        if (json)
+          ctx.print_json(app::Json::object()
+                             .set("type", "event")
+                             .set("time", clock_text(*lost_since, true))
+                             .set("kind", "lost")
+                             .set("text", text));
+        else
+          std::cout << clock_text(*lost_since, false) << "  * " << text << "\n" << std::flush;
+      }
+      continue;
+    }
+    if (lost_since) {
+      const std::string text = "the card answers again";
+      lost_since.reset();
+      if (json)
+        ctx.print_json(app::Json::object()
+                           .set("type", "event")
+                           .set("time", clock_text(s.when, true))
+                           .set("kind", "reconnected")
+                           .set("text", text));
+      else
+        std::cout << clock_text(s.when, false) << "  * " << text << "\n";
+    }
+    ++samples;
+    changes += s.changes.size();
+    if (json) {
+      auto j = app::Json::object();
+      j.set("type", "sample").set("time", clock_text(s.when, true)).set("elapsed_s", s.elapsed_s);
+      j.set("host_active", s.host_active() ? app::Json(*s.host_active()) : app::Json());
+      auto amps = app::Json::array();
+      for (const auto& a : s.amplifiers) amps.push(amp_json(a));
+      j.set("amplifiers", std::move(amps));
+      auto events = app::Json::array();
+      for (const auto& c : s.changes) events.push(change_json(c));
+      j.set("events", std::move(events));
+      ctx.print_json(j);
+    } else {
+      if (samples == 1 && s.amplifiers.empty())
+        std::cout << clock_text(s.when, false)
+                  << "  no 8I20 in a running cycle on any SSERIAL channel (is the host "
+                     "running? `i20 --eth ... scan --passive` lists the channels)\n";
+      for (const auto& c : s.changes) std::cout << clock_text(c.when, false) << "  * " << c.text << "\n";
+      std::cout << std::flush;
+    }
+    if (log) log->sample(s);
+  }
+  const double seconds = elapsed();
+  const auto requests = monitor.reader().requests_sent();
+  if (json)
+    ctx.print_json(app::Json::object()
+                       .set("type", "summary")
+                       .set("samples", samples)
+                       .set("elapsed_s", seconds)
+                       .set("changes", changes)
+                       .set("missed", missed)
+                       .set("requests", requests));
+  else
+    std::cout << "watch --passive: " << samples << " samples in " << fixed(seconds, "%.1f") << " s, "
+              << changes << " changes, " << missed << " missed, " << requests << " UDP requests, at least "
+              << 1000 / eth::kPassiveMaxRequestsPerSecond << " ms apart\n";
+  if (app::interrupted()) ctx.exit_code = app::kInterrupted;
+}
+
+void run_passive_faults(Context& ctx) {
+  const auto card = passive_card(ctx, "faults");
+  ops::PassiveMonitor monitor(card, monitor_options(ctx));
+  const auto s = two_samples(monitor);
+  if (ctx.options.json) {
+    auto j = app::Json::object();
+    j.set("source", "passive").set("card", monitor.describe()).set("host", host_text(s));
+    auto amps = app::Json::array();
+    for (const auto& a : s.amplifiers) {
+      auto aj = amp_json(a);
+      aj.set("fault_report", report_json(F::fault_report(a.readings.fault), &a.readings));
+      aj.set("status_report", report_json(live_status_report(a.readings)));
+      aj.set("readings", readings_json(a.readings));
+      amps.push(std::move(aj));
+    }
+    j.set("amplifiers", std::move(amps));
+    ctx.print_json(j);
+    return;
+  }
+  std::cout << monitor.describe()
+            << ", read passively (process data of the running host's last DOIT); host: " << host_text(s)
+            << "\n";
+  if (s.amplifiers.empty()) std::cout << "no 8I20 on any SSERIAL channel (CS names none)\n";
+  for (const auto& a : s.amplifiers) {
+    std::cout << "\n8I20 on " << a.target << " (LinuxCNC " << a.linuxcnc_name << "): " << amp_line(a) << "\n";
+    if (!a.data.live()) continue;
+    std::cout << "\n";
+    print_fault_report(std::cout, F::fault_report(a.readings.fault));
+    std::cout << "\n";
+    print_status_report(std::cout, live_status_report(a.readings));
+  }
+  std::cout << "\nFAULTMASK and the thresholds are parameters, not process data; clearing a fault needs the "
+               "running host (its next normal start) or the setup-mode passthrough once it has stopped.\n";
+}
+
+void run_passive_scan(Context& ctx) {
+  const auto card = passive_card(ctx, "scan");
+  ops::PassiveMonitor monitor(card, monitor_options(ctx));
+  const auto s = two_samples(monitor);
+  const auto& reader = monitor.reader();
+  if (ctx.options.json) {
+    auto j = app::Json::object();
+    j.set("address", card.describe()).set("card", reader.identity().card_name);
+    j.set("board", reader.hostmot2().idrom.board_name).set("mode", "passive").set("host", host_text(s));
+    auto ports = app::Json::array();
+    for (const auto& p : reader.ports()) {
+      auto pj = app::Json::object();
+      pj.set("port", p.index).set("channels", reader.channels(p.index));
+      auto amps = app::Json::array();
+      for (const auto& a : s.amplifiers)
+        if (a.data.port == p.index) amps.push(amp_json(a));
+      pj.set("amplifiers", std::move(amps));
+      ports.push(std::move(pj));
+    }
+    j.set("ports", std::move(ports)).set("requests", s.requests_sent);
+    ctx.print_json(j);
+    return;
+  }
+  std::cout << monitor.describe() << ", " << reader.hostmot2().idrom.board_name
+            << " (passive: reads only, nothing stopped); host: " << host_text(s) << "\n";
+  std::size_t live = 0;
+  for (const auto& p : reader.ports()) {
+    std::cout << "  SSERIAL port " << p.index << ": " << reader.channels(p.index) << " channel(s)\n";
+    bool any = false;
+    for (const auto& a : s.amplifiers) {
+      if (a.data.port != p.index) continue;
+      any = true;
+      if (a.data.live()) ++live;
+      std::cout << "    ch " << a.data.channel << ": "
+                << (a.data.live() ? "8I20 run by the host" : "8I20, not running") << ", BUSV "
+                << fixed(a.data.busv_v()) << " V, FAULT " << lbp::hex_value(a.data.fault(), 4) << "  -> "
+                << a.target << "  LinuxCNC " << a.linuxcnc_name << "\n";
+    }
+    if (!any) std::cout << "    no 8I20 the host has started on this port\n";
+  }
+  std::cout << live
+            << " 8I20(s) in the running host's cycle; unit numbers need a setup start (not done passively)\n";
+}
+
+}  // namespace i20::cli
