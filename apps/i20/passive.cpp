@@ -172,6 +172,11 @@ std::string host_text(const PassiveSample& s) {
                  : "silent: no other host talked to the card between two reads, the values are stale";
 }
 
+// JSON lines, as `watch --json`: one object per line.
+void emit_line(const app::Json& j) {
+  std::cout << j.dump(0) << "\n" << std::flush;
+}
+
 }  // namespace
 
 std::string passive_flag_help(const std::string& what) {
@@ -210,12 +215,12 @@ void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
            (o.duration_s > 0 && elapsed() >= o.duration_s);
   };
   if (json) {
-    ctx.print_json(app::Json::object()
-                       .set("type", "start")
-                       .set("mode", "passive")
-                       .set("card", monitor.describe())
-                       .set("interval_ms", o.interval_ms)
-                       .set("max_requests_per_second", eth::kPassiveMaxRequestsPerSecond));
+    emit_line(app::Json::object()
+                  .set("type", "start")
+                  .set("mode", "passive")
+                  .set("card", monitor.describe())
+                  .set("interval_ms", o.interval_ms)
+                  .set("max_requests_per_second", eth::kPassiveMaxRequestsPerSecond));
   } else {
     std::cout << "watching every 8I20 of the " << monitor.describe() << " passively (reads only, every "
               << o.interval_ms << " ms, at most " << eth::kPassiveMaxRequestsPerSecond
@@ -238,11 +243,11 @@ void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
         lost_since = WallClock::now();
         const std::string text = std::string("no reply from the card: ") + e.what() + "; still trying";
         if (json)
-          ctx.print_json(app::Json::object()
-                             .set("type", "event")
-                             .set("time", clock_text(*lost_since, true))
-                             .set("kind", "lost")
-                             .set("text", text));
+          emit_line(app::Json::object()
+                        .set("type", "event")
+                        .set("time", clock_text(*lost_since, true))
+                        .set("kind", "lost")
+                        .set("text", text));
         else
           std::cout << clock_text(*lost_since, false) << "  * " << text << "\n" << std::flush;
       }
@@ -252,11 +257,11 @@ void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
       const std::string text = "the card answers again";
       lost_since.reset();
       if (json)
-        ctx.print_json(app::Json::object()
-                           .set("type", "event")
-                           .set("time", clock_text(s.when, true))
-                           .set("kind", "reconnected")
-                           .set("text", text));
+        emit_line(app::Json::object()
+                      .set("type", "event")
+                      .set("time", clock_text(s.when, true))
+                      .set("kind", "reconnected")
+                      .set("text", text));
       else
         std::cout << clock_text(s.when, false) << "  * " << text << "\n";
     }
@@ -272,7 +277,7 @@ void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
       auto events = app::Json::array();
       for (const auto& c : s.changes) events.push(change_json(c));
       j.set("events", std::move(events));
-      ctx.print_json(j);
+      emit_line(j);
     } else {
       if (samples == 1 && s.amplifiers.empty())
         std::cout << clock_text(s.when, false)
@@ -286,13 +291,13 @@ void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
   const double seconds = elapsed();
   const auto requests = monitor.reader().requests_sent();
   if (json)
-    ctx.print_json(app::Json::object()
-                       .set("type", "summary")
-                       .set("samples", samples)
-                       .set("elapsed_s", seconds)
-                       .set("changes", changes)
-                       .set("missed", missed)
-                       .set("requests", requests));
+    emit_line(app::Json::object()
+                  .set("type", "summary")
+                  .set("samples", samples)
+                  .set("elapsed_s", seconds)
+                  .set("changes", changes)
+                  .set("missed", missed)
+                  .set("requests", requests));
   else
     std::cout << "watch --passive: " << samples << " samples in " << fixed(seconds, "%.1f") << " s, "
               << changes << " changes, " << missed << " missed, " << requests << " UDP requests, at least "
