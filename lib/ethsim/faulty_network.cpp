@@ -99,6 +99,14 @@ struct FaultyNetwork::Impl {
       ++counted.dropped;
       return;
     }
+    if (spoil && bytes.size() > 1 && unit(faults.seed, dir, index, 5) < faults.truncate_share) {
+      ++counted.truncated;
+      const auto keep = static_cast<std::size_t>(unit(faults.seed, dir, index, 6) * static_cast<double>(bytes.size() - 1));
+      const std::vector<std::uint8_t> cut(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(keep));
+      schedule(from, to, cut, Clock::duration{0});
+      held = queue.size();
+      return;
+    }
     Clock::duration delay{0};
     if (spoil && unit(faults.seed, dir, index, 1) < faults.delay_share) {
       ++counted.delayed;
@@ -186,6 +194,11 @@ bool FaultyNetwork::wait_idle(std::chrono::milliseconds limit) const {
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   return true;
+}
+
+void FaultyNetwork::set_faults(const NetworkFaults& faults) {
+  std::lock_guard lock(impl_->mutex);
+  impl_->faults = faults;
 }
 
 NetworkStats FaultyNetwork::stats() const {
