@@ -82,11 +82,13 @@ void run_single(const Scenario& s, std::size_t index, const params::ParamDb& db,
   }
   signals.settle();
   if (s.injection.self_heals) signals.self_healed();
-  for (const char* off : {"corrupt 0", "drop 0", "reset-after off", "mute-after off", "eeprom-power-loss off"})
+  for (const char* off :
+       {"corrupt 0", "drop 0", "reset-after off", "mute-after off", "eeprom-power-loss off"})
     sim.control(off);
   const auto after = sim.with_card([](sim::Virtual8i20& c) { return sim::capture(c); });
-  record(t, s, index, run, judge(map, before, after, run, cells_written(s, db)), verbose,
-         signals.failed() ? std::optional<bool>(signals.healed_within(std::chrono::seconds(2))) : std::nullopt);
+  record(
+      t, s, index, run, judge(map, before, after, run, cells_written(s, db)), verbose,
+      signals.failed() ? std::optional<bool>(signals.healed_within(std::chrono::seconds(2))) : std::nullopt);
 }
 
 // Three in-process simulators with their EEPROMs in files, the injection given to all of

@@ -45,7 +45,8 @@ void Generator::targets(Scenario& s) {
       std::min<std::int64_t>(38500, std::max<std::int64_t>(bus + 2000, between(6000, 38500)));
   const std::int64_t off = std::max<std::int64_t>(bus + 500, on - between(1000, 3000));
   const std::int64_t over = std::min<std::int64_t>(40000, on + between(0, 1500));
-  const std::int64_t under = std::max<std::int64_t>(0, std::min<std::int64_t>(bus - 1000, between(2000, 9000)));
+  const std::int64_t under =
+      std::max<std::int64_t>(0, std::min<std::int64_t>(bus - 1000, between(2000, 9000)));
   std::vector<std::pair<std::string, std::int64_t>> pool{{"NVBRAKEONV", on},
                                                          {"NVBRAKEOFFV", off},
                                                          {"NVBUSOVERV", over},
@@ -56,14 +57,14 @@ void Generator::targets(Scenario& s) {
   if (chance(0.3))
     pool.insert(pool.end(), {{"BRAKEONV", on}, {"BRAKEOFFV", off}, {"MAXCURRENT", between(100, 3000)}});
   std::shuffle(pool.begin(), pool.end(), rng_);
-  const std::size_t n = s.path == Path::Wpd
-                            ? 1
-                            : static_cast<std::size_t>(between(1, static_cast<std::int64_t>(pool.size())));
+  const std::size_t n =
+      s.path == Path::Wpd ? 1 : static_cast<std::size_t>(between(1, static_cast<std::int64_t>(pool.size())));
   s.values.assign(pool.begin(), pool.begin() + static_cast<long>(n));
   if (chance(0.1))
     s.values.front().second = s.values.front().first.find("MAXCURRENT") != std::string::npos ? 4500 : 39000;
   s.both = s.path == Path::Apply && chance(0.3);
-  if (s.path == Path::Fleet) std::erase_if(s.values, [](const auto& v) { return v.first.rfind("NV", 0) != 0; });
+  if (s.path == Path::Fleet)
+    std::erase_if(s.values, [](const auto& v) { return v.first.rfind("NV", 0) != 0; });
   if (s.values.empty()) s.values.push_back({"NVMAXCURRENT", between(100, 3000)});
 }
 
@@ -146,7 +147,10 @@ bool InjectingLink::healed_within(std::chrono::milliseconds limit) const {
 std::vector<lbp::Bytes> InjectingLink::execute(std::span<const lbp::Command> batch) {
   if (first_ && exchanges_ == *first_) stop_.request(signal_);
   if (first_ && again_ && exchanges_ == *first_ + *again_ + 1) stop_.request(signal_);
-  if (action_at_ && exchanges_ == *action_at_ && action_) action_();
+  if (action_at_ && exchanges_ == *action_at_ && action_) {
+    acted_ = true;
+    action_();
+  }
   ++exchanges_;
   heal_if_due();
   try {
@@ -199,28 +203,33 @@ Judged judge(const sim::RegisterMap& map, const sim::GroundTruth& before, const 
   const bool reset = after.resets != before.resets;
   // Called only for a cell that would otherwise be a finding.
   const auto reloaded = [&](const std::string& cell) {
-    const bool excused = map.at(cell).space == sim::Space::Ram && reset && (said_reset || after.quiet_since_reset) &&
+    const bool excused = map.at(cell).space == sim::Space::Ram && reset &&
+                         (said_reset || after.quiet_since_reset) &&
                          sim::reloaded_by_reset(map, map.at(cell), after);
     if (excused && !said_reset) j.unseen_reset = true;
     return excused;
   };
-  const auto changed = [&](const std::string& cell) { return held(map, before, cell) != held(map, after, cell); };
+  const auto changed = [&](const std::string& cell) {
+    return held(map, before, cell) != held(map, after, cell);
+  };
   switch (verdict(run.outcome)) {
     case Verdict::Applied:
       for (const auto& [cell, raw] : wanted)
         if (held(map, after, cell) != static_cast<std::uint64_t>(raw) && !reloaded(cell))
-          j.wrong.push_back(std::string("verified, yet ") + cell + " holds " + std::to_string(held(map, after, cell)) +
-                            " instead of " + std::to_string(raw));
+          j.wrong.push_back(std::string("verified, yet ") + cell + " holds " +
+                            std::to_string(held(map, after, cell)) + " instead of " + std::to_string(raw));
       break;
     case Verdict::Refused:
     case Verdict::NotReached:
       for (const auto& cell : named)
-        if (changed(cell) && !reloaded(cell)) j.wrong.push_back(std::string("nothing written, yet ") + cell + " changed");
+        if (changed(cell) && !reloaded(cell))
+          j.wrong.push_back(std::string("nothing written, yet ") + cell + " changed");
       break;
     case Verdict::RolledBack:
       for (const auto& cell : named)
         if (changed(cell) && !reloaded(cell))
-          j.wrong.push_back(std::string("restored, yet ") + cell + " holds " + std::to_string(held(map, after, cell)));
+          j.wrong.push_back(std::string("restored, yet ") + cell + " holds " +
+                            std::to_string(held(map, after, cell)));
       break;
     case Verdict::Uncertain: {
       // Every cell that may differ must be named, and what the report says a cell holds
@@ -234,8 +243,8 @@ Judged judge(const sim::RegisterMap& map, const sim::GroundTruth& before, const 
         if (it != cells.end() && it->actual && after.powered &&
             static_cast<std::uint64_t>(*it->actual) != held(map, after, cell) &&
             !(after.quiet_since_reset && reloaded(cell)))
-          j.wrong.push_back("uncertain, and " + cell + " reported as " + std::to_string(*it->actual) + " holds " +
-                            std::to_string(held(map, after, cell)));
+          j.wrong.push_back("uncertain, and " + cell + " reported as " + std::to_string(*it->actual) +
+                            " holds " + std::to_string(held(map, after, cell)));
       }
       break;
     }
@@ -266,8 +275,8 @@ Wanted cells_written(const Scenario& s, const params::ParamDb& db) {
   return out;
 }
 
-void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun& run, const Judged& j, bool verbose,
-            std::optional<bool> healed) {
+void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun& run, const Judged& j,
+            bool verbose, std::optional<bool> healed) {
   ++t.outcomes[verdict(run.outcome)];
   const bool exit0 = run.exit_code() == 0;
   if (!j.wrong.empty()) ++t.silently_wrong;
@@ -288,13 +297,15 @@ void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun
     }
   }
   const std::string label =
-      s.injection.label + (s.injection.heal ? " healed " + std::to_string(s.injection.heal->count()) + " ms" : "");
+      s.injection.label +
+      (s.injection.heal ? " healed " + std::to_string(s.injection.heal->count()) + " ms" : "");
   std::vector<std::string> all = j.wrong;
   all.insert(all.end(), j.stray.begin(), j.stray.end());
   all.insert(all.end(), j.crossed.begin(), j.crossed.end());
   all.insert(all.end(), j.other.begin(), j.other.end());
   if (j.modes_on && exit0) all.push_back("NV or RPC memory mode left on with exit 0");
-  if (j.modes_on && run.exit_code() == ops::kExitInterrupted) all.push_back("NV or RPC memory mode left on with exit 130");
+  if (j.modes_on && run.exit_code() == ops::kExitInterrupted)
+    all.push_back("NV or RPC memory mode left on with exit 130");
   for (const auto& f : all)
     t.findings.push_back("#" + std::to_string(index) + " " + path_name(s.path) + " / " + label + " -> " +
                          ops::to_string(run.outcome) + ": " + f);
@@ -316,8 +327,8 @@ ops::ApplyJob job_for(const profile::Profile& p, const params::ParamDb& db, cons
 }
 
 bool clean(const Tally& t) {
-  return t.silently_wrong == 0 && t.stray == 0 && t.crossed == 0 && t.modes_on_exit0 == 0 && t.modes_on_exit130 == 0 &&
-         t.host_disturbed == 0 && t.port_stuck == 0;
+  return t.silently_wrong == 0 && t.stray == 0 && t.crossed == 0 && t.modes_on_exit0 == 0 &&
+         t.modes_on_exit130 == 0 && t.host_disturbed == 0 && t.port_stuck == 0;
 }
 
 void print(const Tally& t, std::size_t n, std::uint64_t seed, double seconds, const std::string& what,
@@ -338,23 +349,28 @@ void print(const Tally& t, std::size_t n, std::uint64_t seed, double seconds, co
   std::printf("    modes left on with exit 0      %zu\n", t.modes_on_exit0);
   std::printf("    modes left on with exit 130    %zu\n", t.modes_on_exit130);
   if (eth) {
-    std::printf("    running host disturbed         %zu (of %zu runs with a host started mid-run)\n", t.host_disturbed,
-                t.host_runs);
-    std::printf("    SSERIAL port left stuck        %zu (held in reset, or COMMAND busy after the run)\n", t.port_stuck);
+    std::printf("    running host disturbed         %zu (of %zu runs with a host started mid-run)\n",
+                t.host_disturbed, t.host_runs);
+    std::printf("    SSERIAL port left stuck        %zu (held in reset, or COMMAND busy after the run)\n",
+                t.port_stuck);
   }
   std::printf("  (modes left on after a card went silent or dead, reported uncertain: %zu)\n", t.modes_on);
-  std::printf("  (reset right after the tool's last reply, unseeable, working values reloaded: %zu)\n", t.unseen_resets);
-  std::printf("  (card runs sent SIGINT/SIGTERM/SIGHUP, once or twice: %zu; of them stopped, exit 130: %zu)\n",
-              t.signalled, t.stopped);
-  std::printf("  (link failed in %zu card runs; it healed within 2 s in %zu; of those uncertain: %zu = %.0f%%)\n",
-              t.failed_links, t.healed, t.healed_uncertain,
-              t.healed ? 100.0 * static_cast<double>(t.healed_uncertain) / static_cast<double>(t.healed) : 0.0);
+  std::printf("  (reset right after the tool's last reply, unseeable, working values reloaded: %zu)\n",
+              t.unseen_resets);
+  std::printf(
+      "  (card runs sent SIGINT/SIGTERM/SIGHUP, once or twice: %zu; of them stopped, exit 130: %zu)\n",
+      t.signalled, t.stopped);
+  std::printf(
+      "  (link failed in %zu card runs; it healed within 2 s in %zu; of those uncertain: %zu = %.0f%%)\n",
+      t.failed_links, t.healed, t.healed_uncertain,
+      t.healed ? 100.0 * static_cast<double>(t.healed_uncertain) / static_cast<double>(t.healed) : 0.0);
   if (!t.port_left.empty()) {
     std::printf("  (SSERIAL channels after the run:");
     for (const auto& [mode, c] : t.port_left) std::printf(" %s %zu", mode.c_str(), c);
     std::printf(")\n");
   }
-  for (std::size_t i = 0; i < t.findings.size() && i < 30; ++i) std::printf("  FINDING %s\n", t.findings[i].c_str());
+  for (std::size_t i = 0; i < t.findings.size() && i < 30; ++i)
+    std::printf("  FINDING %s\n", t.findings[i].c_str());
 }
 
 }  // namespace i20::soak

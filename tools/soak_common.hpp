@@ -44,7 +44,7 @@ struct Injection {
   std::optional<unsigned> again_after;  // the second signal, this many exchanges after the first
   int signal = SIGINT;
   std::chrono::milliseconds reset_time{1};
-  Healing heal;           // heal this long after the first failed exchange
+  Healing heal;             // heal this long after the first failed exchange
   bool self_heals = false;  // the card answers again by itself (a reset)
   std::string label;
 };
@@ -113,6 +113,7 @@ class InjectingLink final : public link::Link {
   // Runs a heal still pending (the run is over: the fault ends now at the latest).
   void settle();
   bool failed() const { return first_failure_.has_value(); }
+  bool acted() const { return acted_; }  // the at() action ran (the run got that far)
   // The link failed and the fault ended (or was due to end) within `limit` of that.
   bool healed_within(std::chrono::milliseconds limit) const;
   // The first failure, for an injection that ends by itself (a reset, a card that comes back).
@@ -130,7 +131,7 @@ class InjectingLink final : public link::Link {
   std::function<void()> action_;
   std::optional<std::chrono::milliseconds> heal_after_;
   std::function<void()> heal_;
-  bool healed_ = false, self_healed_ = false;
+  bool healed_ = false, self_healed_ = false, acted_ = false;
   std::optional<std::chrono::steady_clock::time_point> first_failure_;
 };
 

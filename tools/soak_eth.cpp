@@ -9,12 +9,13 @@
 // simulators' memory with the serial soak's judge, plus the SSERIAL port and the host.
 #include "soak_eth.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <thread>
-#include <unistd.h>
 
 #include "eth/passthrough_link.hpp"
 #include "ethsim/card_control.hpp"
@@ -44,7 +45,7 @@ struct EthScenario {
   unsigned port = 0, amplifiers = 1, channel = 0;
   Where where = Where::Amplifier;
   ethsim::NetworkFaults net{};
-  std::string card_line;  // "card reset 5", "card power-loss 300", "host on"
+  std::string card_line;    // "card reset 5", "card power-loss 300", "host on"
   unsigned card_after = 0;  // exchanges before the card line (single) or 0.5 ms steps (fleet)
 };
 
@@ -127,7 +128,8 @@ const char* mode_name(ethsim::ChannelMode m) {
 
 class Bench {
  public:
-  Bench(const EthScenario& e, const params::ParamDb& db) : server_(options(e, db)), net_(server_.address(), {}) {
+  Bench(const EthScenario& e, const params::ParamDb& db)
+      : server_(options(e, db)), net_(server_.address(), {}) {
     server_.start();
   }
   ethsim::CardServer& server() { return server_; }
@@ -136,7 +138,8 @@ class Bench {
     return "eth://" + net_.address() + "/port" + std::to_string(e.port) + "/ch" + std::to_string(channel);
   }
   sim::GroundTruth capture(const EthScenario& e, unsigned channel) {
-    return server_.with_card([&](ethsim::VirtualCard& c) { return sim::capture(*server_.amplifier(c, e.port, channel)); });
+    return server_.with_card(
+        [&](ethsim::VirtualCard& c) { return sim::capture(*server_.amplifier(c, e.port, channel)); });
   }
   sim::RegisterMap map(const EthScenario& e) {
     return server_.with_card(
@@ -147,7 +150,8 @@ class Bench {
     for (const auto& line : lines)
       for (unsigned ch = 0; ch < e.amplifiers; ++ch)
         if (!channel || *channel == ch)
-          ethsim::apply_card_control(server_, "port " + std::to_string(e.port) + " ch " + std::to_string(ch) + " " + line);
+          ethsim::apply_card_control(
+              server_, "port " + std::to_string(e.port) + " ch " + std::to_string(ch) + " " + line);
   }
 
  private:
@@ -167,43 +171,46 @@ class Bench {
 };
 
 // The port and the host after the run, into the judged result of the card run that
-// carries them (the first one).
-void judge_port(Bench& b, const EthScenario& e, Tally& t, Judged& j) {
-  const bool host = e.card_line.rfind("host", 0) == 0;
-  std::optional<ethsim::HostStats> first;
-  if (host) first = b.server().host_stats();
+// carries them (the first one). The host a card line starts runs channel 0 (HostOptions).
+// `acted`: the card line ran (a run shorter than its exchange count never starts the host).
+void judge_port(Bench& b, const EthScenario& e, Tally& t, Judged& j, bool acted) {
+  const bool host = acted && e.card_line.rfind("host", 0) == 0;
   std::this_thread::sleep_for(40ms);  // the host runs on, the port finishes what it was given
+  const bool running = b.server().host_running();
+  bool stuck = false, host_channel_normal = true;
   b.server().with_card([&](ethsim::VirtualCard& c) {
     auto& port = c.sslbp(e.port);
-    if (port.held_in_reset() || port.busy()) j.other.push_back("SSERIAL port left held in reset or busy");
+    // A running host keeps COMMAND busy with its DOITs; without one it must go idle.
+    stuck = port.held_in_reset() || (port.busy() && !running);
     for (unsigned ch = 0; ch < e.amplifiers; ++ch) ++t.port_left[mode_name(port.mode(ch))];
-    if (host)
-      for (unsigned ch = 0; ch < e.amplifiers; ++ch)
-        if (port.mode(ch) != ethsim::ChannelMode::Normal)
-          j.other.push_back("the running host's ch" + std::to_string(ch) + " is " + mode_name(port.mode(ch)));
+    host_channel_normal = port.mode(0) == ethsim::ChannelMode::Normal;
     return 0;
   });
-  if (!j.other.empty()) ++t.port_stuck;
+  if (stuck) {
+    ++t.port_stuck;
+    j.other.push_back("SSERIAL port left held in reset or busy");
+  }
   if (!host) return;
   ++t.host_runs;
-  const auto last = b.server().host_stats();
-  bool disturbed = false;
-  if (!b.server().host_running() || !first || !last) {
-    j.other.push_back("the host that started mid-run is not running after it");
-    disturbed = true;
-  } else if (last->failed_cycles > 0) {
-    j.other.push_back("the running host had " + std::to_string(last->failed_cycles) + " failed cycles");
-    disturbed = true;
-  }
-  if (disturbed) ++t.host_disturbed;
-  if (!j.other.empty() && t.port_stuck > 0 && disturbed) --t.port_stuck;  // one column per cause
+  const auto stats = b.server().host_stats();
+  std::string why;
+  if (!running || !stats)
+    why = "the host that started mid-run is not running after it";
+  else if (!host_channel_normal)
+    why = "the running host's ch0 is no longer in normal mode";
+  else if (stats->failed_cycles > 0)
+    why = "the running host had " + std::to_string(stats->failed_cycles) + " failed cycles";
+  if (why.empty()) return;
+  ++t.host_disturbed;
+  j.other.push_back(why);
 }
 
 // After the run: every held datagram delivered, every 8I20 injection off.
 void quiesce(Bench& b, const EthScenario& e) {
   b.net().set_faults({});
   b.net().wait_idle(3s);
-  b.control(e, {"corrupt 0", "drop 0", "reset-after off", "mute-after off", "eeprom-power-loss off"}, std::nullopt);
+  b.control(e, {"corrupt 0", "drop 0", "reset-after off", "mute-after off", "eeprom-power-loss off"},
+            std::nullopt);
   std::this_thread::sleep_for(e.s.injection.heal && *e.s.injection.heal > 1s ? *e.s.injection.heal : 0ms);
 }
 
@@ -220,8 +227,8 @@ void judge_neighbours(Bench& b, const EthScenario& e, const sim::RegisterMap& ma
   }
 }
 
-void run_single(const EthScenario& e, std::size_t index, const params::ParamDb& db, const fs::path& dir, Tally& t,
-                bool verbose) {
+void run_single(const EthScenario& e, std::size_t index, const params::ParamDb& db, const fs::path& dir,
+                Tally& t, bool verbose) {
   const Scenario& s = e.s;
   Bench b(e, db);
   const auto map = b.map(e);
@@ -240,7 +247,8 @@ void run_single(const EthScenario& e, std::size_t index, const params::ParamDb& 
     link = wrapped.get();
     card = ops::Card::attach(std::move(wrapped), endpoint, db, job.open.retry, cancel);
   } catch (const Error& ex) {
-    t.findings.push_back("#" + std::to_string(index) + ": the card could not be opened without a fault: " + ex.what());
+    t.findings.push_back("#" + std::to_string(index) +
+                         ": the card could not be opened without a fault: " + ex.what());
     return;
   }
   const auto& i = s.injection;
@@ -267,17 +275,18 @@ void run_single(const EthScenario& e, std::size_t index, const params::ParamDb& 
   if (i.self_heals) link->self_healed();
   const bool failed = link->failed();
   const bool healed = link->healed_within(2s);
+  const bool acted = link->acted();
   card.reset();  // closes the link as the apps do when they exit
   quiesce(b, e);
   auto j = judge(map, before[e.channel], b.capture(e, e.channel), run, cells_written(s, db));
   judge_neighbours(b, e, map, before, e.channel, j);
-  judge_port(b, e, t, j);
+  judge_port(b, e, t, j, acted);
   record(t, s, index, run, j, verbose, failed ? std::optional<bool>(healed) : std::nullopt);
 }
 
 // Every 8I20 on the port is a target: one fleet run, their commands sharing DOITs.
-void run_fleet(const EthScenario& e, std::size_t index, const params::ParamDb& db, const fs::path& dir, Tally& t,
-               bool verbose) {
+void run_fleet(const EthScenario& e, std::size_t index, const params::ParamDb& db, const fs::path& dir,
+               Tally& t, bool verbose) {
   const Scenario& s = e.s;
   Bench b(e, db);
   const auto map = b.map(e);
@@ -289,7 +298,8 @@ void run_fleet(const EthScenario& e, std::size_t index, const params::ParamDb& d
   }
   ops::StopRequest stop;
   const auto profile = profile_of(s, db);
-  const auto job = job_for(profile, db, ops::Cancel(stop, [](const std::string&) {}), dir, s.path, kTimeoutMs);
+  const auto job =
+      job_for(profile, db, ops::Cancel(stop, [](const std::string&) {}), dir, s.path, kTimeoutMs);
   const auto& i = s.injection;
   // The fleet opens its own links: the injections start with it, the timed ones (signals,
   // the card line) after 0.5 ms steps; no heal is measured here.
@@ -314,15 +324,15 @@ void run_fleet(const EthScenario& e, std::size_t index, const params::ParamDb& d
   quiesce(b, e);
   for (std::size_t ch = 0; ch < runs.size(); ++ch) {
     auto j = judge(map, before[ch], b.capture(e, static_cast<unsigned>(ch)), runs[ch], s.values);
-    if (ch == 0) judge_port(b, e, t, j);
+    if (ch == 0) judge_port(b, e, t, j, true);  // the timed card line always runs
     record(t, s, index, runs[ch], j, verbose);
   }
 }
 
 }  // namespace
 
-int run_eth_soak(std::size_t n, std::uint64_t seed, const std::vector<std::size_t>& only, const params::ParamDb& db,
-                 bool verbose) {
+int run_eth_soak(std::size_t n, std::uint64_t seed, const std::vector<std::size_t>& only,
+                 const params::ParamDb& db, bool verbose) {
   const auto dir = fs::temp_directory_path() / ("i20-soak-eth-" + std::to_string(::getpid()));
   fs::create_directories(dir);
   Generator gen(seed);
@@ -344,8 +354,8 @@ int run_eth_soak(std::size_t n, std::uint64_t seed, const std::vector<std::size_
   }
   for (const auto& [v, c] : tally.outcomes) tally.scenarios += c;
   fs::remove_all(dir);
-  const std::string what = "ethernet, in-process virtual 7I96S (" + std::to_string(i96) + " scenarios) and 7I92T (" +
-                           std::to_string(i92) + ") through the fault proxy";
+  const std::string what = "ethernet, in-process virtual 7I96S (" + std::to_string(i96) +
+                           " scenarios) and 7I92T (" + std::to_string(i92) + ") through the fault proxy";
   print(tally, only.empty() ? n : only.size(), seed,
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), what,
         "a fleet scenario is every 8I20 on the port, 1 to 4", true);

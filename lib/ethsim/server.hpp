@@ -122,7 +122,7 @@ class CardServer {
   std::unique_ptr<Socket> socket_;
   std::mutex mutex_;
   std::unique_ptr<VirtualCard> card_;
-  std::optional<SimulatedHost> host_;  // under mutex_
+  std::optional<SimulatedHost> host_;            // under mutex_
   std::optional<Clock::time_point> dark_until_;  // under mutex_
   bool power_lost_ = false;                      // under mutex_
   std::atomic<bool> stop_requested_{false};
