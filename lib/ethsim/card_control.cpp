@@ -19,7 +19,9 @@ const char* kHelp =
     "amplifiers                 which channels have an 8I20\n"
     "host on [PERIOD_MS] [port P]   another host (a LinuxCNC stand-in) runs the 8I20s in normal mode\n"
     "host off                   that host exits: it stops its port\n"
-    "host                       what the host is doing\n";
+    "host                       what the host is doing\n"
+    "card reset [MS]            the card resets: silent MS ms (default 5), SSERIAL ports come back stopped\n"
+    "card power-loss MS         the card and its 8I20s lose power for MS ms, then power up\n";
 
 std::vector<std::string> words(std::string_view line) {
   std::istringstream in{std::string(line)};
@@ -135,6 +137,18 @@ std::string apply_card_control(CardServer& server, std::string_view line) {
     return s.empty() ? "no 8I20 on this card" : "8I20s on " + s;
   }
   if (head == "host") return host_control(server, w);
+  if (head == "card") {
+    const char* form = "card reset [MS] | card power-loss MS";
+    if (w.size() >= 2 && w[1] == "reset") {
+      server.go_dark(std::chrono::milliseconds(w.size() > 2 ? number(w[2], "time", form) : 5), false);
+      return "ok";
+    }
+    if (w.size() == 3 && w[1] == "power-loss") {
+      server.go_dark(std::chrono::milliseconds(number(w[2], "time", form)), true);
+      return "ok";
+    }
+    throw sim::ControlError(std::string("expected ") + form);
+  }
   if (head == "help") return card_control_help() + sim::control_help();
   return on_amplifier(server, first_amplifier(server), line);
 }

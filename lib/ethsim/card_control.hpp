@@ -12,6 +12,8 @@
 //                                 (a LinuxCNC stand-in: simulated_host.hpp), default 1 ms
 //   host off                      that host exits (it stops its port)
 //   host                          what the host is doing
+//   card reset [MS]               the card resets (silent MS ms, SSERIAL ports stopped after)
+//   card power-loss MS            the card and its 8I20s lose power for MS ms
 #pragma once
 
 #include <string>

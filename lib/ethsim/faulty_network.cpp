@@ -61,8 +61,8 @@ struct FaultyNetwork::Impl {
   mutable std::mutex mutex;  // guards stats and the queue's size for idle()
   NetworkStats counted;
   std::size_t held = 0;
-  std::atomic<std::uint64_t> passes{0};        // full passes over the sockets
-  std::atomic<std::uint64_t> last_quiet{0};    // the latest pass that found nothing at all
+  std::atomic<std::uint64_t> passes{0};      // full passes over the sockets
+  std::atomic<std::uint64_t> last_quiet{0};  // the latest pass that found nothing at all
   std::atomic<bool> stop{false};
 
   udp::socket& back_for(const udp::endpoint& client) {
@@ -97,6 +97,15 @@ struct FaultyNetwork::Impl {
     (dir == 0 ? counted.requests : counted.replies)++;
     if (spoil && unit(faults.seed, dir, index, 0) < faults.drop_share) {
       ++counted.dropped;
+      return;
+    }
+    if (spoil && bytes.size() > 1 && unit(faults.seed, dir, index, 5) < faults.truncate_share) {
+      ++counted.truncated;
+      const auto keep =
+          static_cast<std::size_t>(unit(faults.seed, dir, index, 6) * static_cast<double>(bytes.size() - 1));
+      const std::vector<std::uint8_t> cut(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(keep));
+      schedule(from, to, cut, Clock::duration{0});
+      held = queue.size();
       return;
     }
     Clock::duration delay{0};
@@ -186,6 +195,11 @@ bool FaultyNetwork::wait_idle(std::chrono::milliseconds limit) const {
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   return true;
+}
+
+void FaultyNetwork::set_faults(const NetworkFaults& faults) {
+  std::lock_guard lock(impl_->mutex);
+  impl_->faults = faults;
 }
 
 NetworkStats FaultyNetwork::stats() const {

@@ -32,6 +32,7 @@ struct NetworkFaults {
   double delay_share = 0.0;      // held back by a delay in [min_delay, max_delay]
   double duplicate_share = 0.0;  // sent twice, the copy after a delay in [0, max_delay]
   double drop_share = 0.0;       // never delivered
+  double truncate_share = 0.0;   // delivered cut short, at a random length (at least 1 byte shorter)
   std::chrono::milliseconds min_delay{80};
   std::chrono::milliseconds max_delay{400};
   bool requests = true;  // spoil tool-to-card datagrams
@@ -40,7 +41,7 @@ struct NetworkFaults {
 
 struct NetworkStats {
   std::uint64_t requests = 0, replies = 0;  // datagrams received from either side
-  std::uint64_t delayed = 0, duplicated = 0, dropped = 0;
+  std::uint64_t delayed = 0, duplicated = 0, dropped = 0, truncated = 0;
 };
 
 class FaultyNetwork {
@@ -57,6 +58,9 @@ class FaultyNetwork {
   // duplicated one too) has been delivered. False when `limit` passed first.
   bool wait_idle(std::chrono::milliseconds limit) const;
   NetworkStats stats() const;
+  // From the next datagram on, these faults (the soak turns them on once the card is open
+  // and off again when the fault heals).
+  void set_faults(const NetworkFaults& faults);
 
  private:
   struct Impl;

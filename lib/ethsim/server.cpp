@@ -135,6 +135,7 @@ void CardServer::serve_once(Clock::time_point until) {
     Clock::time_point ready;
     {
       std::lock_guard lock(mutex_);
+      if (dark_until_) continue;  // a card without power hears nothing
       reply = card_->handle(lbp::ByteView(socket_->buffer.data(), n), Clock::now());
       ready = card_->card_time();
     }
@@ -144,8 +145,37 @@ void CardServer::serve_once(Clock::time_point until) {
     socket_->socket.send_to(asio::buffer(*reply), sender, 0, ec);
   }
   std::lock_guard lock(mutex_);
+  if (dark_until_ && Clock::now() >= *dark_until_) {
+    dark_until_.reset();
+    for (unsigned p = 0; p < card_->sserial_ports(); ++p) card_->sslbp(p).power_on_reset(Clock::now());
+    if (power_lost_)
+      for (const auto& a : amplifiers())
+        if (auto* amp = amplifier(*card_, a.port, a.channel)) amp->power_cycle(Clock::now());
+  }
+  if (dark_until_) return;
   card_->advance(Clock::now());
   if (host_) host_->run_until(*card_, Clock::now());
+}
+
+void CardServer::go_dark(Clock::duration dark, bool power_loss) {
+  std::lock_guard lock(mutex_);
+  dark_until_ = Clock::now() + dark;
+  power_lost_ = power_loss;
+  host_.reset();  // the host's process sees the card go and stops driving it
+  if (power_loss)
+    for (const auto& a : amplifiers())
+      if (auto* amp = amplifier(*card_, a.port, a.channel)) amp->power_off();
+}
+
+std::optional<HostStats> CardServer::host_stats() {
+  std::lock_guard lock(mutex_);
+  if (!host_) return std::nullopt;
+  return host_->stats();
+}
+
+bool CardServer::host_running() {
+  std::lock_guard lock(mutex_);
+  return host_ && host_->running();
 }
 
 void CardServer::start_host(HostOptions options) {

@@ -106,6 +106,13 @@ class CardServer {
   void stop_host();
   // "normal mode on SSERIAL port 0 ch 0, every 1 ms, ..." or nullopt without a host.
   std::optional<std::string> host_status();
+  std::optional<HostStats> host_stats();
+  bool host_running();
+
+  // The card resets (power_loss false: its 8I20s keep their power) or loses power with
+  // them, and answers nothing for `dark`; then its SSERIAL ports come back stopped and the
+  // 8I20s power up from their EEPROMs. A host running the card stops with it.
+  void go_dark(Clock::duration dark, bool power_loss);
 
  private:
   struct Socket;
@@ -115,7 +122,9 @@ class CardServer {
   std::unique_ptr<Socket> socket_;
   std::mutex mutex_;
   std::unique_ptr<VirtualCard> card_;
-  std::optional<SimulatedHost> host_;  // under mutex_
+  std::optional<SimulatedHost> host_;            // under mutex_
+  std::optional<Clock::time_point> dark_until_;  // under mutex_
+  bool power_lost_ = false;                      // under mutex_
   std::atomic<bool> stop_requested_{false};
   std::thread thread_;
 };

@@ -119,6 +119,12 @@ void SslbpEngine::chatter(Channel& ch, Clock::time_point now) {
   }
 }
 
+void SslbpEngine::power_on_reset(Clock::time_point now) {
+  execute(sslbp::kReset, now);
+  in_reset_ = false;
+  data_ = 0;
+}
+
 void SslbpEngine::complete() {
   Pending p = std::move(*pending_);
   pending_.reset();

@@ -77,6 +77,10 @@ class SslbpEngine {
   void advance(Clock::time_point now);
 
   bool busy() const { return pending_.has_value(); }
+  bool held_in_reset() const { return in_reset_; }
+  // The card reset or came back from a power loss: every channel stopped, nothing pending,
+  // the processor running again (a host must start its channels anew).
+  void power_on_reset(Clock::time_point now);
   ChannelMode mode(unsigned channel) const { return channels_.at(channel).mode; }
   RemoteLbpDevice* remote(unsigned channel) { return channels_.at(channel).remote.get(); }
   const SslbpStats& stats() const { return stats_; }
