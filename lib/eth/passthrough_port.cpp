@@ -207,7 +207,8 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
   const CardSurvey survey = survey_card(*bus_, std::span(&counters, 1));
   card_ = survey.identity;
   const HostMot2Info& info = survey.hostmot2;
-  const CounterSample first{.reply = survey.extra_replies.front(), .sent = survey.sent, .at = survey.replied_at};
+  const CounterSample first{
+      .reply = survey.extra_replies.front(), .sent = survey.sent, .at = survey.replied_at};
   // Two COMMAND samples (halfway and at the end) keep the whole command within issue 18's
   // budget of 8 requests; the counters decide anyway (running_host.hpp).
   RunningHostCheck watch = options_.running_host;
@@ -215,8 +216,9 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
   board_name_ = info.idrom.board_name;
   const SserialPort port = find_sserial_port(info, sserial_port_);
   sslbp_ = std::make_unique<SslbpPort>(*bus_, port, card_.has_timer_space(), options_.sslbp);
-  activity_ = require_no_running_host(*bus_, std::span(&port, 1), watch,
-                                      "stop SSERIAL port " + std::to_string(port.index) + " for setup mode", first);
+  activity_ =
+      require_no_running_host(*bus_, std::span(&port, 1), watch,
+                              "stop SSERIAL port " + std::to_string(port.index) + " for setup mode", first);
   last_received_ = activity_.last_received;
   missing_ours_ = 0;
   sent_at_last_ = activity_.sent_at_last;
@@ -254,10 +256,21 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
 
 PassthroughPort::~PassthroughPort() {
   try {
+    if (another_host_runs_the_port()) return;  // its machine runs on that port: leave it be
     sslbp_->stop_all();
   } catch (...) {
     // Best effort: the card may be gone; leaving SSLBP in setup mode drives no motor.
   }
+}
+
+// Asked only when another host showed itself during the session (a stop costs nothing to
+// check otherwise): a host that started normal mode while we ran owns the port now, and a
+// stop would drop every axis on it. A take-over stops it anyway, as asked.
+bool PassthroughPort::another_host_runs_the_port() {
+  const bool seen = other_host_seen_ || bus_->stats().foreign_arrivals > 0;
+  if (!seen || options_.running_host.take_over) return false;
+  const HostActivity now = observe_host_activity(*bus_, std::span(&sslbp_->port(), 1), options_.running_host);
+  return host_is_running(now, options_.running_host);
 }
 
 void PassthroughPort::start_setup() {
@@ -279,8 +292,9 @@ void PassthroughPort::start_setup() {
     for (std::uint16_t a :
          {registers.cs(ch), registers.interface0(ch), registers.interface1(ch), registers.interface2(ch)})
       read_back.push_back(a);
-  steps.push_back(
-      {.command = sslbp::start_setup(mask_), .settle = setup_start_time(bauds_, channels, options_), .results = read_back});
+  steps.push_back({.command = sslbp::start_setup(mask_),
+                   .settle = setup_start_time(bauds_, channels, options_),
+                   .results = read_back});
   const auto done = run_sequence(*sslbp_, steps);
   for (const auto& [ch, at] : baud_steps) {
     std::uint32_t baud = 0;
@@ -291,11 +305,14 @@ void PassthroughPort::start_setup() {
   std::vector<ChannelRegisters> regs;
   for (std::size_t i = 0; i < channels.size(); ++i) {
     const auto& r = done.back().results;
-    regs.push_back(ChannelRegisters{
-        .cs = r.at(4 * i), .interface0 = r.at(4 * i + 1), .interface1 = r.at(4 * i + 2), .interface2 = r.at(4 * i + 3)});
+    regs.push_back(ChannelRegisters{.cs = r.at(4 * i),
+                                    .interface0 = r.at(4 * i + 1),
+                                    .interface1 = r.at(4 * i + 2),
+                                    .interface2 = r.at(4 * i + 3)});
   }
   // In a take-over the other host's DOITs can land inside ours and fail a channel that is there.
-  for (unsigned attempt = 1; failed != 0 && attempt < options_.running_host.setup_start_attempts(); ++attempt) {
+  for (unsigned attempt = 1; failed != 0 && attempt < options_.running_host.setup_start_attempts();
+       ++attempt) {
     sslbp_->stop_all();
     failed = sslbp_->start_setup(mask_);
     regs = sslbp_->read_channels(mask_);
@@ -333,9 +350,15 @@ void PassthroughPort::resync() {
   if (!sslbp_->wait_idle()) {
     // Restarting is a start: the running-host rule applies again.
     ++stats_.restarts;
-    const HostActivity seen =
-        require_no_running_host(*bus_, std::span(&sslbp_->port(), 1), options_.running_host,
-                                "restart SSERIAL port " + std::to_string(sserial_port_) + " in setup mode");
+    HostActivity seen;
+    try {
+      seen =
+          require_no_running_host(*bus_, std::span(&sslbp_->port(), 1), options_.running_host,
+                                  "restart SSERIAL port " + std::to_string(sserial_port_) + " in setup mode");
+    } catch (const RunningHostError&) {
+      other_host_seen_ = true;
+      throw;
+    }
     last_received_ = seen.last_received;
     sent_at_last_ = seen.sent_at_last;
     missing_ours_ = 0;
@@ -638,8 +661,7 @@ PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& pa
       const std::uint64_t foreign_before = bus_->stats().foreign_arrivals;
       if (r + 1 == packet.size()) {
         // Nothing was issued after it: wait for it, what the polls read is its result.
-        const Completion done =
-            sslbp_->poll(interface0_addresses(round, channels), sslbp::doit(round.mask));
+        const Completion done = sslbp_->poll(interface0_addresses(round, channels), sslbp::doit(round.mask));
         require_undisturbed(foreign_before);
         complete_by_polling(round, channels, done);
         return {};
@@ -689,6 +711,7 @@ void PassthroughPort::require_no_foreign_packets(std::uint16_t received, std::ui
   const std::int64_t missing = static_cast<std::int64_t>(missing_ours_) + ours - moved;
   missing_ours_ = static_cast<std::uint64_t>(std::max<std::int64_t>(missing, 0));
   if (missing >= 0) return;
+  other_host_seen_ = true;
   throw ForeignHostError(
       "another host sent " + std::to_string(-missing) + " packet(s) to the card on " + describe() +
       " during this exchange (LinuxCNC running?): its DOITs run the passthrough's commands "
@@ -698,6 +721,7 @@ void PassthroughPort::require_no_foreign_packets(std::uint16_t received, std::ui
 void PassthroughPort::require_undisturbed(std::uint64_t foreign_before) {
   const std::uint64_t foreign = bus_->stats().foreign_arrivals - foreign_before;
   if (foreign == 0) return;
+  other_host_seen_ = true;
   throw ForeignHostError("the card on " + describe() + " received " + std::to_string(foreign) +
                          " packet(s) that were not ours between a DOIT and the read of its result "
                          "(another host, or a repeated datagram): the results were discarded");

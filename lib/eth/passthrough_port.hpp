@@ -207,6 +207,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   struct PacketResult;
 
   void start_setup();
+  bool another_host_runs_the_port();
   void resync();
   void run(std::vector<Channel>& channels);
   // The rounds of the next packet under the packing rules, at most `max_doits` (0: no limit).
@@ -250,6 +251,9 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   std::uint16_t last_received_ = 0;
   std::uint64_t sent_at_last_ = 0;
   std::uint64_t missing_ours_ = 0;  // our packets the card had not counted at the last look
+  // Another host talked to the card during our exchanges (or was found running at a
+  // restart): closing must not stop a port that host may have started since.
+  bool other_host_seen_ = false;
 
   mutable std::mutex execute_mutex_;  // one execute at a time on the wire
   PassthroughStats stats_;            // under execute_mutex_
