@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "ethsim/simulated_host.hpp"
 
+#include <algorithm>
+#include <thread>
+
 #include "lbp/bytes.hpp"
 #include "lbp/hostmot2.hpp"
 
@@ -74,7 +77,18 @@ void SimulatedHost::run_until(VirtualCard& card, Clock::time_point now) {
 void SimulatedHost::stop(VirtualCard& card, Clock::time_point now) {
   if (state_ == State::Stopped) return;
   const auto regs = card.sserial_registers(options_.port);
-  send(card, {lbp16::write_hm2(regs.command, sslbp::stop()), lbp16::read_hm2(regs.command)}, now);
+  // SSLBP ignores a command written while it is busy (8I20 manual, "DOIT": COMMAND reads
+  // non-zero until done), so the host waits out its last DOIT first, then its stop, as a
+  // host that exits cleanly does. Bounded: a card held in reset never reads idle.
+  const auto wait_idle = [&] {
+    const auto limit = Clock::now() + std::chrono::milliseconds(200);
+    while (command_register(card, std::max(now, Clock::now())) != 0 && Clock::now() < limit)
+      std::this_thread::sleep_for(std::chrono::microseconds(100));
+  };
+  wait_idle();
+  send(card, {lbp16::write_hm2(regs.command, sslbp::stop()), lbp16::read_hm2(regs.command)},
+       std::max(now, Clock::now()));
+  wait_idle();
   state_ = State::Stopped;
 }
 
