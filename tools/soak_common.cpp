@@ -306,9 +306,13 @@ void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun
   if (j.modes_on && exit0) all.push_back("NV or RPC memory mode left on with exit 0");
   if (j.modes_on && run.exit_code() == ops::kExitInterrupted)
     all.push_back("NV or RPC memory mode left on with exit 130");
-  for (const auto& f : all)
-    t.findings.push_back("#" + std::to_string(index) + " " + path_name(s.path) + " / " + label + " -> " +
-                         ops::to_string(run.outcome) + ": " + f);
+  for (const auto& f : all) {
+    // append(), not operator+: GCC 12 -O3 warns -Wrestrict inside operator+ (a false positive).
+    std::string finding = "#";
+    finding.append(std::to_string(index)).append(" ").append(path_name(s.path)).append(" / ").append(label);
+    finding.append(" -> ").append(ops::to_string(run.outcome)).append(": ").append(f);
+    t.findings.push_back(std::move(finding));
+  }
   if (verbose)
     std::cerr << "#" << index << " " << path_name(s.path) << " " << s.values.size() << " cells, " << label
               << " -> " << ops::to_string(run.outcome) << (run.error.empty() ? "" : " (" + run.error + ")")

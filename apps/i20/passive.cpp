@@ -75,7 +75,10 @@ std::string fixed(double v, const char* format = "%.2f") {
 
 std::string bit_names(F::Register reg, std::uint16_t value) {
   std::string out;
-  for (const auto& b : F::decode(reg, value).bits) out += (out.empty() ? "" : " ") + b.label();
+  for (const auto& b : F::decode(reg, value).bits) {
+    if (!out.empty()) out.append(" ");  // append(): GCC 12 -O3 -Wrestrict false positive in operator+
+    out.append(b.label());
+  }
   return out;
 }
 
