@@ -118,6 +118,9 @@ void Virtual8i20::service(Clock::time_point now) {
     execute(*frame, cursor);
     if (!powered_) return;
   }
+  // A reset in this pass (reset_time zero, or one that began at an earlier cursor) may
+  // already be over: its end is not an event still to come.
+  if (deaf_until_ && now_ >= *deaf_until_) deaf_until_.reset();
   note_framer_events();
   amplifier_.update(std::max(cursor, now_));
 }

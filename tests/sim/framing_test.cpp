@@ -182,5 +182,23 @@ TEST_F(SimOperate, AnRpcRewrittenInAnEarlierPacketRunsItsNewList) {
   EXPECT_EQ(lbp::read_le(lbp::ByteView(answer).first(2)), b.card.amplifier().status());
 }
 
+// Found by fuzz/sim_8i20 (fuzz/regressions/sim_8i20/operate-reset-with-no-deaf-time): a
+// reset when the gap closes a packet, with a reset time of zero, left its end behind as an
+// event due at the time just processed, so i20sim's loop would spin on it.
+TEST(SimOperateReset, AResetThatIsAlreadyOverIsNotAnEventToCome) {
+  DeviceOptions o;
+  o.mode = FramingMode::Operate;
+  o.reset_time = Clock::duration::zero();
+  o.injection.reset_after_commands = 1;
+  Bench b(o);
+  b.send("DF");
+  EXPECT_EQ(b.wait(200us), reply("5A")) << "answered, then reset";
+  EXPECT_EQ(b.card.stats().resets, 1u);
+  const auto next = b.card.next_event();
+  EXPECT_TRUE(!next || *next > b.t) << "an event at or before now: the caller would spin";
+  b.send("DF");
+  EXPECT_EQ(b.wait(200us), reply("5A")) << "no deaf time: the next packet is answered";
+}
+
 }  // namespace
 }  // namespace i20::sim::test
