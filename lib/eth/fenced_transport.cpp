@@ -41,7 +41,7 @@ TransportStats FencedTransport::stats() const {
 }
 
 std::vector<lbp::Bytes> FencedTransport::transact(std::span<const lbp16::Command> commands, Resend resend) {
-  if (writers_at_risk_ > 0) fence();
+  if (writers_at_risk_ > 0 || unsettled_) fence();
   return exchange(commands, resend);
 }
 
@@ -77,10 +77,18 @@ void FencedTransport::account(std::uint16_t received, std::uint64_t sends, bool 
   const auto sent = static_cast<std::uint16_t>(inner_->stats().packets_sent);
   if (!based_) {
     based_ = true;
-    base_ = static_cast<std::uint16_t>(received - sent);
+    // Of our packets so far only the attempt that answered is known to have arrived. The
+    // others (this packet's resends, packets that went unanswered before it) may have
+    // arrived before this count or may still come: taken as still to come, so that a late
+    // one is never mistaken for a later packet of ours that a fence waits for. The next
+    // packet first waits until they are in, or for the bound (then they are lost).
+    const auto earlier = static_cast<std::uint16_t>(sent - 1);
+    base_ = static_cast<std::uint16_t>(received - 1);
+    missing_ = earlier;
+    unsettled_ = earlier > 0;
     last_received_ = received;
     last_sent_ = sent;
-    return;  // the card's count before our first packet says nothing about ours
+    return;
   }
   const auto arrived_since = static_cast<std::uint16_t>(received - last_received_);
   const auto sent_since = static_cast<std::uint16_t>(sent - static_cast<std::uint16_t>(last_sent_));
@@ -100,8 +108,10 @@ void FencedTransport::account(std::uint16_t received, std::uint64_t sends, bool 
   const std::uint16_t late = from_before > foreign ? from_before - foreign : 0;
   late_.late_arrivals += late;
   missing_ = static_cast<std::uint16_t>(missing);
-  if (missing_ == 0)
+  if (missing_ == 0) {
     writers_at_risk_ = 0;  // everything of ours is in: nothing can come late
+    unsettled_ = false;
+  }
   else if (writes)
     writers_at_risk_ += sends - 1;  // earlier attempts of this packet may still come
   if (foreign > 0 && presumed_lost_writers_ > 0) {
@@ -118,7 +128,7 @@ void FencedTransport::account(std::uint16_t received, std::uint64_t sends, bool 
 
 FenceReport FencedTransport::fence() {
   FenceReport report;
-  if (writers_at_risk_ == 0) return report;
+  if (writers_at_risk_ == 0 && !unsettled_) return report;
   report.needed = true;
   ++late_.fences;
   const auto start = Clock::now();
@@ -146,6 +156,7 @@ FenceReport FencedTransport::fence() {
     pause = std::min(pause * 2, options_.max_probe_pause);
   }
   writers_at_risk_ = 0;
+  unsettled_ = false;
   report.waited = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start);
   return report;
 }

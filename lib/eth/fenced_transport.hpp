@@ -69,6 +69,7 @@ class FencedTransport final : public Lbp16Transport {
   std::uint16_t missing_ = 0;        // our packets the card had not received by then
   std::uint64_t writers_at_risk_ = 0;  // our packets with writes that may still arrive
   std::uint64_t presumed_lost_writers_ = 0;  // given up on at a fence: if they arrive, it is late
+  bool unsettled_ = false;  // packets sent before the ledger began may still arrive: fence first
   TransportStats late_;  // late_arrivals, fences, fence_waits
 };
 

@@ -97,8 +97,10 @@ TEST_F(LateDatagrams, NoFalseDoneUnderDelayedAndRepeatedDatagrams) {
             << " left in NV/RPC mode, " << false_reset << " false reset claims\n";
   EXPECT_EQ(false_done, 0u);
   EXPECT_EQ(left_in_nv, 0u);
-  // Open defect, not asserted yet: a few runs still warn "the card reset itself (STATUS
-  // EXTR)" when the card did not reset (3 of 30 at the time of writing); the count is printed.
+  // "The card reset itself (STATUS EXTR)" printed 3 times in 30 here while the card had not
+  // reset: the fence took a late first packet's arrival for a lost DOIT packet's, and
+  // STATUS was read from an older command's result (tests/eth/fenced_transport_test.cpp).
+  EXPECT_EQ(false_reset, 0u);
   EXPECT_GT(ok, 0u) << "no trial got through: the test would pass a tool that always gives up";
 }
 

@@ -5,7 +5,9 @@
 // the exchange it lands in.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <deque>
+#include <optional>
 #include <map>
 
 #include "eth/errors.hpp"
@@ -24,16 +26,30 @@ namespace {
 // space 6 address 0x1A (a marker only these tests use).
 class HeldBackCard final : public eth::Lbp16Transport {
  public:
-  enum class Fate { Deliver, LoseReply, HoldBack, Drop };
+  // Resent: the first attempt is held back, the client resends (a second send, as
+  // UdpClient does for a read-only packet) and that attempt is answered.
+  enum class Fate { Deliver, LoseReply, HoldBack, Drop, Resent };
 
   void plan(std::uint64_t send, Fate fate, unsigned held_for = 0) { plans_[send] = {fate, held_for}; }
+  // Holds back the first packet that writes `marker`, whichever send it is.
+  void hold_marker(std::uint16_t marker, unsigned held_for) { held_marker_ = {marker, held_for}; }
   void foreign(unsigned packets) { received_ += static_cast<std::uint16_t>(packets); }
 
   std::vector<lbp::Bytes> transact(std::span<const lbp16::Command> commands, eth::Resend) override {
     const std::uint64_t send = ++stats_.packets_sent;
     release_due();
-    const auto [fate, held_for] = plans_.count(send) ? plans_[send] : Plan{};
+    auto [fate, held_for] = plans_.count(send) ? plans_[send] : Plan{};
+    if (held_marker_ && writes_marker(commands, held_marker_->first)) {
+      fate = Fate::HoldBack;
+      held_for = held_marker_->second;
+      held_marker_.reset();
+    }
     if (fate == Fate::Drop) throw link::TimeoutError("dropped");
+    if (fate == Fate::Resent) {
+      held_.push_back({send + held_for, {commands.begin(), commands.end()}});
+      ++stats_.packets_sent;
+      return execute(commands);
+    }
     if (fate == Fate::HoldBack) {
       held_.push_back({send + held_for, {commands.begin(), commands.end()}});
       throw link::TimeoutError("held back");
@@ -80,7 +96,15 @@ class HeldBackCard final : public eth::Lbp16Transport {
     return parts;
   }
 
+  static bool writes_marker(std::span<const lbp16::Command> commands, std::uint16_t value) {
+    return std::any_of(commands.begin(), commands.end(), [&](const lbp16::Command& c) {
+      return c.word.write && c.word.space == lbp16::space::kStatus && c.address == kMarker &&
+             lbp::read_le(c.data) == value;
+    });
+  }
+
   static constexpr std::uint16_t kMarker = 0x1A;
+  std::optional<std::pair<std::uint16_t, unsigned>> held_marker_;
   std::map<std::uint64_t, Plan> plans_;
   std::deque<Held> held_;
   std::uint16_t received_ = 100;  // another client's packets came before ours
@@ -164,6 +188,35 @@ TEST(FencedTransport, AWriteGivenUpOnThatArrivesAfterAllFailsTheExchangeItLandsI
   // Now the network delivers it, between two of our packets.
   f.card->foreign(1);  // the late arrival, in the card's count
   EXPECT_THROW(f.read(), eth::LatePacketError);
+}
+
+// The issue 18 trial that still printed a false "the card reset itself": the very first
+// packet (read-only) was resent, its first attempt arrived late, just while a fence waited
+// for a lost DOIT packet, and the ledger, which had taken every attempt before its first
+// answer as arrived, took that arrival for the DOIT's. The poll that followed read an
+// older command's result as STATUS.
+TEST(FencedTransport, AnEarlierAttemptOfTheFirstPacketIsNotTakenForALaterPacket) {
+  Fixture f;
+  f.card->plan(1, HeldBackCard::Fate::Resent, 3);  // sends 1 and 2; the first arrives 3 sends later
+  f.read();
+  f.card->hold_marker(2, 6);
+  EXPECT_THROW(f.write(2), link::TimeoutError);
+  f.write(3);  // the fence first: it must wait for write 2 itself
+  for (int i = 0; i < 8; ++i) f.read();
+  EXPECT_EQ(f.card->executed_markers(), (std::vector<std::uint16_t>{2, 3}))
+      << "the late write ran after a later one: the fence took another arrival for it";
+  EXPECT_EQ(f.card->held(), 0u);
+}
+
+TEST(FencedTransport, AnUnansweredFirstPacketIsNotTakenAsArrived) {
+  Fixture f;
+  f.card->plan(1, HeldBackCard::Fate::HoldBack, 4);  // the very first packet, with writes
+  EXPECT_THROW(f.write(1), link::TimeoutError);
+  const eth::FenceReport r = f.bus->fence();
+  EXPECT_TRUE(r.needed);
+  EXPECT_TRUE(r.all_arrived) << "the fence waited until the count showed it";
+  EXPECT_EQ(f.card->executed_markers(), (std::vector<std::uint16_t>{1}));
+  EXPECT_EQ(f.card->held(), 0u);
 }
 
 TEST(FencedTransport, ForeignPacketsAreCountedNotRefused) {
