@@ -111,18 +111,19 @@ void FencedTransport::account(std::uint16_t received, std::uint64_t sends, bool 
   if (missing_ == 0) {
     writers_at_risk_ = 0;  // everything of ours is in: nothing can come late
     unsettled_ = false;
-  }
-  else if (writes)
+  } else if (writes) {
     writers_at_risk_ += sends - 1;  // earlier attempts of this packet may still come
+  }
   if (foreign > 0 && presumed_lost_writers_ > 0) {
     // A packet given up on at a fence may be what just arrived: it ran between our last
     // two packets, on what they share.
     presumed_lost_writers_ -= std::min<std::uint64_t>(presumed_lost_writers_, foreign);
-    throw LatePacketError("a packet to " + describe() +
-                          " given up on as lost reached the card after all, between two later packets "
-                          "(or another host sent " +
-                          std::to_string(foreign) +
-                          "); the results of this exchange were discarded: read back what the command touched");
+    throw LatePacketError(
+        "a packet to " + describe() +
+        " given up on as lost reached the card after all, between two later packets "
+        "(or another host sent " +
+        std::to_string(foreign) +
+        "); the results of this exchange were discarded: read back what the command touched");
   }
 }
 

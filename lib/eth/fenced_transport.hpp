@@ -63,14 +63,14 @@ class FencedTransport final : public Lbp16Transport {
   std::unique_ptr<Lbp16Transport> inner_;
   FenceOptions options_;
   bool based_ = false;
-  std::uint16_t base_ = 0;           // RXUDPCount minus our packets, when all ours had arrived
-  std::uint16_t last_received_ = 0;  // RXUDPCount at our latest reply
-  std::uint16_t last_sent_ = 0;      // our packets by then (low 16 bits)
-  std::uint16_t missing_ = 0;        // our packets the card had not received by then
-  std::uint64_t writers_at_risk_ = 0;  // our packets with writes that may still arrive
+  std::uint16_t base_ = 0;                   // RXUDPCount minus our packets, when all ours had arrived
+  std::uint16_t last_received_ = 0;          // RXUDPCount at our latest reply
+  std::uint16_t last_sent_ = 0;              // our packets by then (low 16 bits)
+  std::uint16_t missing_ = 0;                // our packets the card had not received by then
+  std::uint64_t writers_at_risk_ = 0;        // our packets with writes that may still arrive
   std::uint64_t presumed_lost_writers_ = 0;  // given up on at a fence: if they arrive, it is late
   bool unsettled_ = false;  // packets sent before the ledger began may still arrive: fence first
-  TransportStats late_;  // late_arrivals, fences, fence_waits
+  TransportStats late_;     // late_arrivals, fences, fence_waits
 };
 
 }  // namespace i20::eth

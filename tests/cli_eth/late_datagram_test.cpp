@@ -27,9 +27,9 @@ ethsim::ServerOptions two_channel_7i92t() {
 
 struct Trial {
   int exit_code = -1;
-  bool false_done = false;     // exit 0, yet the card does not hold what was asked
-  bool left_in_nv = false;     // NV access or RPC memory mode left on, whatever the exit
-  bool false_reset = false;    // "reset itself" printed, yet the card did not reset
+  bool false_done = false;   // exit 0, yet the card does not hold what was asked
+  bool left_in_nv = false;   // NV access or RPC memory mode left on, whatever the exit
+  bool false_reset = false;  // "reset itself" printed, yet the card did not reset
   std::string why;
 };
 
@@ -39,7 +39,8 @@ class LateDatagrams : public ::testing::Test {
 
   // One `i20 set` through `faults` on a fresh card; the reference EEPROM is what a clean
   // run leaves.
-  Trial trial(const ethsim::NetworkFaults& faults, const lbp::Bytes* reference, lbp::Bytes* eeprom_out = nullptr) {
+  Trial trial(const ethsim::NetworkFaults& faults, const lbp::Bytes* reference,
+              lbp::Bytes* eeprom_out = nullptr) {
     test::RunningCard card(two_channel_7i92t());
     ethsim::FaultyNetwork network(card.address(), faults);
     const auto capture = [&] {
@@ -78,16 +79,15 @@ TEST_F(LateDatagrams, CleanNetworkAppliesTheChange) {
 }
 
 // 10% of datagrams, both ways, held back 80-400 ms (past the 50 ms reply timeout), the
-// issue's network: no false "done", never left in NV mode. (Repeated datagrams are not covered yet: a copy that arrives after the tool's last
-// packet cannot be seen by it.)
+// issue's network: no false "done", never left in NV mode. (Repeated datagrams are not covered yet: a copy
+// that arrives after the tool's last packet cannot be seen by it.)
 TEST_F(LateDatagrams, NoFalseDoneUnderDelayedAndRepeatedDatagrams) {
   lbp::Bytes reference;
   ASSERT_EQ(trial(ethsim::NetworkFaults{}, nullptr, &reference).exit_code, 0);
   unsigned ok = 0, false_done = 0, left_in_nv = 0, false_reset = 0;
   const unsigned trials = 30;
   for (unsigned seed = 1; seed <= trials; ++seed) {
-    const Trial t = trial(ethsim::NetworkFaults{.seed = seed, .delay_share = 0.10},
-                          &reference);
+    const Trial t = trial(ethsim::NetworkFaults{.seed = seed, .delay_share = 0.10}, &reference);
     ok += t.exit_code == 0;
     false_done += t.false_done;
     left_in_nv += t.left_in_nv;

@@ -3,15 +3,16 @@
 // network holds chosen requests back: a late request must reach the card before anything
 // that follows a timeout does, and a request given up on that turns up later must fail
 // the exchange it lands in.
+#include "eth/fenced_transport.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <deque>
-#include <optional>
 #include <map>
+#include <optional>
 
 #include "eth/errors.hpp"
-#include "eth/fenced_transport.hpp"
 #include "eth/running_host.hpp"
 #include "lbp/bytes.hpp"
 
