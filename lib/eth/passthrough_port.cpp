@@ -332,6 +332,7 @@ void PassthroughPort::start_setup() {
   // packets with other commands.
   const lbp::Command query = lbp::local_read(lbp::local::kGetNvAccess);
   std::vector<Channel> work;
+  const std::vector<std::optional<std::uint8_t>> asked = nv_modes_;
   for (unsigned ch : channels) {
     nv_modes_[ch].reset();
     Channel c{.channel = ch, .commands = std::span(&query, 1), .steps = {plan_passthrough(query)}};
@@ -341,8 +342,13 @@ void PassthroughPort::start_setup() {
   run(work);
   for (const Channel& c : work) {
     if (c.error || c.replies.empty()) continue;
-    nv_modes_[c.channel] = c.replies.front().at(0);
-    remotes_[c.channel].nv_access = nv_modes_[c.channel];
+    const std::uint8_t found = c.replies.front().at(0);
+    remotes_[c.channel].nv_access = found;
+    // After a restart mid-session: between packets the card is in normal access by design
+    // (bracket_nv_mode), so normal access found there does not undo an NV mode the tool's
+    // commands asked for; the next packet sets it again.
+    const auto before = asked[c.channel];
+    nv_modes_[c.channel] = (found == 0 && before && *before != 0) ? *before : found;
   }
 }
 
@@ -544,6 +550,7 @@ void PassthroughPort::run(std::vector<Channel>& channels) {
       } else {
         // After a late DOIT its round goes alone: the poll then reads its own result.
         packet = next_packet(channels, slow ? 1u : options_.max_doits_per_packet);
+        bracket_nv_mode(packet, channels, /*leave=*/!slow);
         slow = false;
       }
       PacketResult result = run_packet(packet, channels);
@@ -584,6 +591,17 @@ std::vector<PassthroughPort::Round> PassthroughPort::next_packet(std::vector<Cha
   std::vector<Seen> seen(channels.size());
   std::size_t request = kTagRequestBytes, reply = kTagReplyBytes;
   microseconds wait{0};
+  if (sslbp_->timer_space()) {
+    // Room for bracket_nv_mode's two rounds, as if every channel needed them.
+    Round bracket;
+    const PassthroughStep step = plan_passthrough(lbp::local_write(lbp::local::kSetNvAccess, 0));
+    for (std::size_t i = 0; i < channels.size(); ++i)
+      bracket.slots.push_back(Slot{.owner = i, .step = std::nullopt, .plan = step});
+    lay_out(bracket, channels);
+    request += 2 * bracket.request_bytes;
+    reply += 2 * bracket.reply_bytes;
+    wait += 2 * bracket.settle;
+  }
   for (;;) {
     if (max_doits != 0 && packet.size() >= max_doits) break;
     Round round;
@@ -626,6 +644,55 @@ std::vector<PassthroughPort::Round> PassthroughPort::next_packet(std::vector<Cha
     if (last) break;
   }
   return packet;
+}
+
+// A copy of a packet that the network delivers late, or twice, runs again on its own,
+// whenever it arrives. So no packet relies on, or leaves, an 8I20 in NV access mode: a
+// channel whose commands in the packet run in NV mode gets that mode set by the packet's
+// first DOIT and cleared by its last. Between packets every 8I20 is in normal access,
+// whatever mode the tool's commands asked for (nv_modes_ and mode_before keep that). A late
+// or repeated copy then writes the EEPROM cell it was meant for, not working memory at
+// the EEPROM address, and cannot leave NV mode on after the tool's last packet. `leave`
+// false: no last DOIT (a packet whose one round follows a late DOIT polls for its own
+// result, so nothing may follow that round).
+void PassthroughPort::bracket_nv_mode(std::vector<Round>& packet, const std::vector<Channel>& channels,
+                                      bool leave) const {
+  if (packet.empty() || !sslbp_->timer_space()) return;
+  Round enter_round, leave_round;
+  enter_round.alone = leave_round.alone = false;
+  for (std::size_t owner = 0; owner < channels.size(); ++owner) {
+    const Slot* first = nullptr;
+    const Slot* last = nullptr;
+    for (const Round& r : packet)
+      for (const Slot& slot : r.slots)
+        if (slot.owner == owner) {
+          if (!first) first = &slot;
+          last = &slot;
+        }
+    if (!first) continue;
+    const auto in_nv = [](std::optional<std::uint8_t> m) { return m && *m != 0; };
+    if (in_nv(first->mode) && first->plan.effect != StepEffect::NvMode) {
+      const lbp::Command set = lbp::local_write(lbp::local::kSetNvAccess, *first->mode);
+      enter_round.slots.push_back(
+          Slot{.owner = owner, .step = std::nullopt, .plan = plan_passthrough(set), .mode = first->mode});
+    }
+    std::optional<std::uint8_t> after = last->mode;
+    if (last->plan.nv_access_mode) after = *last->plan.nv_access_mode;
+    if (last->plan.effect == StepEffect::Unrepeatable) after.reset();  // a reset leaves NV mode
+    if (leave && in_nv(after)) {
+      const lbp::Command clear = lbp::local_write(lbp::local::kSetNvAccess, 0);
+      leave_round.slots.push_back(
+          Slot{.owner = owner, .step = std::nullopt, .plan = plan_passthrough(clear), .mode = after});
+    }
+  }
+  if (!enter_round.slots.empty()) {
+    lay_out(enter_round, channels);
+    packet.insert(packet.begin(), std::move(enter_round));
+  }
+  if (!leave_round.slots.empty()) {
+    lay_out(leave_round, channels);
+    packet.push_back(std::move(leave_round));
+  }
 }
 
 PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& packet,
@@ -809,12 +876,12 @@ void PassthroughPort::finish(std::vector<Channel>& channels, const Slot& slot, s
   Channel& c = channels[slot.owner];
   if (c.failed) return;  // its later DOITs in the packet ran, but its batch already ended
   const bool failed = (data & bit(c.channel)) != 0;
-  if (!slot.step) {  // an NV mode restore before a replay
+  if (!slot.step) {  // an NV mode DOIT of the port's own: a restore before a replay, or a bracket
     if (failed) {
       c.failed = true;
       c.error = std::make_exception_ptr(
-          SslbpError("could not restore the NV access mode of the 8I20 on " + describe(c.channel) +
-                         " before replaying a late DOIT; its mode is unknown: reset it (i20 reset)",
+          SslbpError("could not set the NV access mode of the 8I20 on " + describe(c.channel) +
+                         " around its commands; its mode is unknown: reset it (i20 reset)",
                      c.next));
       needs_resync_ = true;
     }

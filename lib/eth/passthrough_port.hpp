@@ -40,6 +40,12 @@
 //     that takes longer is waited for and not written again: DATA, once COMMAND clears, is
 //     its outcome, and the rest of the packet replays. (A replay caused by an earlier late
 //     round can still write a cell twice, with the same value.)
+// Late and repeated copies: the network may deliver a packet late or twice, and the copy
+// runs again by itself. So no packet relies on, or leaves, an 8I20 in NV access mode: a
+// channel whose commands in a packet run in NV mode gets the mode set by the packet's first
+// DOIT and cleared by its last (bracket_nv_mode); between packets every 8I20 is in normal
+// access, whatever mode the commands asked for. A copy then writes the EEPROM cell it was
+// meant for, never working memory at the cell's EEPROM address, and leaves the mode off.
 // Packets stay within 1472 bytes each way and options.max_packet_wait of WaituS. Cards
 // without LBP16 space 4 (LBP16 version < 3) get one round per packet and polling.
 //
@@ -213,6 +219,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   // The rounds of the next packet under the packing rules, at most `max_doits` (0: no limit).
   std::vector<Round> next_packet(std::vector<Channel>& channels, unsigned max_doits) const;
   void lay_out(Round& round, const std::vector<Channel>& channels) const;
+  void bracket_nv_mode(std::vector<Round>& packet, const std::vector<Channel>& channels, bool leave) const;
   void learn_from_late(const Round& round);
   static bool is_eeprom_write(const Round& round);
   PacketResult run_packet(std::vector<Round>& packet, std::vector<Channel>& channels);

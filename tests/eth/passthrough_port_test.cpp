@@ -267,8 +267,13 @@ TEST(EthBatching, OneDoitServesEveryChannelOfThePort) {
     EXPECT_EQ(value(outcomes[ch].replies[1]), 0x00012345u + ch) << "each channel's own unit number";
     EXPECT_EQ(value(outcomes[ch].replies[2 + 24 + 1 + 10]), 34000u) << ch;
   }
-  EXPECT_EQ(port->stats().doits, batch.size()) << "not four times as many";
-  EXPECT_LE(port->transport_stats().packets_sent - trips, 3u);
+  // One DOIT per command for the four channels at once, not four times as many, plus two
+  // where a packet boundary falls inside NV access mode: the mode is cleared at the end of
+  // one packet and set again at the start of the next (bracket_nv_mode).
+  const auto packets = port->transport_stats().packets_sent - trips;
+  EXPECT_LE(packets, 3u);
+  EXPECT_GE(port->stats().doits, batch.size());
+  EXPECT_LE(port->stats().doits, batch.size() + 2 * (packets - 1)) << "not four times as many";
 }
 
 TEST(EthBatching, ChannelsOfDifferentLengthsAndAFailingChannel) {
