@@ -345,7 +345,7 @@ void PassthroughPort::start_setup() {
     const std::uint8_t found = c.replies.front().at(0);
     remotes_[c.channel].nv_access = found;
     // After a restart mid-session: between packets the card is in normal access by design
-    // (bracket_nv_mode), so normal access found there does not undo an NV mode the tool's
+    // (bracket_modes), so normal access found there does not undo an NV mode the tool's
     // commands asked for; the next packet sets it again.
     const auto before = asked[c.channel];
     nv_modes_[c.channel] = (found == 0 && before && *before != 0) ? *before : found;
@@ -550,7 +550,7 @@ void PassthroughPort::run(std::vector<Channel>& channels) {
       } else {
         // After a late DOIT its round goes alone: the poll then reads its own result.
         packet = next_packet(channels, slow ? 1u : options_.max_doits_per_packet);
-        bracket_nv_mode(packet, channels, /*leave=*/!slow);
+        bracket_modes(packet, channels, /*leave=*/!slow);
         slow = false;
       }
       PacketResult result = run_packet(packet, channels);
@@ -576,6 +576,20 @@ void PassthroughPort::run(std::vector<Channel>& channels) {
   describe_failures(channels);
 }
 
+namespace {
+
+// The RPC memory access a step sets: 1 on, 0 off, -1 (not an 0xEA).
+int rpc_mode_set_by(const PassthroughStep& step) {
+  if ((step.cs >> 24) != lbp::local::kSetRpcMemAccess || !step.interface0) return -1;
+  return *step.interface0 != 0 ? 1 : 0;
+}
+
+bool mode_on(const std::optional<std::uint8_t>& mode) {
+  return mode.value_or(0) != 0;
+}
+
+}  // namespace
+
 std::vector<PassthroughPort::Round> PassthroughPort::next_packet(std::vector<Channel>& channels,
                                                                  unsigned max_doits) const {
   // What a channel already has in this packet: the packing rules (see the header) look
@@ -592,15 +606,28 @@ std::vector<PassthroughPort::Round> PassthroughPort::next_packet(std::vector<Cha
   std::size_t request = kTagRequestBytes, reply = kTagReplyBytes;
   microseconds wait{0};
   if (sslbp_->timer_space()) {
-    // Room for bracket_nv_mode's two rounds, as if every channel needed them.
-    Round bracket;
-    const PassthroughStep step = plan_passthrough(lbp::local_write(lbp::local::kSetNvAccess, 0));
-    for (std::size_t i = 0; i < channels.size(); ++i)
-      bracket.slots.push_back(Slot{.owner = i, .step = std::nullopt, .plan = step});
-    lay_out(bracket, channels);
-    request += 2 * bracket.request_bytes;
-    reply += 2 * bracket.reply_bytes;
-    wait += 2 * bracket.settle;
+    // Room for bracket_modes' rounds, as if every channel needed them: two for NV access
+    // where a channel's commands may run in it, two for RPC memory access likewise.
+    bool nv = false, rpc = false;
+    for (std::size_t i = 0; i < channels.size(); ++i) {
+      const Channel& c = channels[i];
+      rpc = rpc || rpc_modes_[c.channel].value_or(0) != 0;
+      for (std::size_t k = c.next; k < c.steps.size(); ++k) {
+        nv = nv || c.steps[k].effect == StepEffect::NvMode || c.mode_before[k].value_or(0) != 0;
+        rpc = rpc || rpc_mode_set_by(c.steps[k]) >= 0;
+      }
+    }
+    const unsigned rounds = (nv ? 2u : 0u) + (rpc ? 2u : 0u);
+    if (rounds > 0) {
+      Round bracket;
+      const PassthroughStep step = plan_passthrough(lbp::local_write(lbp::local::kSetNvAccess, 0));
+      for (std::size_t i = 0; i < channels.size(); ++i)
+        bracket.slots.push_back(Slot{.owner = i, .step = std::nullopt, .plan = step});
+      lay_out(bracket, channels);
+      request += rounds * bracket.request_bytes;
+      reply += rounds * bracket.reply_bytes;
+      wait += rounds * bracket.settle;
+    }
   }
   for (;;) {
     if (max_doits != 0 && packet.size() >= max_doits) break;
@@ -647,52 +674,62 @@ std::vector<PassthroughPort::Round> PassthroughPort::next_packet(std::vector<Cha
 }
 
 // A copy of a packet that the network delivers late, or twice, runs again on its own,
-// whenever it arrives. So no packet relies on, or leaves, an 8I20 in NV access mode: a
-// channel whose commands in the packet run in NV mode gets that mode set by the packet's
-// first DOIT and cleared by its last. Between packets every 8I20 is in normal access,
-// whatever mode the tool's commands asked for (nv_modes_ and mode_before keep that). A late
-// or repeated copy then writes the EEPROM cell it was meant for, not working memory at
-// the EEPROM address, and cannot leave NV mode on after the tool's last packet. `leave`
-// false: no last DOIT (a packet whose one round follows a late DOIT polls for its own
-// result, so nothing may follow that round).
-void PassthroughPort::bracket_nv_mode(std::vector<Round>& packet, const std::vector<Channel>& channels,
-                                      bool leave) const {
+// whenever it arrives. So no packet relies on, or leaves, an 8I20 in NV access or RPC
+// memory mode: a channel whose commands in the packet run in such a mode gets it set by
+// the packet's first DOITs and cleared by its last. Between packets every 8I20 is in
+// normal access, whatever the tool's commands asked for (nv_modes_, rpc_modes_ and
+// mode_before keep that). A late or repeated copy then writes the EEPROM cell it was meant
+// for, not working memory at the EEPROM address, reads the RPC table it was meant to, and
+// cannot leave a mode on after the tool's last packet. `leave` false: no last DOITs (a
+// packet whose one round follows a late DOIT polls for its own result, so nothing may
+// follow that round).
+void PassthroughPort::bracket_modes(std::vector<Round>& packet, const std::vector<Channel>& channels,
+                                    bool leave) const {
   if (packet.empty() || !sslbp_->timer_space()) return;
-  Round enter_round, leave_round;
-  enter_round.alone = leave_round.alone = false;
+  Round enter_nv, enter_rpc, leave_rpc, leave_nv;
+  const auto add = [&](Round& round, std::size_t owner, lbp::Byte command, std::uint8_t value,
+                       std::optional<std::uint8_t> nv) {
+    round.slots.push_back(Slot{.owner = owner,
+                               .step = std::nullopt,
+                               .plan = plan_passthrough(lbp::local_write(command, value)),
+                               .mode = nv});
+  };
   for (std::size_t owner = 0; owner < channels.size(); ++owner) {
-    const Slot* first = nullptr;
-    const Slot* last = nullptr;
+    std::vector<const Slot*> mine;
     for (const Round& r : packet)
       for (const Slot& slot : r.slots)
-        if (slot.owner == owner) {
-          if (!first) first = &slot;
-          last = &slot;
-        }
-    if (!first) continue;
-    const auto in_nv = [](std::optional<std::uint8_t> m) { return m && *m != 0; };
-    if (in_nv(first->mode) && first->plan.effect != StepEffect::NvMode) {
-      const lbp::Command set = lbp::local_write(lbp::local::kSetNvAccess, *first->mode);
-      enter_round.slots.push_back(
-          Slot{.owner = owner, .step = std::nullopt, .plan = plan_passthrough(set), .mode = first->mode});
+        if (slot.owner == owner) mine.push_back(&slot);
+    if (mine.empty()) continue;
+    const Slot& first = *mine.front();
+    const Slot& last = *mine.back();
+    // NV access: the mode each slot runs in is known from the channel's plan.
+    if (mode_on(first.mode) && first.plan.effect != StepEffect::NvMode)
+      add(enter_nv, owner, lbp::local::kSetNvAccess, *first.mode, first.mode);
+    std::optional<std::uint8_t> nv_after = last.mode;
+    if (last.plan.nv_access_mode) nv_after = *last.plan.nv_access_mode;
+    if (last.plan.effect == StepEffect::Unrepeatable) nv_after.reset();  // a reset leaves the modes
+    if (leave && mode_on(nv_after)) add(leave_nv, owner, lbp::local::kSetNvAccess, 0, std::uint8_t{0});
+    // RPC memory access: from the mode the finished commands left, through this packet's.
+    const unsigned ch = channels[owner].channel;
+    int rpc = rpc_modes_[ch] ? *rpc_modes_[ch] : -1;  // -1: not known
+    if (rpc == 1 && rpc_mode_set_by(first.plan) < 0)
+      add(enter_rpc, owner, lbp::local::kSetRpcMemAccess, 1, first.mode);
+    for (const Slot* slot : mine) {
+      if (const int set = rpc_mode_set_by(slot->plan); set >= 0) rpc = set;
+      if (slot->plan.effect == StepEffect::Unrepeatable) rpc = -1;
     }
-    std::optional<std::uint8_t> after = last->mode;
-    if (last->plan.nv_access_mode) after = *last->plan.nv_access_mode;
-    if (last->plan.effect == StepEffect::Unrepeatable) after.reset();  // a reset leaves NV mode
-    if (leave && in_nv(after)) {
-      const lbp::Command clear = lbp::local_write(lbp::local::kSetNvAccess, 0);
-      leave_round.slots.push_back(
-          Slot{.owner = owner, .step = std::nullopt, .plan = plan_passthrough(clear), .mode = after});
-    }
+    if (leave && rpc == 1) add(leave_rpc, owner, lbp::local::kSetRpcMemAccess, 0, nv_after);
   }
-  if (!enter_round.slots.empty()) {
-    lay_out(enter_round, channels);
-    packet.insert(packet.begin(), std::move(enter_round));
-  }
-  if (!leave_round.slots.empty()) {
-    lay_out(leave_round, channels);
-    packet.push_back(std::move(leave_round));
-  }
+  std::vector<Round> before, after;
+  for (Round* r : {&enter_nv, &enter_rpc})
+    if (!r->slots.empty()) before.push_back(std::move(*r));
+  for (Round* r : {&leave_rpc, &leave_nv})
+    if (!r->slots.empty()) after.push_back(std::move(*r));
+  for (Round& r : before) lay_out(r, channels);
+  for (Round& r : after) lay_out(r, channels);
+  packet.insert(packet.begin(), std::make_move_iterator(before.begin()),
+                std::make_move_iterator(before.end()));
+  packet.insert(packet.end(), std::make_move_iterator(after.begin()), std::make_move_iterator(after.end()));
 }
 
 PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& packet,
@@ -892,6 +929,7 @@ void PassthroughPort::finish(std::vector<Channel>& channels, const Slot& slot, s
     c.failed = true;
     c.failed_transfer = c.next;
     nv_modes_[c.channel].reset();  // whatever it was doing, we no longer know
+    rpc_modes_[c.channel].reset();
     needs_resync_ = true;
     return;
   }
@@ -899,7 +937,12 @@ void PassthroughPort::finish(std::vector<Channel>& channels, const Slot& slot, s
   ++c.next;
   ++stats_.commands;
   if (slot.plan.nv_access_mode) nv_modes_[c.channel] = *slot.plan.nv_access_mode;
-  if (slot.plan.effect == StepEffect::Unrepeatable) nv_modes_[c.channel].reset();  // a reset leaves NV mode
+  if (const int rpc = rpc_mode_set_by(slot.plan); rpc >= 0)
+    rpc_modes_[c.channel] = static_cast<std::uint8_t>(rpc);
+  if (slot.plan.effect == StepEffect::Unrepeatable) {  // a reset leaves NV and RPC memory mode
+    nv_modes_[c.channel].reset();
+    rpc_modes_[c.channel].reset();
+  }
 }
 
 void PassthroughPort::describe_failures(std::vector<Channel>& channels) {

@@ -41,11 +41,12 @@
 //     its outcome, and the rest of the packet replays. (A replay caused by an earlier late
 //     round can still write a cell twice, with the same value.)
 // Late and repeated copies: the network may deliver a packet late or twice, and the copy
-// runs again by itself. So no packet relies on, or leaves, an 8I20 in NV access mode: a
-// channel whose commands in a packet run in NV mode gets the mode set by the packet's first
-// DOIT and cleared by its last (bracket_nv_mode); between packets every 8I20 is in normal
-// access, whatever mode the commands asked for. A copy then writes the EEPROM cell it was
-// meant for, never working memory at the cell's EEPROM address, and leaves the mode off.
+// runs again by itself. So no packet relies on, or leaves, an 8I20 in NV access or RPC
+// memory mode: a channel whose commands in a packet run in such a mode gets it set by the
+// packet's first DOITs and cleared by its last (bracket_modes); between packets every 8I20
+// is in normal access, whatever mode the commands asked for. A copy then writes the EEPROM
+// cell it was meant for, never working memory at the cell's EEPROM address, and leaves
+// the modes off.
 // Packets stay within 1472 bytes each way and options.max_packet_wait of WaituS. Cards
 // without LBP16 space 4 (LBP16 version < 3) get one round per packet and polling.
 //
@@ -219,7 +220,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   // The rounds of the next packet under the packing rules, at most `max_doits` (0: no limit).
   std::vector<Round> next_packet(std::vector<Channel>& channels, unsigned max_doits) const;
   void lay_out(Round& round, const std::vector<Channel>& channels) const;
-  void bracket_nv_mode(std::vector<Round>& packet, const std::vector<Channel>& channels, bool leave) const;
+  void bracket_modes(std::vector<Round>& packet, const std::vector<Channel>& channels, bool leave) const;
   void learn_from_late(const Round& round);
   static bool is_eeprom_write(const Round& round);
   PacketResult run_packet(std::vector<Round>& packet, std::vector<Channel>& channels);
@@ -250,6 +251,9 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   std::vector<std::uint32_t> bauds_ = std::vector<std::uint32_t>(kMaxChannels, 0);
   // The NV access mode of each channel's 8I20 as far as we know (0xEC steps done).
   std::vector<std::optional<std::uint8_t>> nv_modes_ = std::vector<std::optional<std::uint8_t>>(kMaxChannels);
+  // RPC memory access (0xEA) each channel's finished commands asked for (nullopt: unknown).
+  std::vector<std::optional<std::uint8_t>> rpc_modes_ =
+      std::vector<std::optional<std::uint8_t>>(kMaxChannels);
   std::vector<std::string> notes_{};
   bool needs_resync_ = false;
   std::chrono::microseconds slack_{0};  // learnt from late DOITs, added to every WaituS

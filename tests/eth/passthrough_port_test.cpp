@@ -269,7 +269,7 @@ TEST(EthBatching, OneDoitServesEveryChannelOfThePort) {
   }
   // One DOIT per command for the four channels at once, not four times as many, plus two
   // where a packet boundary falls inside NV access mode: the mode is cleared at the end of
-  // one packet and set again at the start of the next (bracket_nv_mode).
+  // one packet and set again at the start of the next (bracket_modes).
   const auto packets = port->transport_stats().packets_sent - trips;
   EXPECT_LE(packets, 3u);
   EXPECT_GE(port->stats().doits, batch.size());
