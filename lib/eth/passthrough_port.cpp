@@ -22,11 +22,10 @@ namespace {
 
 // Setup mode's serial rate when the firmware does not say (8I20 setup mode: 115200 8N1).
 constexpr std::uint32_t kFallbackBaud = 115200;
-// What UdpClient adds to every packet: the sequence tag write and read (space 6 Scratch).
 // What every packet starts with: UdpClient's sequence tag (write and read of space 6
-// Scratch) and our read of RXUDPCount.
-constexpr std::size_t kTagRequestBytes = 6 + 4 + 4;
-constexpr std::size_t kTagReplyBytes = 2 + 2;
+// Scratch), FencedTransport's read of RXUDPCount and our own.
+constexpr std::size_t kTagRequestBytes = 6 + 4 + 4 + 4;
+constexpr std::size_t kTagReplyBytes = 2 + 2 + 2;
 // Late DOITs tolerated in one execute() before the link gives up: each costs a replay,
 // and a remote that is always slower than its estimate is better reported than chased.
 constexpr unsigned kMaxReplays = 16;
@@ -549,7 +548,7 @@ void PassthroughPort::run(std::vector<Channel>& channels) {
         restore.reset();
       } else {
         // After a late DOIT its round goes alone: the poll then reads its own result.
-        packet = next_packet(channels, slow ? 1u : options_.max_doits_per_packet);
+        packet = next_packet(channels, slow ? 1u : options_.max_doits_per_packet, /*leave=*/!slow);
         bracket_modes(packet, channels, /*leave=*/!slow);
         slow = false;
       }
@@ -591,7 +590,7 @@ bool mode_on(const std::optional<std::uint8_t>& mode) {
 }  // namespace
 
 std::vector<PassthroughPort::Round> PassthroughPort::next_packet(std::vector<Channel>& channels,
-                                                                 unsigned max_doits) const {
+                                                                 unsigned max_doits, bool leave) const {
   // What a channel already has in this packet: the packing rules (see the header) look
   // at it.
   struct Seen {
@@ -605,30 +604,6 @@ std::vector<PassthroughPort::Round> PassthroughPort::next_packet(std::vector<Cha
   std::vector<Seen> seen(channels.size());
   std::size_t request = kTagRequestBytes, reply = kTagReplyBytes;
   microseconds wait{0};
-  if (sslbp_->timer_space()) {
-    // Room for bracket_modes' rounds, as if every channel needed them: two for NV access
-    // where a channel's commands may run in it, two for RPC memory access likewise.
-    bool nv = false, rpc = false;
-    for (std::size_t i = 0; i < channels.size(); ++i) {
-      const Channel& c = channels[i];
-      rpc = rpc || rpc_modes_[c.channel].value_or(0) != 0;
-      for (std::size_t k = c.next; k < c.steps.size(); ++k) {
-        nv = nv || c.steps[k].effect == StepEffect::NvMode || c.mode_before[k].value_or(0) != 0;
-        rpc = rpc || rpc_mode_set_by(c.steps[k]) >= 0;
-      }
-    }
-    const unsigned rounds = (nv ? 2u : 0u) + (rpc ? 2u : 0u);
-    if (rounds > 0) {
-      Round bracket;
-      const PassthroughStep step = plan_passthrough(lbp::local_write(lbp::local::kSetNvAccess, 0));
-      for (std::size_t i = 0; i < channels.size(); ++i)
-        bracket.slots.push_back(Slot{.owner = i, .step = std::nullopt, .plan = step});
-      lay_out(bracket, channels);
-      request += rounds * bracket.request_bytes;
-      reply += rounds * bracket.reply_bytes;
-      wait += rounds * bracket.settle;
-    }
-  }
   for (;;) {
     if (max_doits != 0 && packet.size() >= max_doits) break;
     Round round;
@@ -652,9 +627,22 @@ std::vector<PassthroughPort::Round> PassthroughPort::next_packet(std::vector<Cha
     if (round.alone) allowed = allowed && packet.empty();
     if (!sslbp_->timer_space()) round.ends_packet = true;  // nothing to wait with: poll each DOIT
     lay_out(round, channels);
-    const bool fits = request + round.request_bytes <= lbp16::kMaxPayload &&
-                      reply + round.reply_bytes <= lbp16::kMaxPayload &&
-                      wait + round.settle <= options_.max_packet_wait;
+    // The mode DOITs bracket_modes will add to the packet with this round in it.
+    std::vector<const Round*> with_round;
+    for (const Round& r : packet) with_round.push_back(&r);
+    with_round.push_back(&round);
+    std::size_t bracket_request = 0, bracket_reply = 0;
+    microseconds bracket_wait{0};
+    const auto [enter, leave_rounds] = mode_brackets(with_round, channels, leave);
+    for (const auto* side : {&enter, &leave_rounds})
+      for (const Round& r : *side) {
+        bracket_request += r.request_bytes;
+        bracket_reply += r.reply_bytes;
+        bracket_wait += r.settle;
+      }
+    const bool fits = request + round.request_bytes + bracket_request <= lbp16::kMaxPayload &&
+                      reply + round.reply_bytes + bracket_reply <= lbp16::kMaxPayload &&
+                      wait + round.settle + bracket_wait <= options_.max_packet_wait;
     if (!packet.empty() && (!allowed || !fits)) break;
     for (const Slot& slot : round.slots) {
       Seen& s = seen[slot.owner];
@@ -685,7 +673,19 @@ std::vector<PassthroughPort::Round> PassthroughPort::next_packet(std::vector<Cha
 // follow that round).
 void PassthroughPort::bracket_modes(std::vector<Round>& packet, const std::vector<Channel>& channels,
                                     bool leave) const {
-  if (packet.empty() || !sslbp_->timer_space()) return;
+  std::vector<const Round*> rounds;
+  for (const Round& r : packet) rounds.push_back(&r);
+  auto [before, after] = mode_brackets(rounds, channels, leave);
+  packet.insert(packet.begin(), std::make_move_iterator(before.begin()),
+                std::make_move_iterator(before.end()));
+  packet.insert(packet.end(), std::make_move_iterator(after.begin()), std::make_move_iterator(after.end()));
+}
+
+// The rounds that bracket_modes puts before and after `packet`, laid out.
+std::pair<std::vector<PassthroughPort::Round>, std::vector<PassthroughPort::Round>>
+PassthroughPort::mode_brackets(const std::vector<const Round*>& packet, const std::vector<Channel>& channels,
+                               bool leave) const {
+  if (packet.empty() || !sslbp_->timer_space()) return {};
   Round enter_nv, enter_rpc, leave_rpc, leave_nv;
   const auto add = [&](Round& round, std::size_t owner, lbp::Byte command, std::uint8_t value,
                        std::optional<std::uint8_t> nv) {
@@ -696,8 +696,8 @@ void PassthroughPort::bracket_modes(std::vector<Round>& packet, const std::vecto
   };
   for (std::size_t owner = 0; owner < channels.size(); ++owner) {
     std::vector<const Slot*> mine;
-    for (const Round& r : packet)
-      for (const Slot& slot : r.slots)
+    for (const Round* r : packet)
+      for (const Slot& slot : r->slots)
         if (slot.owner == owner) mine.push_back(&slot);
     if (mine.empty()) continue;
     const Slot& first = *mine.front();
@@ -727,9 +727,7 @@ void PassthroughPort::bracket_modes(std::vector<Round>& packet, const std::vecto
     if (!r->slots.empty()) after.push_back(std::move(*r));
   for (Round& r : before) lay_out(r, channels);
   for (Round& r : after) lay_out(r, channels);
-  packet.insert(packet.begin(), std::make_move_iterator(before.begin()),
-                std::make_move_iterator(before.end()));
-  packet.insert(packet.end(), std::make_move_iterator(after.begin()), std::make_move_iterator(after.end()));
+  return {std::move(before), std::move(after)};
 }
 
 PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& packet,
@@ -913,12 +911,12 @@ void PassthroughPort::finish(std::vector<Channel>& channels, const Slot& slot, s
   Channel& c = channels[slot.owner];
   if (c.failed) return;  // its later DOITs in the packet ran, but its batch already ended
   const bool failed = (data & bit(c.channel)) != 0;
-  if (!slot.step) {  // an NV mode DOIT of the port's own: a restore before a replay, or a bracket
+  if (!slot.step) {  // a mode DOIT of the port's own: a restore before a replay, or a bracket
     if (failed) {
       c.failed = true;
       c.error = std::make_exception_ptr(
-          SslbpError("could not set the NV access mode of the 8I20 on " + describe(c.channel) +
-                         " around its commands; its mode is unknown: reset it (i20 reset)",
+          SslbpError("could not set the NV access or RPC memory mode of the 8I20 on " + describe(c.channel) +
+                         " around its commands; the mode is unknown: reset it (i20 reset)",
                      c.next));
       needs_resync_ = true;
     }

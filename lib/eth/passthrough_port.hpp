@@ -73,6 +73,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "eth/card.hpp"
@@ -218,9 +219,13 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   void resync();
   void run(std::vector<Channel>& channels);
   // The rounds of the next packet under the packing rules, at most `max_doits` (0: no limit).
-  std::vector<Round> next_packet(std::vector<Channel>& channels, unsigned max_doits) const;
+  // `leave`: the packet will be bracketed with mode-clearing DOITs (see bracket_modes).
+  std::vector<Round> next_packet(std::vector<Channel>& channels, unsigned max_doits, bool leave) const;
   void lay_out(Round& round, const std::vector<Channel>& channels) const;
   void bracket_modes(std::vector<Round>& packet, const std::vector<Channel>& channels, bool leave) const;
+  std::pair<std::vector<Round>, std::vector<Round>> mode_brackets(const std::vector<const Round*>& packet,
+                                                                  const std::vector<Channel>& channels,
+                                                                  bool leave) const;
   void learn_from_late(const Round& round);
   static bool is_eeprom_write(const Round& round);
   PacketResult run_packet(std::vector<Round>& packet, std::vector<Channel>& channels);
