@@ -6,12 +6,13 @@
 //
 //   1. identification, the HostMot2 cookie area and the IDROM with its tables at their
 //      usual place, and the running-host watch's first counter read   (survey_card)
-//   2. the watch's COMMAND sample halfway and 3. its last read at 30 ms  (running_host.hpp)
-//   4. stop, SSLBP's parameters                                      (read_locals)
-//   5. stop, the remotes' baud rates, the setup start, the channels' registers
-//   6. each 8I20's NV access mode (one DOIT)
+//   2. the watch's last counter read at 30 ms, with its COMMAND sample (running_host.hpp)
+//   3. stop, SSLBP's parameters                                      (read_locals)
+//   4. stop, the remotes' baud rates, the setup start, the channels' registers
 //
-// and the command itself, and the stop at the end. Each batch checks its own results
+// and the command itself, and the stop at the end. Each 8I20's NV access and RPC memory
+// modes are learnt from the device layer's own reads of them (its first batch), not read
+// again here. Each batch checks its own results
 // (run_sequence); where a check fails, the operations run again one at a time, so a
 // batch can cost packets but never a wrong value.
 #pragma once
@@ -51,7 +52,9 @@ struct CounterSample {
   std::chrono::steady_clock::time_point at{};
 };
 // require_no_running_host() with the window opened by `first`: command_samples - 1 COMMAND
-// samples inside it and the last counter read (with a COMMAND sample) at its end.
+// samples inside it and the last counter read (with a COMMAND sample) at its end. The host
+// sleeps between the samples: the card must not wait (WaituS) there, because a card that
+// waits serves no other host, and the watch runs before we know that none is running.
 HostActivity require_no_running_host(Lbp16Transport& bus, std::span<const SserialPort> ports,
                                      const RunningHostCheck& check, std::string_view action,
                                      const CounterSample& first);

@@ -208,10 +208,12 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
   const HostMot2Info& info = survey.hostmot2;
   const CounterSample first{
       .reply = survey.extra_replies.front(), .sent = survey.sent, .at = survey.replied_at};
-  // Two COMMAND samples (halfway and at the end) keep the whole command within issue 18's
-  // budget of 8 requests; the counters decide anyway (running_host.hpp).
+  // One COMMAND sample, with the last counter read at the end of the window, keeps the
+  // whole command within issue 18's budget of 8 requests. The counters decide (running_host.hpp):
+  // a sample is corroboration for the message, and samples cannot share a request, because
+  // a card that waits between them (WaituS) serves no other host meanwhile.
   RunningHostCheck watch = options_.running_host;
-  watch.command_samples = std::min(watch.command_samples, 2u);
+  watch.command_samples = 1;
   board_name_ = info.idrom.board_name;
   const SserialPort port = find_sserial_port(info, sserial_port_);
   sslbp_ = std::make_unique<SslbpPort>(*bus_, port, card_.has_timer_space(), options_.sslbp);
@@ -243,8 +245,6 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
     std::string note = "ch " + std::to_string(ch) + ": " + r.name + " unit " +
                        lbp::hex_value(r.unit_number, 8) + ", remote baud " +
                        (bauds_[ch] ? std::to_string(bauds_[ch]) : std::string("unknown"));
-    if (r.nv_access && *r.nv_access != 0)
-      note += ", found in NV access mode " + std::to_string(*r.nv_access) + " (left by an interrupted tool?)";
     notes_.push_back(note);
   }
   notes_.push_back(card_.has_timer_space()
@@ -327,8 +327,13 @@ void PassthroughPort::start_setup() {
       throw DiscoveryError("the remote on " + describe(ch) + " reports itself as '" + regs[i].name() +
                            "', not an 8I20");
   }
-  // Each 8I20's NV access mode (0xCC), in one DOIT: known modes let NV mode changes share
-  // packets with other commands.
+}
+
+// Each 8I20's NV access mode (0xCC), in one DOIT, after a restart mid-session: known modes
+// let NV mode changes share packets with other commands. (At the opening the modes are
+// learnt from the device layer's own first reads of 0xCC and 0xCA instead: see finish().)
+void PassthroughPort::read_nv_modes() {
+  const auto channels = channels_of(mask_);
   const lbp::Command query = lbp::local_read(lbp::local::kGetNvAccess);
   std::vector<Channel> work;
   const std::vector<std::optional<std::uint8_t>> asked = nv_modes_;
@@ -342,9 +347,8 @@ void PassthroughPort::start_setup() {
   for (const Channel& c : work) {
     if (c.error || c.replies.empty()) continue;
     const std::uint8_t found = c.replies.front().at(0);
-    remotes_[c.channel].nv_access = found;
-    // After a restart mid-session: between packets the card is in normal access by design
-    // (bracket_modes), so normal access found there does not undo an NV mode the tool's
+    // Between packets the card is in normal access by design (bracket_modes), so normal
+    // access found there does not undo an NV mode the tool's
     // commands asked for; the next packet sets it again.
     const auto before = asked[c.channel];
     nv_modes_[c.channel] = (found == 0 && before && *before != 0) ? *before : found;
@@ -368,6 +372,7 @@ void PassthroughPort::resync() {
     sent_at_last_ = seen.sent_at_last;
     missing_ours_ = 0;
     start_setup();
+    read_nv_modes();
   }
   needs_resync_ = false;
 }
@@ -589,6 +594,19 @@ bool mode_on(const std::optional<std::uint8_t>& mode) {
 
 }  // namespace
 
+// An 0xEA that turns RPC memory access off may follow other steps of its channel in a
+// packet when the mode before it is known: on at the packet's start, or set by the
+// channel's first step in it (an 0xEA opens the packet). Should a round before it be late
+// and this one run in the race, the replay's bracket sets RPC memory access on again
+// (rpc_modes_ holds the finished steps' mode), so the replayed reads still read the table.
+// An 0xEA that turns it on must still open the packet: a round before it, replayed after
+// it ran, would read the table where it meant working memory.
+bool PassthroughPort::rpc_off_may_follow(const PassthroughStep& step, const Channel& c,
+                                         std::size_t first_in_packet) const {
+  if (rpc_mode_set_by(step) != 0) return false;
+  return rpc_modes_[c.channel].has_value() || rpc_mode_set_by(c.steps[first_in_packet]) >= 0;
+}
+
 std::vector<PassthroughPort::Round> PassthroughPort::next_packet(std::vector<Channel>& channels,
                                                                  unsigned max_doits, bool leave) const {
   // What a channel already has in this packet: the packing rules (see the header) look
@@ -618,8 +636,15 @@ std::vector<PassthroughPort::Round> PassthroughPort::next_packet(std::vector<Cha
       switch (step.effect) {
         case StepEffect::Read: break;
         case StepEffect::Unrepeatable: round.alone = true; break;
-        case StepEffect::LocalWrite: allowed = allowed && !s.any; break;
-        case StepEffect::NvMode: allowed = allowed && (!s.any || c.mode_before[s.first].has_value()); break;
+        case StepEffect::LocalWrite:
+          allowed = allowed && (!s.any || rpc_off_may_follow(step, c, s.first));
+          break;
+        case StepEffect::NvMode:
+          // Known where a replay needs it: at the packet's start, or set by the channel's
+          // first step in it.
+          allowed = allowed && (!s.any || c.mode_before[s.first].has_value() ||
+                                c.steps[s.first].effect == StepEffect::NvMode);
+          break;
         case StepEffect::DataWrite: allowed = allowed && !s.data_read; break;
       }
     }
@@ -934,6 +959,7 @@ void PassthroughPort::finish(std::vector<Channel>& channels, const Slot& slot, s
   c.replies.push_back(reply_from_interface0(interface0, slot.plan.reply_bytes));
   ++c.next;
   ++stats_.commands;
+  learn_modes(c.channel, slot.plan, interface0);
   if (slot.plan.nv_access_mode) nv_modes_[c.channel] = *slot.plan.nv_access_mode;
   if (const int rpc = rpc_mode_set_by(slot.plan); rpc >= 0)
     rpc_modes_[c.channel] = static_cast<std::uint8_t>(rpc);
@@ -941,6 +967,19 @@ void PassthroughPort::finish(std::vector<Channel>& channels, const Slot& slot, s
     nv_modes_[c.channel].reset();
     rpc_modes_[c.channel].reset();
   }
+}
+
+// A read of the NV access mode (0xCC) or of RPC memory access (0xCA) while the mode is not
+// known (no packet bracket set it, so the read saw the card as it was): its answer is the
+// mode. The device layer's first batch reads both (8I20 manual, "LOCAL READ"), so the
+// opening needs no DOIT of its own for them.
+void PassthroughPort::learn_modes(unsigned channel, const PassthroughStep& step, std::uint32_t interface0) {
+  if (step.data_write || step.interface0 || step.reply_bytes != 1) return;
+  const auto value = static_cast<std::uint8_t>(interface0 & 0xFF);
+  const auto command = static_cast<lbp::Byte>(step.cs >> 24);
+  if (command == lbp::local::kGetNvAccess && !nv_modes_[channel]) nv_modes_[channel] = value;
+  if (command == lbp::local::kGetRpcMemAccess && !rpc_modes_[channel])
+    rpc_modes_[channel] = static_cast<std::uint8_t>(value != 0 ? 1 : 0);
 }
 
 void PassthroughPort::describe_failures(std::vector<Channel>& channels) {

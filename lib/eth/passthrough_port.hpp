@@ -8,8 +8,9 @@
 // that no other host is running the card (running_host.hpp: refused with
 // RunningHostError unless options.running_host.take_over), stop the port, read SSLBP's
 // parameters and the remote baud rates, setup-start the channels of the mask, check that
-// an 8I20 answered on each (INTERFACE1 = "8I20"), and read each one's NV access mode
-// (0xCC, one DOIT). A setup start does none of the device specific setup of a normal start
+// an 8I20 answered on each (INTERFACE1 = "8I20"). Each 8I20's NV access and RPC memory
+// modes are learnt from the first reads of them (0xCC, 0xCA) the device layer sends, which
+// run in whatever mode the card is in; until then they count as unknown. A setup start does none of the device specific setup of a normal start
 // (manual): no fault is cleared, no current loop enabled. The port is stopped when the
 // object goes away.
 //
@@ -33,8 +34,11 @@
 //   - a data write never follows a data read of the same channel in one packet (a replayed
 //     read must not see a write that ran early);
 //   - other local writes open a packet for their channel; 0xEC (NV access) may sit
-//     anywhere when the channel's mode at the start of the packet is known, because a
-//     replay first restores the mode the late round expects (one DOIT of its own);
+//     anywhere when the channel's mode at the start of the packet is known (or set by its
+//     first step in the packet, an 0xEC), because a
+//     replay first restores the mode the late round expects (one DOIT of its own); an
+//     0xEA that turns RPC memory access off may follow the 0xEA that turned it on, or
+//     any step when the mode is known, because the replay's bracket turns it on again;
 //   - an EEPROM write (a data write while NV access is on, or not known to be off) waits
 //     inside the packet (WaituS up to 65535 us, options.nv_write_time per word); a cell
 //     that takes longer is waited for and not written again: DATA, once COMMAND clears, is
@@ -120,7 +124,6 @@ struct RemoteInfo {
   std::string name{};             // "8I20"
   std::uint32_t unit_number = 0;  // INTERFACE0 after start
   std::uint32_t cs = 0;
-  std::optional<std::uint8_t> nv_access{};  // 0xCC after start; nullopt if it did not answer
 };
 
 struct PassthroughStats {
@@ -215,12 +218,14 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   struct PacketResult;
 
   void start_setup();
+  void read_nv_modes();
   bool another_host_runs_the_port();
   void resync();
   void run(std::vector<Channel>& channels);
   // The rounds of the next packet under the packing rules, at most `max_doits` (0: no limit).
   // `leave`: the packet will be bracketed with mode-clearing DOITs (see bracket_modes).
   std::vector<Round> next_packet(std::vector<Channel>& channels, unsigned max_doits, bool leave) const;
+  bool rpc_off_may_follow(const PassthroughStep& step, const Channel& c, std::size_t first_in_packet) const;
   void lay_out(Round& round, const std::vector<Channel>& channels) const;
   void bracket_modes(std::vector<Round>& packet, const std::vector<Channel>& channels, bool leave) const;
   std::pair<std::vector<Round>, std::vector<Round>> mode_brackets(const std::vector<const Round*>& packet,
@@ -236,6 +241,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   std::optional<Round> restore_round(const std::vector<Round>& packet, std::size_t late,
                                      std::vector<Channel>& channels) const;
   void finish(std::vector<Channel>& channels, const Slot& slot, std::uint32_t interface0, std::uint8_t data);
+  void learn_modes(unsigned channel, const PassthroughStep& step, std::uint32_t interface0);
   void describe_failures(std::vector<Channel>& channels);
   // `received`: RXUDPCount read in our latest packet; `sent`: our packets by then.
   void require_no_foreign_packets(std::uint16_t received, std::uint64_t sent);

@@ -31,22 +31,33 @@ Counters counters_of(const lbp::Bytes& words) {
   return Counters{.received = w.front(), .sent = w.back()};
 }
 
-// One read-only packet: optionally the counters, then COMMAND of every port. Returns the
-// counters when asked for and records busy COMMANDs.
-std::optional<Counters> sample(Lbp16Transport& bus, std::span<const SserialPort> ports, bool counters,
-                               HostActivity& activity, std::uint64_t& sent) {
-  std::vector<lbp16::Command> packet;
+// The commands of one sample: optionally the counters, then COMMAND of every port.
+void add_sample(std::vector<lbp16::Command>& packet, std::span<const SserialPort> ports, bool counters) {
   if (counters) packet.push_back(counters_read());
   for (const auto& port : ports) packet.push_back(lbp16::read_hm2(port.registers.command));
-  const auto parts = bus.transact_counted(packet, Resend::IfReadOnly, sent);
-  const std::size_t first = counters ? 1 : 0;
+}
+
+// The replies of the sample whose commands start at `at`: busy COMMANDs are recorded; the
+// counters are returned when the sample read them.
+std::optional<Counters> parse_sample(std::span<const lbp::Bytes> parts, std::size_t at,
+                                     std::span<const SserialPort> ports, bool counters, HostActivity& activity) {
+  const std::size_t first = at + (counters ? 1 : 0);
   for (std::size_t i = 0; i < ports.size(); ++i) {
     const auto command = static_cast<std::uint32_t>(lbp::read_le(parts[first + i])) & 0xFFFF;
     if (command != 0) activity.busy.push_back(BusyCommand{.port = ports[i].index, .command = command});
   }
   ++activity.command_samples;
   if (!counters) return std::nullopt;
-  return counters_of(parts.front());
+  return counters_of(parts[at]);
+}
+
+// One read-only packet holding one sample.
+std::optional<Counters> sample(Lbp16Transport& bus, std::span<const SserialPort> ports, bool counters,
+                               HostActivity& activity, std::uint64_t& sent) {
+  std::vector<lbp16::Command> packet;
+  add_sample(packet, ports, counters);
+  const auto parts = bus.transact_counted(packet, Resend::IfReadOnly, sent);
+  return parse_sample(parts, 0, ports, counters, activity);
 }
 
 std::uint32_t beyond(std::uint16_t before, std::uint16_t after, std::uint32_t own) {
@@ -137,26 +148,10 @@ HostActivity observe_host_activity(Lbp16Transport& bus, std::span<const SserialP
                                    const RunningHostCheck& check) {
   HostActivity activity;
   const auto start = std::chrono::steady_clock::now();
-  std::uint64_t sent_after_first = 0, sent = 0;
+  std::uint64_t sent_after_first = 0;
   const Counters first = *sample(bus, ports, true, activity, sent_after_first);
   const unsigned between = std::max(1u, check.command_samples) - 1;
-  const auto step = check.window / (between + 1);
-  for (unsigned i = 0; i < between; ++i) {
-    std::this_thread::sleep_until(start + step * (i + 1));
-    sample(bus, ports, false, activity, sent);
-  }
-  std::this_thread::sleep_until(start + check.window);
-  const Counters last = *sample(bus, ports, true, activity, sent);
-  activity.window =
-      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start);
-  // Every packet we sent after the first counter read was counted on the way in; every
-  // reply from the first one on was counted on the way out.
-  activity.own_packets = static_cast<std::uint32_t>(sent - sent_after_first);
-  activity.foreign_received = beyond(first.received, last.received, activity.own_packets);
-  activity.foreign_sent = beyond(first.sent, last.sent, activity.own_packets);
-  activity.last_received = last.received;
-  activity.sent_at_last = sent;
-  return activity;
+  return finish_window(bus, ports, check, std::move(activity), start, first, sent_after_first, between);
 }
 
 std::uint32_t foreign_packets_since(Lbp16Transport& bus, const HostActivity& since) {
@@ -174,13 +169,7 @@ bool host_is_running(const HostActivity& activity, const RunningHostCheck& check
 
 HostActivity require_no_running_host(Lbp16Transport& bus, std::span<const SserialPort> ports,
                                      const RunningHostCheck& check, std::string_view action) {
-  HostActivity activity = observe_host_activity(bus, ports, check);
-  if (check.take_over || !host_is_running(activity, check)) return activity;
-  std::string message = "refusing to " + std::string(action) + " on " + bus.describe();
-  message += ": another host is running the card (" + activity.describe() + "). ";
-  message += "Stop LinuxCNC first, or pass " + check.take_over_flag;
-  message += ": every axis on that port drops out";
-  throw RunningHostError(message, activity);
+  return refuse_if_running(bus, check, action, observe_host_activity(bus, ports, check));
 }
 
 }  // namespace i20::eth

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "eth/batched_opening.hpp"
 #include "eth/errors.hpp"
 #include "eth/normal_mode.hpp"
 #include "eth/passthrough_link.hpp"
@@ -53,12 +54,18 @@ class CounterCard final : public Lbp16Transport {
   std::uint16_t received = 0, sent = 0, command = 0;
   std::uint16_t foreign_per_packet = 0;  // another host's packets between two of ours
 
-  std::vector<lbp::Bytes> transact(std::span<const lbp::lbp16::Command> commands, Resend) override {
+  std::chrono::microseconds waited{0};  // WaituS written (space 4), all packets
+  Resend last_resend = Resend::Never;
+
+  std::vector<lbp::Bytes> transact(std::span<const lbp::lbp16::Command> commands, Resend resend) override {
     ++stats_.packets_sent;
+    last_resend = resend;
     received = static_cast<std::uint16_t>(received + 1 + foreign_per_packet);  // counted on arrival
     std::vector<lbp::Bytes> out;
     for (const auto& c : commands) {
       if (c.word.write) {
+        if (c.word.space == lbp::lbp16::space::kTimers && c.address == kWaitMicrosecondsAddress)
+          waited += std::chrono::microseconds(lbp::read_le(c.data));
         out.emplace_back();
       } else if (c.word.space == lbp::lbp16::space::kStatus) {
         lbp::Bytes b;
@@ -124,6 +131,51 @@ TEST(EthRunningHost, ForeignPacketsAndABusyCommandAreNamed) {
   }
   check.take_over = true;
   EXPECT_TRUE(host_is_running(require_no_running_host(bus, std::span(&kPort, 1), check, "stop"), check));
+}
+
+// Issue 18 item 5: the passthrough opening's watch costs one request after the survey (its
+// first counter read rides in the survey): the last counter read with one COMMAND sample,
+// sent when the window is over. The card is never told to wait (WaituS) inside the window:
+// a card that waits serves no other host, and the watch runs beside a host that may be
+// running a machine.
+TEST(EthRunningHost, TheOpeningsWatchIsOneRequestAndTheCardNeverWaits) {
+  CounterCard bus;
+  RunningHostCheck check;
+  check.window = 30ms;
+  check.command_samples = 1;
+  const auto counters = udp_counters_read();
+  const auto watch = [&] {
+    CounterSample first;
+    first.reply = bus.transact_counted(std::span(&counters, 1), Resend::IfReadOnly, first.sent).front();
+    first.at = std::chrono::steady_clock::now();
+    const auto before = bus.stats().packets_sent;
+    const auto finish = [&] {
+      EXPECT_EQ(bus.stats().packets_sent - before, 1u);
+      EXPECT_GE(std::chrono::steady_clock::now() - first.at, check.window);
+    };
+    try {
+      const HostActivity seen = require_no_running_host(bus, std::span(&kPort, 1), check, "stop", first);
+      finish();
+      return seen;
+    } catch (const RunningHostError&) {
+      finish();
+      throw;
+    }
+  };
+  const HostActivity idle = watch();
+  EXPECT_FALSE(host_is_running(idle, check));
+  EXPECT_EQ(idle.command_samples, 1u);
+  bus.foreign_per_packet = 30;  // LinuxCNC's servo loop: 30 exchanges in 30 ms
+  bus.command = 0x1001;
+  try {
+    watch();
+    FAIL() << "a running host was not refused";
+  } catch (const RunningHostError& e) {
+    EXPECT_EQ(e.activity().foreign_received, 30u);
+    EXPECT_EQ(e.activity().busy.size(), 1u);
+  }
+  EXPECT_EQ(bus.waited, 0us) << "the card was told to wait while another host may be running it";
+  EXPECT_EQ(bus.last_resend, Resend::IfReadOnly);
 }
 
 TEST(EthRunningHost, AnIdleCardIsNotRunByAnyone) {
