@@ -208,12 +208,11 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
   const HostMot2Info& info = survey.hostmot2;
   const CounterSample first{
       .reply = survey.extra_replies.front(), .sent = survey.sent, .at = survey.replied_at};
-  // One COMMAND sample, with the last counter read at the end of the window, keeps the
-  // whole command within issue 18's budget of 8 requests. The counters decide (running_host.hpp):
-  // a sample is corroboration for the message, and samples cannot share a request, because
-  // a card that waits between them (WaituS) serves no other host meanwhile.
+  // Two COMMAND samples (halfway and at the end); the counters decide anyway
+  // (running_host.hpp). The samples cannot share a request: a card that waits between
+  // them (WaituS) serves no other host meanwhile.
   RunningHostCheck watch = options_.running_host;
-  watch.command_samples = 1;
+  watch.command_samples = std::min(watch.command_samples, 2u);
   board_name_ = info.idrom.board_name;
   const SserialPort port = find_sserial_port(info, sserial_port_);
   sslbp_ = std::make_unique<SslbpPort>(*bus_, port, card_.has_timer_space(), options_.sslbp);

@@ -193,6 +193,49 @@ TEST(EthBatching, ASlowSslbpIsCaughtAndTheResultsStayRight) {
   EXPECT_EQ(value(link->execute_one(lbp::local_read(L::kGetNvAccess))), 0u) << "NV mode left";
 }
 
+// A slice of the RPC table as the device layer reads it (Amp8i20::read_rpc_table): RPC
+// memory access on, the reads, off again and the check. One packet: the 0xEA that turns the
+// mode off may follow the reads, because a replay's bracket turns it on again. With a slow
+// SSLBP (late DOITs, replays, DOITs run in the race) every word is still the table's.
+std::vector<lbp::Command> rpc_slice(std::uint16_t bytes) {
+  std::vector<lbp::Command> batch{lbp::local_write(L::kSetRpcMemAccess, 1)};
+  for (std::uint16_t a = 0; a < bytes; a += 4) batch.push_back(lbp::read(a, DataSize::Four));
+  batch.push_back(lbp::local_write(L::kSetRpcMemAccess, 0));
+  batch.push_back(lbp::local_read(L::kGetRpcMemAccess));
+  return batch;
+}
+
+void expect_the_table(test::RunningCard& card, const std::vector<lbp::Bytes>& r, std::uint16_t bytes) {
+  const lbp::Bytes table = card.with_amplifier(0, 0, [](sim::Virtual8i20& a) { return a.rpc_table(); });
+  ASSERT_GE(table.size(), bytes);
+  lbp::Bytes read;
+  for (std::size_t i = 1; i + 2 < r.size(); ++i) read.insert(read.end(), r[i].begin(), r[i].end());
+  EXPECT_EQ(read, lbp::Bytes(table.begin(), table.begin() + bytes));
+  EXPECT_EQ(value(r.back()), 0u) << "RPC memory access read back on";
+  EXPECT_FALSE(card.with_amplifier(0, 0, [](sim::Virtual8i20& a) { return a.lbp_registers().rpcmem; }));
+}
+
+TEST(EthBatching, AnRpcTableSliceIsOnePacket) {
+  test::RunningCard card;
+  const auto link = SslbpPassthroughLink::open(card.target(0));
+  read_modes(*link);
+  const auto before = packets(*link);
+  const auto r = link->execute(rpc_slice(64));
+  EXPECT_EQ(packets(*link) - before, 1u);
+  expect_the_table(card, r, 64);
+}
+
+TEST(EthBatching, AnRpcTableSliceStaysRightOnASlowSslbp) {
+  ethsim::ServerOptions options;
+  options.sslbp.processing = std::chrono::microseconds(400);
+  test::RunningCard card(options);
+  const auto link = SslbpPassthroughLink::open(card.target(0));
+  read_modes(*link);
+  const auto r = link->execute(rpc_slice(64));
+  EXPECT_GT(link->stats().replays, 0u);
+  expect_the_table(card, r, 64);
+}
+
 TEST(EthBatching, AWaitTooShortForTheSerialTimeIsCaught) {
   // The estimate leaves out the remote's turnaround and SSLBP's processing: too short for
   // the virtual card's timing, which the checks must catch.
