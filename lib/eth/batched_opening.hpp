@@ -12,9 +12,8 @@
 //
 // and the command itself, and the stop at the end. Each 8I20's NV access and RPC memory
 // modes are learnt from the device layer's own reads of them (its first batch), not read
-// again here. Each batch checks its own results
-// (run_sequence); where a check fails, the operations run again one at a time, so a
-// batch can cost packets but never a wrong value.
+// again here. Each batch checks its own results (run_sequence); where a check fails, the
+// operations run again one at a time, so a batch can cost packets but never a wrong value.
 #pragma once
 
 #include <chrono>

@@ -347,8 +347,8 @@ void PassthroughPort::read_nv_modes() {
     if (c.error || c.replies.empty()) continue;
     const std::uint8_t found = c.replies.front().at(0);
     // Between packets the card is in normal access by design (bracket_modes), so normal
-    // access found there does not undo an NV mode the tool's
-    // commands asked for; the next packet sets it again.
+    // access found there does not undo an NV mode the tool's commands asked for; the next
+    // packet sets it again.
     const auto before = asked[c.channel];
     nv_modes_[c.channel] = (found == 0 && before && *before != 0) ? *before : found;
   }
@@ -970,8 +970,8 @@ void PassthroughPort::finish(std::vector<Channel>& channels, const Slot& slot, s
 
 // A read of the NV access mode (0xCC) or of RPC memory access (0xCA) while the mode is not
 // known (no packet bracket set it, so the read saw the card as it was): its answer is the
-// mode. The device layer's first batch reads both (8I20 manual, "LOCAL READ"), so the
-// opening needs no DOIT of its own for them.
+// mode. The device layer's first batch reads both (Amp8i20::info), so the opening needs
+// no DOIT of its own for them.
 void PassthroughPort::learn_modes(unsigned channel, const PassthroughStep& step, std::uint32_t interface0) {
   if (step.data_write || step.interface0 || step.reply_bytes != 1) return;
   const auto value = static_cast<std::uint8_t>(interface0 & 0xFF);

@@ -10,8 +10,9 @@
 // parameters and the remote baud rates, setup-start the channels of the mask, check that
 // an 8I20 answered on each (INTERFACE1 = "8I20"). Each 8I20's NV access and RPC memory
 // modes are learnt from the first reads of them (0xCC, 0xCA) the device layer sends, which
-// run in whatever mode the card is in; until then they count as unknown. A setup start does none of the device specific setup of a normal start
-// (manual): no fault is cleared, no current loop enabled. The port is stopped when the
+// run in whatever mode the card is in; until then they count as unknown. A setup start
+// does none of the device specific setup of a normal start (manual): no fault is cleared,
+// no current loop enabled. The port is stopped when the
 // object goes away.
 //
 // Batching. Each LBP command is one passthrough step: CS (and INTERFACE0 for a write)
@@ -35,8 +36,8 @@
 //     read must not see a write that ran early);
 //   - other local writes open a packet for their channel; 0xEC (NV access) may sit
 //     anywhere when the channel's mode at the start of the packet is known (or set by its
-//     first step in the packet, an 0xEC), because a
-//     replay first restores the mode the late round expects (one DOIT of its own); an
+//     first step in the packet, an 0xEC), because a replay first restores the mode the
+//     late round expects (one DOIT of its own); an
 //     0xEA that turns RPC memory access off may follow the 0xEA that turned it on, or
 //     any step when the mode is known, because the replay's bracket turns it on again;
 //   - an EEPROM write (a data write while NV access is on, or not known to be off) waits

@@ -40,7 +40,8 @@ void add_sample(std::vector<lbp16::Command>& packet, std::span<const SserialPort
 // The replies of the sample whose commands start at `at`: busy COMMANDs are recorded; the
 // counters are returned when the sample read them.
 std::optional<Counters> parse_sample(std::span<const lbp::Bytes> parts, std::size_t at,
-                                     std::span<const SserialPort> ports, bool counters, HostActivity& activity) {
+                                     std::span<const SserialPort> ports, bool counters,
+                                     HostActivity& activity) {
   const std::size_t first = at + (counters ? 1 : 0);
   for (std::size_t i = 0; i < ports.size(); ++i) {
     const auto command = static_cast<std::uint32_t>(lbp::read_le(parts[first + i])) & 0xFFFF;
@@ -75,8 +76,9 @@ std::string what_command_is(std::uint32_t command) {
 
 // The window from `start` on: `between` COMMAND samples spread over it, then the last
 // sample with the counters at its end.
-HostActivity finish_window(Lbp16Transport& bus, std::span<const SserialPort> ports, const RunningHostCheck& check,
-                           HostActivity activity, std::chrono::steady_clock::time_point start, Counters first,
+HostActivity finish_window(Lbp16Transport& bus, std::span<const SserialPort> ports,
+                           const RunningHostCheck& check, HostActivity activity,
+                           std::chrono::steady_clock::time_point start, Counters first,
                            std::uint64_t sent_after_first, unsigned between) {
   std::uint64_t sent = 0;
   const auto step = check.window / (between + 1);
@@ -121,8 +123,8 @@ HostActivity require_no_running_host(Lbp16Transport& bus, std::span<const Sseria
                                      const CounterSample& first) {
   const unsigned between = std::max(1u, check.command_samples) - 1;
   return refuse_if_running(bus, check, action,
-                           finish_window(bus, ports, check, HostActivity{}, first.at, counters_of(first.reply),
-                                         first.sent, between));
+                           finish_window(bus, ports, check, HostActivity{}, first.at,
+                                         counters_of(first.reply), first.sent, between));
 }
 
 std::string HostActivity::describe() const {
