@@ -31,34 +31,22 @@ Counters counters_of(const lbp::Bytes& words) {
   return Counters{.received = w.front(), .sent = w.back()};
 }
 
-// The commands of one sample: optionally the counters, then COMMAND of every port.
-void add_sample(std::vector<lbp16::Command>& packet, std::span<const SserialPort> ports, bool counters) {
+// One read-only packet: optionally the counters, then COMMAND of every port. Returns the
+// counters when asked for and records busy COMMANDs.
+std::optional<Counters> sample(Lbp16Transport& bus, std::span<const SserialPort> ports, bool counters,
+                               HostActivity& activity, std::uint64_t& sent) {
+  std::vector<lbp16::Command> packet;
   if (counters) packet.push_back(counters_read());
   for (const auto& port : ports) packet.push_back(lbp16::read_hm2(port.registers.command));
-}
-
-// The replies of the sample whose commands start at `at`: busy COMMANDs are recorded; the
-// counters are returned when the sample read them.
-std::optional<Counters> parse_sample(std::span<const lbp::Bytes> parts, std::size_t at,
-                                     std::span<const SserialPort> ports, bool counters,
-                                     HostActivity& activity) {
-  const std::size_t first = at + (counters ? 1 : 0);
+  const auto parts = bus.transact_counted(packet, Resend::IfReadOnly, sent);
+  const std::size_t first = counters ? 1 : 0;
   for (std::size_t i = 0; i < ports.size(); ++i) {
     const auto command = static_cast<std::uint32_t>(lbp::read_le(parts[first + i])) & 0xFFFF;
     if (command != 0) activity.busy.push_back(BusyCommand{.port = ports[i].index, .command = command});
   }
   ++activity.command_samples;
   if (!counters) return std::nullopt;
-  return counters_of(parts[at]);
-}
-
-// One read-only packet holding one sample.
-std::optional<Counters> sample(Lbp16Transport& bus, std::span<const SserialPort> ports, bool counters,
-                               HostActivity& activity, std::uint64_t& sent) {
-  std::vector<lbp16::Command> packet;
-  add_sample(packet, ports, counters);
-  const auto parts = bus.transact_counted(packet, Resend::IfReadOnly, sent);
-  return parse_sample(parts, 0, ports, counters, activity);
+  return counters_of(parts.front());
 }
 
 std::uint32_t beyond(std::uint16_t before, std::uint16_t after, std::uint32_t own) {
@@ -74,12 +62,13 @@ std::string what_command_is(std::uint32_t command) {
   return "a command";
 }
 
-// The window from `start` on: `between` COMMAND samples spread over it, then the last
-// sample with the counters at its end.
+// The window from `start` on: command_samples - 1 COMMAND samples spread over it, then the
+// last sample with the counters at its end.
 HostActivity finish_window(Lbp16Transport& bus, std::span<const SserialPort> ports,
                            const RunningHostCheck& check, HostActivity activity,
                            std::chrono::steady_clock::time_point start, Counters first,
-                           std::uint64_t sent_after_first, unsigned between) {
+                           std::uint64_t sent_after_first) {
+  const unsigned between = std::max(1u, check.command_samples) - 1;
   std::uint64_t sent = 0;
   const auto step = check.window / (between + 1);
   for (unsigned i = 0; i < between; ++i) {
@@ -121,10 +110,9 @@ lbp16::Command udp_counters_read() {
 HostActivity require_no_running_host(Lbp16Transport& bus, std::span<const SserialPort> ports,
                                      const RunningHostCheck& check, std::string_view action,
                                      const CounterSample& first) {
-  const unsigned between = std::max(1u, check.command_samples) - 1;
-  return refuse_if_running(bus, check, action,
-                           finish_window(bus, ports, check, HostActivity{}, first.at,
-                                         counters_of(first.reply), first.sent, between));
+  return refuse_if_running(
+      bus, check, action,
+      finish_window(bus, ports, check, HostActivity{}, first.at, counters_of(first.reply), first.sent));
 }
 
 std::string HostActivity::describe() const {
@@ -152,8 +140,7 @@ HostActivity observe_host_activity(Lbp16Transport& bus, std::span<const SserialP
   const auto start = std::chrono::steady_clock::now();
   std::uint64_t sent_after_first = 0;
   const Counters first = *sample(bus, ports, true, activity, sent_after_first);
-  const unsigned between = std::max(1u, check.command_samples) - 1;
-  return finish_window(bus, ports, check, std::move(activity), start, first, sent_after_first, between);
+  return finish_window(bus, ports, check, std::move(activity), start, first, sent_after_first);
 }
 
 std::uint32_t foreign_packets_since(Lbp16Transport& bus, const HostActivity& since) {
