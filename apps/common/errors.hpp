@@ -1,25 +1,21 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// The one-line error report every app prints, and the exit codes (lib/ops/outcome.hpp owns
-// the map; these names are the apps' spelling of it).
+// How the apps print what went wrong: one line per report line, "PROGRAM: LABEL: MESSAGE", on
+// stderr. What a failure means and its exit code are lib/ops's (ops::Session::fail,
+// ops::failure_of_current_exception, ops::exit_code); no app decides either.
 #pragma once
 
-#include "ops/outcome.hpp"
+#include <string>
+
+#include "ops/session.hpp"
 #include "parse_error.hpp"
 
 namespace i20::app {
 
-enum ExitCode : int {
-  kOk = ops::kExitOk,
-  kFailure = ops::kExitFailed,             // failed before anything was written (card not reached)
-  kBadInput = ops::kExitBadInput,          // bad arguments, files or values: nothing was sent
-  kRefused = ops::kExitRefused,            // a safety rule refused: nothing was written
-  kCardState = ops::kExitUncertain,        // state uncertain or rolled back: cells named
-  kFaultsRemain = ops::kExitFaultsRemain,  // clear-faults: faults could not be cleared
-  kInterrupted = ops::kExitInterrupted,
-};
+// Prints the report's lines and returns its exit code. `hint` is appended to the first
+// line's message (the flag that changes the outcome, which only the app can name).
+int print_failure(const char* program, const ops::FailureReport& report, const std::string& hint = {});
 
-// Prints "PROGRAM: LABEL: MESSAGE" (one line) to stderr and returns the exit code for the
-// exception. Call from a catch (...) block.
+// From a catch block when no session is open: prints the one line and returns the exit code.
 int report_current_exception(const char* program);
 
 }  // namespace i20::app

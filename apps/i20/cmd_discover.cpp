@@ -10,9 +10,10 @@
 #include <iostream>
 
 #include "context.hpp"
-#include "output_file.hpp"
-#include "ops/discover.hpp"
 #include "lbp/bytes.hpp"
+#include "ops/discover.hpp"
+#include "ops/errors.hpp"
+#include "output_file.hpp"
 
 namespace i20::cli {
 namespace {
@@ -45,28 +46,28 @@ std::string now_text() {
   return buf;
 }
 
-void print_report(const device::DiscoveryReport& r) {
+void print_report(const ops::DiscoveryReport& r) {
   std::cout << std::left << std::setw(14) << "PARAMETER" << std::setw(16) << "RESULT" << std::setw(9)
             << "ADDRESS" << std::setw(10) << "DATABASE"
             << "HOW\n";
   for (const auto& f : r.findings) {
-    std::cout << std::left << std::setw(14) << f.name << std::setw(16) << device::to_string(f.outcome)
+    std::cout << std::left << std::setw(14) << f.name << std::setw(16) << ops::to_string(f.outcome)
               << std::setw(9) << (f.address ? lbp::hex_value(*f.address, 4) : "-") << std::setw(10)
               << (f.database_address ? lbp::hex_value(*f.database_address, 4) : "-") << f.detail << "\n";
   }
-  std::cout << r.count(device::Outcome::Found) << " found, " << r.count(device::Outcome::Ambiguous)
-            << " ambiguous, " << r.count(device::Outcome::NotFound) << " not found, "
-            << r.count(device::Outcome::NotSearchable) << " not searchable read-only\n";
+  std::cout << r.count(ops::Search::Found) << " found, " << r.count(ops::Search::Ambiguous) << " ambiguous, "
+            << r.count(ops::Search::NotFound) << " not found, " << r.count(ops::Search::NotSearchable)
+            << " not searchable read-only\n";
 }
 
-app::Json report_json(const device::DiscoveryReport& r, const std::string& file) {
+app::Json report_json(const ops::DiscoveryReport& r, const std::string& file) {
   auto j = app::Json::object();
   j.set("swrevision", r.swrevision).set("unit_number", r.unit_number).set("was_reset", r.was_reset);
   j.set("overlay_file", file);
   auto arr = app::Json::array();
   for (const auto& f : r.findings) {
     auto e = app::Json::object();
-    e.set("name", f.name).set("outcome", device::to_string(f.outcome));
+    e.set("name", f.name).set("outcome", ops::to_string(f.outcome));
     e.set("address", f.address ? app::Json(*f.address) : app::Json());
     auto c = app::Json::array();
     for (auto a : f.candidates) c.push(a);
@@ -90,13 +91,14 @@ void run_discover(Context& ctx, const DiscoverOptions& o) {
                    " (so working values equal NV values), then only reads. Go on?")) {
     std::cerr << "i20: discover not confirmed; nothing was sent (pass --yes, or --no-reset right after a "
                  "power-up)\n";
-    ctx.exit_code = app::kBadInput;
+    ctx.record(ops::Outcome::BadInput);
     return;
   }
   auto& card = ctx.card();
   if (isatty(STDERR_FILENO))
     options.scan.progress = [](std::size_t done, std::size_t total) {
-      std::cerr << "\rscanning RAM: " << (100 * done / total) << "%" << (done == total ? "\n" : "") << std::flush;
+      std::cerr << "\rscanning RAM: " << (100 * done / total) << "%" << (done == total ? "\n" : "")
+                << std::flush;
     };
   const auto result = ops::discover(card, ctx.session().db(), options);
   const std::string file = result.written.string();
@@ -106,7 +108,8 @@ void run_discover(Context& ctx, const DiscoverOptions& o) {
   }
   print_report(result.report);
   std::cout << "overlay written to " << file << " (loaded back and accepted): use it with `i20 "
-            << ctx.target_flags() << " --params " << file << " ...` or copy it to ~/.config/i20/params.yaml\n";
+            << ctx.target_flags() << " --params " << file
+            << " ...` or copy it to ~/.config/i20/params.yaml\n";
 }
 
 }  // namespace

@@ -13,14 +13,14 @@
 
 #include "change_render.hpp"
 #include "context.hpp"
-#include "device/errors.hpp"
 #include "faults/fault_mask.hpp"
 #include "faults/register_spec.hpp"
 #include "faults/register_value.hpp"
 #include "faults_render.hpp"
 #include "lbp/bytes.hpp"
-#include "live_source.hpp"
+#include "ops/errors.hpp"
 #include "ops/faults.hpp"
+#include "ops/live_source.hpp"
 #include "passive.hpp"
 
 namespace i20::cli {
@@ -40,7 +40,7 @@ void with_fault_errors_mapped(Fn&& fn) {
   } catch (const F::UnknownBit& e) {
     throw UsageError(e.what());
   } catch (const F::NotMaskable& e) {
-    throw device::SafetyError(std::string(e.what()) + "; nothing was written");
+    throw ops::SafetyError(std::string(e.what()) + "; nothing was written");
   }
 }
 
@@ -78,7 +78,7 @@ void print_next_step(const F::Report& fault, const F::Report& status, const std:
 // Register reads on every transport (Ethernet included: the setup-mode passthrough), so a
 // latched fault is reported as it is; SSLBP's normal start would clear it.
 void run_faults(Context& ctx) {
-  const auto source = make_live_source(ctx, LiveMode::Registers);
+  const auto source = ops::make_live_source(ctx.session(), ops::LiveMode::Registers);
   const Readings r = source->read();
   const auto fault = F::fault_report(r.fault, r.faultmask);
   const auto status = live_status_report(r);
@@ -135,7 +135,7 @@ void run_decode(Context& ctx, const DecodeOptions& o) {
 struct MaskOptions {
   std::string key;
   std::string state;
-  device::WriteOptions write;
+  ops::WriteOptions write;
 };
 
 void print_mask_state(std::uint16_t faultmask, std::uint16_t fault, const std::string& flags) {
@@ -156,8 +156,8 @@ void print_mask_state(std::uint16_t faultmask, std::uint16_t fault, const std::s
 void run_mask_show(Context& ctx) {
   const Readings r = ops::read_fault_registers(ctx.card());
   if (!r.faultmask)
-    throw device::SafetyError("FAULTMASK cannot be read as a fact on " + ctx.card().describe() + ": " +
-                              ctx.card().unconfirmed_reason(ctx.card().db().get("FAULTMASK")));
+    throw ops::SafetyError("FAULTMASK cannot be read as a fact on " + ctx.card().describe() + ": " +
+                           ctx.card().unconfirmed_reason(ctx.card().db().get("FAULTMASK")));
   if (ctx.options.json) {
     auto j = app::Json::object();
     j.set("faultmask", *r.faultmask).set("hex", lbp::hex_value(*r.faultmask, 4));
@@ -193,11 +193,11 @@ void run_mask_set(Context& ctx, const MaskOptions& o) {
   with_fault_errors_mapped([&] { bit = &F::maskable_fault(o.key); });
   const bool masked = o.state == "on";
   // Refuse before the link opens whatever the rules already know (address, range).
-  device::check_offline(ctx.session().db().get("FAULTMASK"), F::kNothingMasked, o.write);
+  ops::check_offline(ctx.session().db().get("FAULTMASK"), F::kNothingMasked, o.write);
   auto& card = ctx.card();
   ops::MaskResult m;
   with_fault_errors_mapped([&] { m = ops::set_fault_mask(card, o.key, masked, o.write); });
-  ctx.exit_code = m.run.exit_code();
+  ctx.record(m.run.outcome);
   if (!m.run.ok()) {
     app::render::print_run(std::cout, m.run, card.db(), "command line");
     std::cerr << "i20: " << app::render::error_line(m.run) << "\n";
@@ -226,7 +226,7 @@ void run_mask(Context& ctx, const MaskOptions& o) {
 
 // ------------------------------------------------------------------ clear-faults
 struct ClearOptions {
-  device::WriteOptions write;
+  ops::WriteOptions write;
   unsigned wait_ms = 1000;
 };
 
@@ -280,12 +280,12 @@ app::Json clear_json(const ops::ClearResult& res, const F::Report& cleared, cons
 }
 
 void run_clear(Context& ctx, const ClearOptions& o) {
-  device::check_offline(ctx.session().db().get("CLEARFAULT"), 1, o.write);  // refuse before the link opens
+  ops::check_offline(ctx.session().db().get("CLEARFAULT"), 1, o.write);  // refuse before the link opens
   const auto res = ops::clear_faults(ctx.card(), o.write, std::chrono::milliseconds(o.wait_ms));
   const Readings& r = res.after;
   const auto cleared = F::fault_report(static_cast<std::uint16_t>(res.fault_before & ~r.fault));
   const auto remaining = F::fault_report(r.fault, r.faultmask);
-  if (r.fault != 0) ctx.exit_code = app::kFaultsRemain;
+  ctx.record(res.outcome());
   if (ctx.options.json) return ctx.print_json(clear_json(res, cleared, remaining, r, ctx.target_flags()));
   const std::string took = "CLEARFAULT acknowledged in " + std::to_string(res.took.count()) + " ms";
   if (res.fault_before == 0 && r.fault == 0) {
@@ -306,7 +306,7 @@ void run_clear(Context& ctx, const ClearOptions& o) {
 }
 
 // ------------------------------------------------------------------ registration
-void add_allow_unverified(CLI::App* cmd, device::WriteOptions& write) {
+void add_allow_unverified(CLI::App* cmd, ops::WriteOptions& write) {
   cmd->add_flag("--allow-unverified", write.allow_unverified,
                 "Write working (RAM) addresses the database does not confirm for this firmware");
 }

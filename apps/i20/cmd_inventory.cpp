@@ -10,9 +10,9 @@
 #include "change_render.hpp"
 #include "context.hpp"
 #include "faults/report.hpp"
-#include "interrupt.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/inventory.hpp"
+#include "ops/signals.hpp"
 #include "profile/loader.hpp"
 #include "profile_lookup.hpp"
 
@@ -101,25 +101,25 @@ void print_table(const std::vector<ops::InventoryRow>& rows, bool with_profile) 
 }
 
 void run_inventory(Context& ctx, const InventoryOptions& o) {
-  const auto db = app::load_database(ctx.options);
+  const auto& db = ctx.session().db();
   std::optional<profile::Profile> profile;
   if (!o.profile.empty()) {  // nothing is sent before the profile loads and names its cells
     profile = profile::load_profile_file(o.profile, db);
     (void)profile::cell_writes(*profile, db);
   }
-  const auto targets = ops::resolve_endpoints(o.targets, ops::endpoint_from(ctx.options.target));
+  const auto targets = ctx.session().targets(o.targets);
   ops::InventoryJob job;
   job.db = &db;
   job.profile = profile ? &*profile : nullptr;
-  job.open.link = ctx.options.link;
-  job.cancel = ops::Cancel(app::install_interrupt_handler());
+  job.open = ctx.session().open_options();
+  job.cancel = ctx.session().cancel();
   const auto rows = ops::read_inventory(targets, job);
-  ctx.exit_code = ops::exit_code(ops::inventory_outcome(rows));
+  ctx.record(ops::inventory_outcome(rows));
   if (ctx.options.json) {
     auto arr = app::Json::array();
     for (const auto& row : rows) arr.push(row_json(row, profile.has_value()));
     auto j = app::Json::object();
-    j.set("profile", profile ? app::Json(profile->name) : app::Json()).set("exit_code", ctx.exit_code);
+    j.set("profile", profile ? app::Json(profile->name) : app::Json()).set("exit_code", ctx.exit_code());
     return ctx.print_json(j.set("targets", std::move(arr)));
   }
   if (profile) std::cout << "Profile " << profile->name << " (" << o.profile << ")\n";

@@ -11,42 +11,30 @@
 #include "context.hpp"
 #include "lbp/bytes.hpp"
 #include "lbp/local.hpp"
-#include "link/ports.hpp"
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
+#include "ops/errors.hpp"
 #include "ops/read.hpp"
 #include "ops/reset.hpp"
-#include "profile/finding.hpp"
 #include "params/value.hpp"
+#include "profile/finding.hpp"
 
 namespace i20::cli {
 namespace {
 
 using params::Param;
 
-std::string lbp_status_text(lbp::Byte status) {
-  namespace L = lbp::local;
-  if (status == 0) return "no errors";
-  std::string text;
-  const std::pair<lbp::Byte, const char*> bits[] = {{L::kStatusCrcError, "CRC error"},
-                                                    {L::kStatusWatchdog, "watchdog timeout"},
-                                                    {L::kStatusBufferOverflow, "buffer overflow"},
-                                                    {L::kStatusInvalidWrite, "invalid write"},
-                                                    {L::kStatusCommandTimeout, "command timeout"}};
-  for (const auto& [bit, name] : bits)
-    if (status & bit) text += (text.empty() ? "" : ", ") + std::string(name);
-  return text;
-}
-
 // The value as a person reads it: engineering units, raw, or hex; "unknown (...)" when it
 // is not a fact on this card.
 std::string shown(const ops::Reading& r, bool raw, bool hex) {
   if (!r.raw) return ops::unknown_text(r);
   const auto& p = *r.param;
-  std::string text = hex   ? lbp::hex_value(static_cast<std::uint64_t>(*r.raw) & ((p.width_bits == 32 ? 0xFFFFFFFFull : (1ull << p.width_bits) - 1)),
-                                            static_cast<int>(p.width_bits / 4))
-                     : raw ? std::to_string(*r.raw)
-                           : params::format_with_meaning(p, *r.raw);
+  std::string text =
+      hex   ? lbp::hex_value(static_cast<std::uint64_t>(*r.raw) &
+                                 ((p.width_bits == 32 ? 0xFFFFFFFFull : (1ull << p.width_bits) - 1)),
+                             static_cast<int>(p.width_bits / 4))
+      : raw ? std::to_string(*r.raw)
+            : params::format_with_meaning(p, *r.raw);
   if (!r.confirmed) text += "  [read at an unconfirmed address: " + r.reason + "]";
   return text;
 }
@@ -81,7 +69,7 @@ void run_info(Context& ctx) {
     j.set("unit_number", *info.unit_number).set("swrevision", *info.swrevision);
     j.set("working_map_confirmed", info.working_map_confirmed).set("lbp_version", info.lbp_version);
     j.set("unit_id", info.unit_id).set("unit_address", info.unit_address).set("lbp_status", info.lbp_status);
-    j.set("lbp_status_text", lbp_status_text(info.lbp_status)).set("crc_errors", info.crc_errors);
+    j.set("lbp_status_text", lbp::local::status_text(info.lbp_status)).set("crc_errors", info.crc_errors);
     j.set("rpc_pitch", info.rpc_pitch).set("rpc_size", info.rpc_size).set("rpc_table", id.rpc_note);
     auto rpc = app::Json::array();
     for (const auto& n : id.rpc_confirmed) rpc.push(n);
@@ -100,24 +88,24 @@ void run_info(Context& ctx) {
                                              : "";
   std::string rpc_names;
   for (const auto& n : id.rpc_confirmed) rpc_names += (rpc_names.empty() ? "" : " ") + n;
-  std::cout
-      << info.card_name << " on " << card.endpoint().text << "\n"
-      << "  unit number    " << *info.unit_number << " (" << lbp::hex_value(*info.unit_number, 8) << ")\n"
-      << "  firmware       SWREVISION " << lbp::hex_value(*info.swrevision, 4) << " (" << *info.swrevision
-      << ")" << firmware_note << "\n"
-      << "  working map    "
-      << (info.working_map_confirmed
-              ? "confirmed for this firmware: working parameters can be written"
-              : "NOT confirmed for this firmware: NV parameters work; run `i20 " + ctx.target_flags() +
-                    " discover` for working ones")
-      << "\n"
-      << "  RPC table      " << info.rpc_size << " bytes, pitch " << int(info.rpc_pitch) << "; "
-      << (rpc_names.empty() ? id.rpc_note : "confirms " + rpc_names + " (" + id.rpc_note + ")") << "\n"
-      << "  LBP version    " << int(info.lbp_version) << "\n"
-      << "  unit ID        " << int(info.unit_id) << "\n"
-      << "  LBP status     " << lbp::hex_value(info.lbp_status, 2) << " (" << lbp_status_text(info.lbp_status)
-      << ")\n"
-      << "  CRC errors     " << int(info.crc_errors) << "\n";
+  std::cout << info.card_name << " on " << card.endpoint().text << "\n"
+            << "  unit number    " << *info.unit_number << " (" << lbp::hex_value(*info.unit_number, 8)
+            << ")\n"
+            << "  firmware       SWREVISION " << lbp::hex_value(*info.swrevision, 4) << " ("
+            << *info.swrevision << ")" << firmware_note << "\n"
+            << "  working map    "
+            << (info.working_map_confirmed
+                    ? "confirmed for this firmware: working parameters can be written"
+                    : "NOT confirmed for this firmware: NV parameters work; run `i20 " + ctx.target_flags() +
+                          " discover` for working ones")
+            << "\n"
+            << "  RPC table      " << info.rpc_size << " bytes, pitch " << int(info.rpc_pitch) << "; "
+            << (rpc_names.empty() ? id.rpc_note : "confirms " + rpc_names + " (" + id.rpc_note + ")") << "\n"
+            << "  LBP version    " << int(info.lbp_version) << "\n"
+            << "  unit ID        " << int(info.unit_id) << "\n"
+            << "  LBP status     " << lbp::hex_value(info.lbp_status, 2) << " ("
+            << lbp::local::status_text(info.lbp_status) << ")\n"
+            << "  CRC errors     " << int(info.crc_errors) << "\n";
   for (const auto& m : id.modes_left)
     std::cout << "  note           the card was left in " << m << " by an earlier session; switched it off\n";
 }
@@ -134,8 +122,8 @@ void run_get(Context& ctx, const GetOptions& o) {
   const auto& loaded = ctx.session().db();
   for (const auto& n : o.names) loaded.get(n);  // unknown names fail before the link opens
   auto& card = ctx.card();
-  const auto readings = ops::read_values(card, o.names, o.allow_unverified ? ops::Unconfirmed::Read : ops::Unconfirmed::Skip);
-  const bool all_read = std::ranges::all_of(readings, [](const ops::Reading& r) { return r.raw.has_value(); });
+  const auto readings =
+      ops::read_values(card, o.names, o.allow_unverified ? ops::Unconfirmed::Read : ops::Unconfirmed::Skip);
   if (ctx.options.json) {
     auto arr = app::Json::array();
     for (const auto& r : readings) arr.push(value_json(r));
@@ -143,16 +131,18 @@ void run_get(Context& ctx, const GetOptions& o) {
   } else {
     for (const auto& r : readings) std::cout << r.param->name << " = " << shown(r, o.raw, o.hex) << "\n";
   }
-  if (all_read) return;
-  std::cerr << "i20: refused: not every value could be read as a fact on this card; run `i20 " << ctx.target_flags()
-            << " discover` to confirm the working addresses, or pass --allow-unverified to see the raw words\n";
-  ctx.exit_code = app::kRefused;
+  const auto outcome = ops::reading_outcome(readings);
+  ctx.record(outcome);
+  if (outcome == ops::Outcome::Done) return;
+  std::cerr
+      << "i20: refused: not every value could be read as a fact on this card; run `i20 " << ctx.target_flags()
+      << " discover` to confirm the working addresses, or pass --allow-unverified to see the raw words\n";
 }
 
 // ------------------------------------------------------------------ set
 struct SetOptions {
   std::vector<std::string> assignments;
-  device::WriteOptions write;
+  ops::WriteOptions write;
   bool dry_run = false;
 };
 
@@ -172,7 +162,7 @@ void run_set(Context& ctx, const SetOptions& o) {
   const auto run = ops::run_apply_on(card, job, [show_progress](const std::string& what) {
     if (show_progress && what.rfind("writing", 0) == 0) std::cerr << "i20: " << what << "\n";
   });
-  ctx.exit_code = run.exit_code();
+  ctx.record(run.outcome);
   if (ctx.options.json) return ctx.print_json(app::render::run_json(run));
   app::render::print_run(std::cout, run, card.db(), "command line");
   if (!run.ok()) std::cerr << "i20: " << app::render::error_line(run) << "\n";
@@ -197,9 +187,10 @@ void print_dump_yaml(const std::vector<ops::Reading>& values) {
   std::cout << "# i20 dump\n";
   for (const auto& v : values) {
     const auto& p = *v.param;
-    std::cout << "- {name: " << p.name << ", raw: " << (v.raw ? std::to_string(*v.raw) : "null") << ", value: \""
-              << (v.raw ? params::format_engineering(p, *v.raw) : ops::unknown_text(v)) << "\", space: "
-              << params::to_string(p.space) << ", address_confirmed: " << (v.confirmed ? "true" : "false") << "}\n";
+    std::cout << "- {name: " << p.name << ", raw: " << (v.raw ? std::to_string(*v.raw) : "null")
+              << ", value: \"" << (v.raw ? params::format_engineering(p, *v.raw) : ops::unknown_text(v))
+              << "\", space: " << params::to_string(p.space)
+              << ", address_confirmed: " << (v.confirmed ? "true" : "false") << "}\n";
   }
 }
 
@@ -272,15 +263,15 @@ void run_reset(Context& ctx, bool yes, bool force) {
   const std::string where = ctx.session().endpoint().text;  // asked before anything is sent
   if (!yes && !ctx.confirm("Reset the 8I20 on " + where + "? NV values become the working values")) {
     std::cerr << "i20: reset not confirmed; nothing was sent (pass --yes in scripts)\n";
-    ctx.exit_code = app::kBadInput;
+    ctx.record(ops::Outcome::BadInput);
     return;
   }
   // The judgement (what the reset would make live, by the write transaction's rules) is
   // lib/ops's; this only reports it.
   const auto run = ops::reset_card(ctx.card(), force);
   const auto& j = run.judgement;
+  ctx.record(run.outcome());
   if (!run.done) {
-    ctx.exit_code = app::kRefused;
     if (ctx.options.json) return ctx.print_json(reset_json(run, where));
     std::cerr << "i20: refused: after the reset the card would run with EEPROM values the rules refuse; no "
                  "reset was sent (only reads):\n";
@@ -305,7 +296,7 @@ void run_reset(Context& ctx, bool yes, bool force) {
 
 // ------------------------------------------------------------------ ports
 void run_ports(Context& ctx) {
-  const auto ports = link::list_ports();
+  const auto ports = ops::list_ports();
   if (ctx.options.json) {
     auto arr = app::Json::array();
     for (const auto& p : ports) {
@@ -338,10 +329,12 @@ void register_param_commands(CLI::App& app, Context& ctx) {
   get->add_option("NAME", get_options->names, "Parameter names")->required();
   auto* raw = get->add_flag("--raw", get_options->raw, "Raw integers as on the wire");
   get->add_flag("--hex", get_options->hex, "Raw values in hexadecimal")->excludes(raw);
-  get->add_flag("--allow-unverified", get_options->allow_unverified,
-                "Also read working parameters whose address is not confirmed for this firmware (shown as such)");
-  get->footer("Exit 0 when every value was read as a fact; 3 when one is unknown on this card (address not "
-              "confirmed for its firmware).");
+  get->add_flag(
+      "--allow-unverified", get_options->allow_unverified,
+      "Also read working parameters whose address is not confirmed for this firmware (shown as such)");
+  get->footer(
+      "Exit 0 when every value was read as a fact; 3 when one is unknown on this card (address not "
+      "confirmed for its firmware).");
   get->callback([&ctx, get_options] { run_get(ctx, *get_options); });
 
   auto set_options = std::make_shared<SetOptions>();
@@ -358,8 +351,9 @@ void register_param_commands(CLI::App& app, Context& ctx) {
                          "an order that keeps the thresholds consistent, read back, and restored if anything "
                          "fails. NV writes take "
                          "effect after a reset");
-  set->footer("Exit 0 written and verified (or nothing to do), 1 card not reached, 2 bad input, 3 refused by a "
-              "rule (nothing written), 4 rolled back or state uncertain (cells named), 130 Ctrl-C.");
+  set->footer(
+      "Exit 0 written and verified (or nothing to do), 1 card not reached, 2 bad input, 3 refused by a "
+      "rule (nothing written), 4 rolled back or state uncertain (cells named), 130 Ctrl-C.");
   set->add_option("ASSIGNMENT", set_options->assignments, "NAME=VALUE pairs")->required();
   set->add_flag("--allow-unverified", set_options->write.allow_unverified,
                 "Write working (RAM) addresses the database does not confirm for this firmware");
@@ -390,8 +384,9 @@ void register_param_commands(CLI::App& app, Context& ctx) {
   reset->add_flag("--yes,-y", *yes, "Do not ask");
   reset->add_flag("--force", *reset_force,
                   "Reset even when the measured-bus rules refuse a value it would make live");
-  reset->footer("Exit 0 reset (or forced), 1 card not reached or did not come back, 2 not confirmed, 3 refused "
-                "by a rule (nothing but reads sent).");
+  reset->footer(
+      "Exit 0 reset (or forced), 1 card not reached or did not come back, 2 not confirmed, 3 refused "
+      "by a rule (nothing but reads sent).");
   reset->callback([&ctx, yes, reset_force] { run_reset(ctx, *yes, *reset_force); });
 
   auto* ports = app.add_subcommand("ports", "List serial ports (USB adapters with vendor, product, serial)");

@@ -13,14 +13,14 @@
 #include "cmd_profile_export.hpp"
 #include "cmd_tune.hpp"
 #include "context.hpp"
-#include "output_file.hpp"
 #include "fleet_progress.hpp"
-#include "interrupt.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
 #include "ops/fleet.hpp"
 #include "ops/read.hpp"
+#include "ops/signals.hpp"
+#include "output_file.hpp"
 #include "profile/backup.hpp"
 #include "profile/diff.hpp"
 #include "profile/loader.hpp"
@@ -36,15 +36,16 @@ using profile::Profile;
 
 namespace render = app::render;
 
-bool has_card(const Context& ctx, const std::vector<std::string>& targets) {
-  return !targets.empty() || ctx.options.has_target();
+// A card named by --target, the global flags or COMPORT (as every i20 command reads it).
+bool has_card(Context& ctx, const std::vector<std::string>& targets) {
+  return !targets.empty() || ctx.session().endpoint_if_any().has_value();
 }
 
 // The targets a command names: --target (repeatable) or the global --port/--sim/--eth.
 // `--sim-control` only reaches simulators: with no simulator among them it is an error, not
 // silently ignored.
-std::vector<ops::Endpoint> targets_of(const Context& ctx, const std::vector<std::string>& targets) {
-  auto endpoints = ops::resolve_endpoints(targets, ops::endpoint_from(ctx.options.target));
+std::vector<ops::Endpoint> targets_of(Context& ctx, const std::vector<std::string>& targets) {
+  auto endpoints = ctx.session().targets(targets);
   const bool any_sim =
       std::ranges::any_of(endpoints, [](const auto& e) { return e.kind == ops::Endpoint::Kind::Sim; });
   if (!ctx.options.link.sim_control.empty() && !any_sim)
@@ -58,9 +59,7 @@ std::unique_ptr<ops::Card> open_card(Context& ctx, const std::vector<std::string
                                      const params::ParamDb& db) {
   const auto endpoints = targets_of(ctx, targets);
   if (endpoints.size() != 1) throw UsageError("this command reads one card: give a single --target");
-  ops::OpenOptions open;
-  open.link = ctx.options.link;
-  return ops::Card::open(endpoints.front(), db, open, ops::Cancel(app::install_interrupt_handler()));
+  return ctx.session().open(endpoints.front(), db);
 }
 
 struct Loaded {
@@ -78,10 +77,13 @@ Loaded try_load(const params::ParamDb& db, const std::string& file) {
 
 // Reports a profile that cannot be read (file:line: key: reason [rule]) and sets exit code 2.
 void report_invalid(Context& ctx, const std::string& file, const profile::ProfileError& e) {
-  ctx.exit_code = app::kBadInput;
+  ctx.record(ops::Outcome::BadInput);
   if (!ctx.options.json) return render::print_load_error(std::cerr, e, file);
   auto j = app::Json::object();
-  j.set("file", file).set("valid", false).set("outcome", "invalid").set("exit_code", app::kBadInput);
+  j.set("file", file)
+      .set("valid", false)
+      .set("outcome", "invalid")
+      .set("exit_code", ops::exit_code(ops::Outcome::BadInput));
   ctx.print_json(j.set("findings", render::load_error_json(e)));
 }
 
@@ -102,8 +104,8 @@ ops::ApplyJob apply_job(Context& ctx, const Profile& profile, const params::Para
   job.write = {allow_unverified, force};
   job.transaction.force = force;
   job.transaction.when = std::chrono::system_clock::now();
-  job.transaction.cancel = ops::Cancel(app::install_interrupt_handler());
-  job.open.link = ctx.options.link;
+  job.transaction.cancel = ctx.session().cancel();
+  job.open = ctx.session().open_options();
   return job;
 }
 
@@ -235,7 +237,7 @@ app::Json validate_on_cards(Context& ctx, const params::ParamDb& db,
 }
 
 void run_validate(Context& ctx, const ValidateOptions& o) {
-  const auto db = app::load_database(ctx.options);
+  const auto& db = ctx.session().db();
   std::vector<ops::Endpoint> targets;
   if (has_card(ctx, o.targets)) targets = targets_of(ctx, o.targets);
   auto files = app::Json::array();
@@ -246,25 +248,19 @@ void run_validate(Context& ctx, const ValidateOptions& o) {
                                : validate_on_cards(ctx, db, targets, file, o, outcome));
     worst = ops::most_serious(worst, outcome);
   }
-  ctx.exit_code = ops::exit_code(worst);
+  ctx.record(worst);
   if (!ctx.options.json) {
     if (targets.empty()) std::cout << "note: " << kNeedsCard << "\n";
     return;
   }
   auto j = app::Json::object();
-  j.set("valid", worst == ops::Outcome::DryRun).set("exit_code", ctx.exit_code);
+  j.set("valid", worst == ops::Outcome::DryRun).set("exit_code", ctx.exit_code());
   j.set("card", targets.size() == 1 ? app::Json(targets.front().text) : app::Json());
   if (targets.empty()) j.set("not_judged", kNeedsCard);
   ctx.print_json(j.set("files", files));
 }
 
 // ------------------------------------------------------------------ diff
-// Exit codes as diff(1)'s: 0 every target holds every value, 1 some value differs, 2 trouble
-// (bad input, a card not reached, a value that is not a fact on the card); 130 Ctrl-C.
-constexpr int kDiffSame = ops::kExitOk;
-constexpr int kDiffDiffers = 1;
-constexpr int kDiffTrouble = 2;
-
 struct DiffOptions {
   std::string file;
   std::vector<std::string> targets;
@@ -284,10 +280,11 @@ struct TargetDiff {
   long unknown() const {
     return std::ranges::count_if(rows, [](const auto& r) { return !r.card_raw; });
   }
-  int exit_code() const {
-    if (interrupted) return ops::kExitInterrupted;
-    if (!error.empty() || unknown() > 0) return kDiffTrouble;
-    return differ() > 0 ? kDiffDiffers : kDiffSame;
+  // As diff(1) answers (ops::Comparison): a value that is not a fact on the card is trouble.
+  ops::Comparison comparison() const {
+    if (interrupted) return ops::Comparison::Interrupted;
+    if (!error.empty() || unknown() > 0) return ops::Comparison::Trouble;
+    return differ() > 0 ? ops::Comparison::Differs : ops::Comparison::Same;
   }
 };
 
@@ -335,7 +332,7 @@ app::Json diff_entry_json(const TargetDiff& d) {
   j.set("target", d.target.text).set("card", d.card.empty() ? app::Json() : app::Json(d.card));
   j.set("differ", d.differ())
       .set("unknown", d.unknown())
-      .set("exit_code", d.exit_code())
+      .set("exit_code", ops::exit_code(d.comparison()))
       .set("error", d.error);
   return j.set("rows", render::diff_json(d.rows));
 }
@@ -352,17 +349,18 @@ void print_diff_text(const Profile& profile, const std::string& file, const std:
     print_diff_summary(d, file);
   }
   if (diffs.size() < 2) return;
-  const auto count = [&](int code) {
-    return std::ranges::count_if(diffs, [code](const auto& d) { return d.exit_code() == code; });
+  const auto count = [&](ops::Comparison c) {
+    return std::ranges::count_if(diffs, [c](const auto& d) { return d.comparison() == c; });
   };
   std::cout << "\n"
-            << count(kDiffSame) << " of " << diffs.size() << " targets hold every value; "
-            << count(kDiffDiffers) << " differ; " << diffs.size() - count(kDiffSame) - count(kDiffDiffers)
+            << count(ops::Comparison::Same) << " of " << diffs.size() << " targets hold every value; "
+            << count(ops::Comparison::Differs) << " differ; "
+            << diffs.size() - count(ops::Comparison::Same) - count(ops::Comparison::Differs)
             << " could not be compared\n";
 }
 
 void run_diff(Context& ctx, const DiffOptions& o) {
-  const auto db = app::load_database(ctx.options);
+  const auto& db = ctx.session().db();
   const auto profile = load(ctx, db, o.file);
   if (!profile) return;
   std::vector<std::string> names;
@@ -373,15 +371,13 @@ void run_diff(Context& ctx, const DiffOptions& o) {
   }
   const auto targets = targets_of(ctx, o.targets);
   std::vector<TargetDiff> diffs(targets.size());
-  ops::OpenOptions open;
-  open.link = ctx.options.link;
-  ops::for_each_target(targets, db, open, ops::Cancel(app::install_interrupt_handler()),
+  ops::for_each_target(targets, db, ctx.session().open_options(), ctx.session().cancel(),
                        [&](std::size_t i, const ops::CardOpener& opener) {
                          diffs[i] = diff_one(*profile, names, targets[i], opener);
                        });
-  int code = kDiffSame;
-  for (const auto& d : diffs) code = std::max(code, d.exit_code());
-  ctx.exit_code = code;
+  auto comparison = ops::Comparison::Same;
+  for (const auto& d : diffs) comparison = ops::most_serious(comparison, d.comparison());
+  ctx.record(comparison);
   if (!ctx.options.json) {
     print_diff_text(*profile, o.file, diffs);
     for (const auto& d : diffs)
@@ -389,7 +385,7 @@ void run_diff(Context& ctx, const DiffOptions& o) {
     return;
   }
   auto j = targets.size() == 1 ? diff_entry_json(diffs.front()) : app::Json::object();
-  j.set("file", o.file).set("profile", profile->name).set("exit_code", code);
+  j.set("file", o.file).set("profile", profile->name).set("exit_code", ops::exit_code(comparison));
   if (targets.size() > 1) {
     auto arr = app::Json::array();
     for (const auto& d : diffs) arr.push(diff_entry_json(d));
@@ -425,7 +421,7 @@ bool reset_confirmed(Context& ctx, const ApplyCliOptions& o, const std::vector<o
           " after a verified apply (or when a reset is pending)? The new EEPROM values become live at once"))
     return true;
   std::cerr << "i20: reset not confirmed; nothing was sent (pass --yes in scripts)\n";
-  ctx.exit_code = app::kBadInput;
+  ctx.record(ops::Outcome::BadInput);
   return false;
 }
 
@@ -466,7 +462,7 @@ void apply_single(Context& ctx, const Profile& profile, const std::string& file,
     if (text && (what.rfind("writing", 0) == 0 || what.rfind("restoring", 0) == 0 || what == "resetting"))
       std::cout << "  " << what << "\n" << std::flush;
   });
-  ctx.exit_code = run.exit_code();
+  ctx.record(run.outcome);
   if (!text) {
     auto j = render::run_json(run);
     j.set("profile", profile.name).set("file", file);
@@ -486,7 +482,7 @@ void set_change_options(ops::ApplyJob& job, const ApplyCliOptions& o) {
 }
 
 void run_apply_command(Context& ctx, const ApplyCliOptions& o) {
-  const auto db = app::load_database(ctx.options);
+  const auto& db = ctx.session().db();
   auto profile = load(ctx, db, o.file);
   if (!profile) return;
   if (!o.to.empty()) {
@@ -511,7 +507,7 @@ void run_apply_command(Context& ctx, const ApplyCliOptions& o) {
   const auto runs = ops::run_fleet(targets, job, progress.activity());
   progress.stop();
   print_many(ctx, *profile, o.file, runs, db, {o.reset, o.dry_run});
-  ctx.exit_code = ops::exit_code(ops::fleet_outcome(runs));
+  ctx.record(ops::fleet_outcome(runs));
 }
 
 // ------------------------------------------------------------------ undo
@@ -553,7 +549,7 @@ void run_undo(Context& ctx, const UndoOptions& o) {
   if (o.last == !o.apply.file.empty())
     throw UsageError(o.last ? "give either a BACKUP file or --last, not both"
                             : "name the BACKUP file to restore, or pass --last for the unit's newest backup");
-  const auto db = app::load_database(ctx.options);
+  const auto& db = ctx.session().db();
   const auto targets = targets_of(ctx, o.apply.targets);
   if (targets.size() != 1) throw UsageError("undo restores one card: give a single --target");
   const auto& target = targets.front();
@@ -563,9 +559,7 @@ void run_undo(Context& ctx, const UndoOptions& o) {
   std::unique_ptr<ops::Card> card;
   std::string file = o.apply.file;
   if (o.last) {  // the card names its unit; nothing but its identity is read before the backup is found
-    ops::OpenOptions open;
-    open.link = ctx.options.link;
-    card = ops::Card::open(target, db, open, ops::Cancel(app::install_interrupt_handler()));
+    card = ctx.session().open(target, db);
     file = newest_backup(dir, card->identity().info.unit_number.value_or(0)).string();
   }
   auto backup = load(ctx, db, file);
@@ -620,7 +614,7 @@ void check_save_request(const SaveCliOptions& o, const params::ParamDb& db) {
 }
 
 void run_save(Context& ctx, const SaveCliOptions& o) {
-  const auto db_base = app::load_database(ctx.options);
+  const auto& db_base = ctx.session().db();
   check_save_request(o, db_base);
   const auto card = open_card(ctx, o.targets, db_base);
   profile::SaveOptions save;

@@ -49,7 +49,7 @@ std::optional<profile::Profile> valid_profile(Context& ctx, const params::ParamD
   } catch (const profile::ProfileError& e) {
     app::render::print_load_error(std::cerr, e, file);
   }
-  ctx.exit_code = app::kBadInput;
+  ctx.record(ops::Outcome::BadInput);
   return std::nullopt;
 }
 
@@ -79,7 +79,7 @@ app::Json values_json(const profile::Hostmot2Values& values, const ExportCliOpti
 void run_export(Context& ctx, const ExportCliOptions& o) {
   profile::check_hal_device(o.device);
   check_output_file(o.out, o.overwrite);
-  const auto db = app::load_database(ctx.options);
+  const auto& db = ctx.session().db();
   const auto p = valid_profile(ctx, db, o.file, o.force);
   if (!p) return;
   const profile::ExportOptions options{o.device, o.file};

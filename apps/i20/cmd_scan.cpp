@@ -9,16 +9,14 @@
 #include <memory>
 
 #include "context.hpp"
-#include "eth/running_host.hpp"
-#include "eth/scan.hpp"
-#include "eth/target.hpp"
 #include "lbp/bytes.hpp"
+#include "ops/scan.hpp"
 #include "passive.hpp"
 
 namespace i20::cli {
 namespace {
 
-app::Json scan_json(const eth::ScanResult& r) {
+app::Json scan_json(const ops::ScanResult& r) {
   auto j = app::Json::object();
   j.set("address", r.card_address.describe()).set("card", r.card.card_name);
   j.set("lbp16_version", r.card.lbp16_version).set("firmware_version", r.card.firmware_version);
@@ -35,7 +33,7 @@ app::Json scan_json(const eth::ScanResult& r) {
       cj.set("channel", c.channel).set("answered", c.answered).set("device", c.device_name);
       cj.set("unit_number", c.unit_number).set("status", c.status).set("is_8i20", c.is_8i20());
       if (c.is_8i20()) {
-        cj.set("target", eth::EthTarget{r.card_address, p.index, c.channel}.url());
+        cj.set("target", ops::EthTarget{r.card_address, p.index, c.channel}.url());
         cj.set("linuxcnc_name", c.linuxcnc_name);
       }
       chans.push(std::move(cj));
@@ -49,7 +47,7 @@ app::Json scan_json(const eth::ScanResult& r) {
   return j;
 }
 
-void print_scan(const eth::ScanResult& r) {
+void print_scan(const ops::ScanResult& r) {
   std::cout << r.card.card_name << " at " << r.card_address.describe() << ": LBP16 version "
             << r.card.lbp16_version << ", firmware " << r.card.firmware_version << ", " << r.config_name
             << " board " << r.board_name << "\n";
@@ -62,7 +60,7 @@ void print_scan(const eth::ScanResult& r) {
       std::cout << "    ch " << c.channel << ": ";
       if (c.is_8i20())
         std::cout << "8I20 unit " << c.unit_number << " (" << lbp::hex_value(c.unit_number, 8) << ")  -> "
-                  << eth::EthTarget{r.card_address, p.index, c.channel}.url() << "  LinuxCNC "
+                  << ops::EthTarget{r.card_address, p.index, c.channel}.url() << "  LinuxCNC "
                   << c.linuxcnc_name << "\n";
       else if (c.answered)
         std::cout << c.device_name << " (not an 8I20), unit " << c.unit_number << "\n";
@@ -79,17 +77,14 @@ void run_scan(Context& ctx, bool deprecated_force) {
   if (deprecated_force)
     std::cerr << "i20: `scan --force` is deprecated: it is the global --take-over (i20 --take-over scan "
                  "--eth IP)\n";
-  const bool take_over = ctx.options.link.take_over || deprecated_force;
+  // Not the session's target: scan names the card itself (an 8I20's channel is not needed).
   if (ctx.options.target.eth.empty())
     throw UsageError("scan needs the Ethernet card's address: i20 scan --eth 192.168.1.121");
-  const auto address = eth::is_eth_url(ctx.options.target.eth)
-                           ? eth::parse_target(ctx.options.target.eth).card
-                           : eth::parse_host_port(ctx.options.target.eth);
-  eth::ScanOptions options;
-  options.udp.timeout = std::chrono::milliseconds(ctx.options.link.timeout_ms);
-  options.running_host.take_over = take_over;
-  const auto result = eth::scan(address, options);
-  if (take_over && eth::host_is_running(result.host_activity, options.running_host))
+  auto link = ctx.options.link;
+  link.take_over = link.take_over || deprecated_force;
+  const auto run = ops::scan_card(*ops::ethernet_card(ctx.options.target), link);
+  const auto& result = run.result;
+  if (run.stopped_running_host)
     std::cerr << "i20: scan --take-over: " << result.host_activity.describe()
               << "; the SSERIAL ports were stopped under that host, its axes dropped out\n";
   if (result.foreign_packets_during_scan > 0)

@@ -277,13 +277,13 @@ void run_tune(Context& ctx, const TuneCliOptions& o) {
   // As report -o and profile save: an existing file is replaced only when asked.
   check_output_file(o.out, o.overwrite);
   check_output_file(o.svg, o.overwrite);
-  const auto db = app::load_database(ctx.options);
+  const auto& db = ctx.session().db();
   std::optional<profile::Profile> motor;
   try {
     if (!o.from.empty()) motor = profile::load_profile_file(o.from, db);
   } catch (const profile::ProfileError& e) {
     render::print_load_error(std::cerr, e, o.from);
-    ctx.exit_code = app::kBadInput;
+    ctx.record(ops::Outcome::BadInput);
     return;
   }
   Basis basis;
@@ -293,7 +293,7 @@ void run_tune(Context& ctx, const TuneCliOptions& o) {
   if (!o.svg.empty()) write_text_file(o.svg, profile::step_response_svg(t.step));
   std::vector<profile::Finding> findings;
   if (!o.out.empty()) findings = write_profile(t, o, db, motor ? &*motor : nullptr);
-  if (profile::has_errors(findings)) ctx.exit_code = app::kBadInput;
+  if (profile::has_errors(findings)) ctx.record(ops::Outcome::BadInput);
   if (ctx.options.json) return ctx.print_json(tune_json(t, o, findings));
   print_tune(t, o);
   if (!o.svg.empty()) std::cout << "Step response drawn in " << o.svg << "\n";

@@ -22,13 +22,13 @@
 #include <thread>
 
 #include "context.hpp"
-#include "device/errors.hpp"
 #include "faults/bit_diff.hpp"
 #include "faults/fault_mask.hpp"
 #include "faults_render.hpp"
-#include "interrupt.hpp"
 #include "lbp/bytes.hpp"
-#include "live_source.hpp"
+#include "ops/errors.hpp"
+#include "ops/live_source.hpp"
+#include "ops/signals.hpp"
 #include "passive.hpp"
 
 namespace i20::cli {
@@ -512,7 +512,7 @@ class Watcher {
         view_(view),
         log_(log),
         interval_(o.interval_ms),
-        source_(make_live_source(ctx, LiveMode::Registers)) {}
+        source_(ops::make_live_source(ctx.session(), ops::LiveMode::Registers)) {}
 
   void run();
 
@@ -539,11 +539,11 @@ class Watcher {
   std::optional<Clock::time_point> lost_at_;  // set while the card cannot be read
   std::string where_;
   Summary summary_;
-  std::unique_ptr<LiveSource> source_;
+  std::unique_ptr<ops::LiveSource> source_;
 };
 
 bool Watcher::done() const {
-  if (app::interrupted()) return true;
+  if (ops::stop_requested()) return true;
   if (o_.count && summary_.samples >= o_.count) return true;
   return o_.duration_s > 0 && elapsed() >= o_.duration_s;
 }
@@ -621,7 +621,7 @@ void Watcher::sample_once() {
       summary_.connected = true;
     }
     record(r, std::move(events));
-  } catch (const device::Cancelled&) {
+  } catch (const ops::Cancelled&) {
     return;  // Ctrl-C during a read: done() ends the loop
   } catch (const UsageError&) {
     throw;
@@ -637,9 +637,9 @@ void Watcher::sample_once() {
 // SSLBP's normal start clears faults and enables the current loop (manual, 8I20 DEVICE
 // SPECIFIC SETUP): only after the latched faults were reported, and saying so.
 void Watcher::switch_to_normal_mode(std::vector<Event>& events) {
-  if (o_.registers || !is_eth_target(ctx_.options)) return;
+  if (o_.registers || !ops::is_eth_target(ctx_.session())) return;
   source_->reconnect();  // close the setup-mode passthrough before the port is re-moded
-  source_ = make_live_source(ctx_, LiveMode::NormalModeOnEthernet);
+  source_ = ops::make_live_source(ctx_.session(), ops::LiveMode::NormalModeOnEthernet);
   events.push_back({WallClock::now(),
                     Kind::Mode,
                     "switching to SSLBP normal mode for the live view: its start CLEARS the latched faults "
@@ -669,7 +669,7 @@ void Watcher::run() {
   }
   summary_.elapsed_s = elapsed();
   view_.finish(summary_);
-  if (app::interrupted()) ctx_.exit_code = app::kInterrupted;  // after leaving the card as it was
+  if (ops::stop_requested()) ctx_.record(ops::Outcome::Interrupted);  // after leaving the card as it was
 }
 
 // ------------------------------------------------------------------ registration

@@ -6,18 +6,41 @@
 #include <iostream>
 #include <string>
 
-#include "legacy_env.hpp"
-#include "link/pipelined_link.hpp"
+#include "passive.hpp"
+#include "terminal.hpp"
 
 namespace i20::cli {
 
-app::Session& Context::session() {
+ops::Session& Context::session() {
   if (!session_) {
-    auto o = options;
-    app::apply_legacy_environment(o, false);
-    session_ = std::make_unique<app::Session>(std::move(o));
+    ops::SessionOptions o = options;
+    o.legacy = ops::LegacyEnvironment::IfNoTarget;
+    session_ = std::make_unique<ops::Session>(std::move(o), app::stop_acknowledgement("i20"));
   }
   return *session_;
+}
+
+int Context::exit_code() const {
+  if (comparison_ && *comparison_ != ops::Comparison::Same) return ops::exit_code(*comparison_);
+  return ops::exit_code(outcome_);
+}
+
+void Context::settle() {
+  if (!session_) return;
+  const auto settled = session_->settle();
+  if (settled.note) std::cerr << "i20: " << settled.note->label << ": " << settled.note->message << "\n";
+  record(settled.outcome);
+}
+
+int Context::report_failure() {
+  if (!session_) {
+    const auto failure = ops::failure_of_current_exception();
+    const auto hint = failure.advice == ops::Advice::ReadPassively ? passive_hint(*this) : std::string();
+    return app::print_failure("i20", {failure.outcome, {failure.line}, failure.advice}, hint);
+  }
+  const auto report = session_->fail();
+  return app::print_failure("i20", report,
+                            report.advice == ops::Advice::ReadPassively ? passive_hint(*this) : "");
 }
 
 void Context::print_json(const app::Json& json) const {
@@ -35,12 +58,6 @@ bool Context::confirm(const std::string& question) const {
 void Context::print_notes() {
   if (!options.verbose || !session_) return;
   for (const auto& note : session_->notes()) std::cerr << "note: " << note << "\n";
-  if (const auto* pipelined = dynamic_cast<const link::PipelinedLink*>(session_->link_if_open())) {
-    const auto& s = pipelined->statistics();
-    std::cerr << "link: " << s.exchanges << " exchanges, " << s.commands << " commands, " << s.bursts
-              << " bursts, " << s.bytes_sent << " bytes sent, " << s.bytes_received << " received, "
-              << s.timeouts << " timeouts, " << s.crc_errors << " CRC errors, " << s.resyncs << " resyncs\n";
-  }
 }
 
 }  // namespace i20::cli

@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// State shared by the i20 subcommands: global options and a lazily opened session.
+// State shared by the i20 subcommands: global options, a lazily opened ops::Session, and the
+// outcome the command reached (the exit code is ops::exit_code of it, nowhere else).
 #pragma once
 
 #include <iosfwd>
 #include <memory>
+#include <optional>
 
 #include "errors.hpp"
 #include "json.hpp"
-#include "session.hpp"
+#include "options.hpp"
 
 namespace CLI {
 class App;
@@ -17,22 +19,26 @@ namespace i20::cli {
 
 struct Context {
   app::GlobalOptions options;
-  int exit_code = app::kOk;
 
   // Opened on first use, with COMPORT/BAUDRATE/PROTOCOL read like wpd and rpd do.
-  app::Session& session();
+  ops::Session& session();
   ops::Card& card() { return session().card(); }
   // The options that name the target, for advice lines ("--port /dev/ttyUSB0").
   std::string target_flags() { return session().endpoint().flags(); }
-  // The card left as it must be (no NV/RPC memory mode on) before the program ends.
-  void settle() {
-    if (session_ && session_->settle("i20") != app::kOk && exit_code == app::kOk) exit_code = app::kCardState;
-  }
-  // The one-line report of the exception being handled, and the card settled (see
-  // app::Session::report_failure). Call from a catch (...) block.
-  int report_failure() {
-    return session_ ? session_->report_failure("i20") : app::report_current_exception("i20");
-  }
+
+  // What the command reached; several (a fleet, a settle after a report) keep the most
+  // serious (ops::most_serious).
+  void record(ops::Outcome outcome) { outcome_ = ops::most_serious(outcome_, outcome); }
+  // `i20 profile diff` answers as diff(1) does (ops::Comparison).
+  void record(ops::Comparison comparison) { comparison_ = comparison; }
+  int exit_code() const;
+
+  // The card left as it must be (no NV/RPC memory mode on) before the program ends; a note
+  // on stderr when a mode had to be left.
+  void settle();
+  // The lines of the exception being handled, and the card settled (ops::Session::fail),
+  // printed; returns the exit code. Call from a catch block.
+  int report_failure();
   // Prints JSON documents the same way everywhere.
   void print_json(const app::Json& json) const;
   // Asks "question [y/N]" on the terminal; false without a terminal (use --yes there).
@@ -41,7 +47,9 @@ struct Context {
   void print_notes();
 
  private:
-  std::unique_ptr<app::Session> session_;
+  ops::Outcome outcome_ = ops::Outcome::Done;
+  std::optional<ops::Comparison> comparison_;
+  std::unique_ptr<ops::Session> session_;
 };
 
 // Each registers its subcommands on the umbrella app.

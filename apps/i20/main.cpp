@@ -5,10 +5,9 @@
 
 #include "cmd_inventory.hpp"
 #include "context.hpp"
-#include "eth/running_host.hpp"
-#include "interrupt.hpp"
+#include "ops/signals.hpp"
 #include "params/closest.hpp"
-#include "passive.hpp"
+#include "terminal.hpp"
 #include "version/build_info.hpp"
 
 using namespace i20;
@@ -41,22 +40,6 @@ std::string unknown_command(const CLI::App& app, const CLI::ParseError& e) {
          (near.empty() ? "; `i20 --help` lists them" : ": did you mean " + near.front() + "?");
 }
 
-// A refusal beside a running host says how to read without stopping anything (the
-// library names no i20 flags; the app knows its --passive).
-int report_failure_with_passive_hint(cli::Context& ctx) {
-  try {
-    throw;
-  } catch (const eth::RunningHostError& e) {
-    try {
-      throw eth::RunningHostError(e.what() + cli::passive_hint(ctx), e.activity());
-    } catch (...) {
-      return ctx.report_failure();
-    }
-  } catch (...) {
-    return ctx.report_failure();
-  }
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -81,23 +64,23 @@ int main(int argc, char** argv) {
   cli::register_report_command(app, ctx);
   cli::register_inventory_command(app, ctx);
 
-  app::install_interrupt_handler("i20");  // SIGINT, SIGTERM, SIGHUP stop safely; SIGPIPE ignored
+  ops::install_stop_signals();  // SIGINT, SIGTERM, SIGHUP stop safely (ops::Session); SIGPIPE ignored
   try {
     app.parse(argc, argv);
     ctx.settle();
   } catch (const CLI::ParseError& e) {
     if (const auto hint = unknown_command(app, e); !hint.empty()) {
       std::cerr << "i20: error: " << hint << "\n";
-      return app::kBadInput;
+      return ops::exit_code(ops::Outcome::BadInput);
     }
     return app::report_parse_error(app, e, "i20");
   } catch (...) {
     ctx.print_notes();
-    const int code = report_failure_with_passive_hint(ctx);
+    const int code = ctx.report_failure();
     app::output_failed("i20");  // said after the card is settled
     return code;
   }
   ctx.print_notes();
   app::output_failed("i20");  // a closed stdout does not change what the card holds
-  return ctx.exit_code;
+  return ctx.exit_code();
 }

@@ -10,13 +10,13 @@
 #include <memory>
 #include <thread>
 
-#include "eth/target.hpp"
 #include "faults/decode.hpp"
 #include "faults_render.hpp"
-#include "interrupt.hpp"
 #include "lbp/bytes.hpp"
-#include "link/link.hpp"
+#include "ops/errors.hpp"
 #include "ops/passive_monitor.hpp"
+#include "ops/scan.hpp"
+#include "ops/signals.hpp"
 
 namespace i20::cli {
 namespace {
@@ -37,16 +37,15 @@ std::string card_text(const Context& ctx) {
 
 // The card named by --eth (an address or an eth:// URL) or an eth:// --port. A passive
 // monitor always watches every channel of the card.
-eth::HostPort passive_card(const Context& ctx, const char* command) {
-  const auto& o = ctx.options.target;
-  const std::string text = !o.eth.empty() ? o.eth : (eth::is_eth_url(o.port) ? o.port : std::string());
-  if (text.empty())
+ops::HostPort passive_card(const Context& ctx, const char* command) {
+  const auto card = ops::ethernet_card(ctx.options.target);
+  if (!card)
     throw UsageError(
         std::string(command) +
         " --passive reads what a running host leaves in an Ethernet card's SSERIAL registers: give "
         "the card's address, e.g. i20 --eth 192.168.1.121 " +
         command + " --passive");
-  return eth::is_eth_url(text) ? eth::parse_target(text).card : eth::parse_host_port(text);
+  return *card;
 }
 
 ops::PassiveMonitorOptions monitor_options(const Context& ctx) {
@@ -187,7 +186,7 @@ std::string passive_flag_help(const std::string& what) {
          " only from the process data the running host's DOITs leave in the SSERIAL registers (CS, "
          "INTERFACE0/1, "
          "DATA). Reads only: no write, no DOIT, no start or stop; at most " +
-         std::to_string(eth::kPassiveMaxRequestsPerSecond) + " UDP requests a second";
+         std::to_string(ops::kPassiveMaxRequestsPerSecond) + " UDP requests a second";
 }
 
 std::string passive_hint(const Context& ctx) {
@@ -198,11 +197,11 @@ std::string passive_hint(const Context& ctx) {
 
 void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
   const auto card = passive_card(ctx, "watch");
-  const auto spacing = 1000u / eth::kPassiveMaxRequestsPerSecond;
+  const auto spacing = 1000u / ops::kPassiveMaxRequestsPerSecond;
   if (o.interval_ms < spacing)
     throw UsageError("watch --passive --interval " + std::to_string(o.interval_ms) +
                      ": the passive monitor sends at most " +
-                     std::to_string(eth::kPassiveMaxRequestsPerSecond) +
+                     std::to_string(ops::kPassiveMaxRequestsPerSecond) +
                      " requests a second, use --interval " + std::to_string(spacing) + " or more");
   std::unique_ptr<PassiveCsv> log;
   if (!o.log.empty()) log = std::make_unique<PassiveCsv>(o.log);
@@ -214,7 +213,7 @@ void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
   std::uint64_t samples = 0, changes = 0, missed = 0;
   const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   const auto done = [&] {
-    return app::interrupted() || (o.count && samples >= o.count) ||
+    return ops::stop_requested() || (o.count && samples >= o.count) ||
            (o.duration_s > 0 && elapsed() >= o.duration_s);
   };
   if (json) {
@@ -223,10 +222,10 @@ void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
                   .set("mode", "passive")
                   .set("card", monitor.describe())
                   .set("interval_ms", o.interval_ms)
-                  .set("max_requests_per_second", eth::kPassiveMaxRequestsPerSecond));
+                  .set("max_requests_per_second", ops::kPassiveMaxRequestsPerSecond));
   } else {
     std::cout << "watching every 8I20 of the " << monitor.describe() << " passively (reads only, every "
-              << o.interval_ms << " ms, at most " << eth::kPassiveMaxRequestsPerSecond
+              << o.interval_ms << " ms, at most " << ops::kPassiveMaxRequestsPerSecond
               << " requests a second); a line per change; Ctrl-C stops\n"
               << std::flush;
   }
@@ -240,7 +239,7 @@ void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
     PassiveSample s;
     try {
       s = monitor.sample();
-    } catch (const link::LinkError& e) {
+    } catch (const ops::LinkError& e) {
       ++missed;
       if (!lost_since) {
         lost_since = WallClock::now();
@@ -304,8 +303,8 @@ void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
   else
     std::cout << "watch --passive: " << samples << " samples in " << fixed(seconds, "%.1f") << " s, "
               << changes << " changes, " << missed << " missed, " << requests << " UDP requests, at least "
-              << 1000 / eth::kPassiveMaxRequestsPerSecond << " ms apart\n";
-  if (app::interrupted()) ctx.exit_code = app::kInterrupted;
+              << 1000 / ops::kPassiveMaxRequestsPerSecond << " ms apart\n";
+  if (ops::stop_requested()) ctx.record(ops::Outcome::Interrupted);
 }
 
 void run_passive_faults(Context& ctx) {

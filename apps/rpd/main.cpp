@@ -10,10 +10,10 @@
 #include <iostream>
 
 #include "errors.hpp"
-#include "interrupt.hpp"
-#include "legacy_env.hpp"
 #include "ops/read.hpp"
-#include "session.hpp"
+#include "ops/signals.hpp"
+#include "options.hpp"
+#include "terminal.hpp"
 #include "version/build_info.hpp"
 
 using namespace i20;
@@ -42,21 +42,24 @@ static int run(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app::report_parse_error(cli, e, "rpd");
   }
-  app::install_interrupt_handler("rpd");  // SIGINT, SIGTERM, SIGHUP stop safely; SIGPIPE ignored
+  ops::install_stop_signals();  // SIGINT, SIGTERM, SIGHUP stop safely (ops::Session); SIGPIPE ignored
+  options.legacy = ops::LegacyEnvironment::Required;
   try {
-    app::apply_legacy_environment(options, true);
-    app::Session session(options);
+    ops::Session session(options, app::stop_acknowledgement("rpd"));
     try {
       const auto& param = session.db().get(name);  // unknown names fail before the link opens
       auto& card = session.card();
       const auto policy = allow_unverified ? ops::Unconfirmed::Read : ops::Unconfirmed::Skip;
       const auto reading = ops::read_values(card, std::vector<std::string>{param.name}, policy).front();
       // An NV read the line cut short must not leave NV mode on unsaid.
-      if (session.settle("rpd") != app::kOk) return app::kCardState;
+      if (const auto settled = session.settle(); settled.outcome != ops::Outcome::Done)
+        return ops::exit_code(settled.outcome);
+      else if (settled.note)
+        std::cerr << "rpd: " << settled.note->label << ": " << settled.note->message << "\n";
       if (!reading.raw) {
         std::cerr << "rpd: refused: " << reading.param->name << " is " << ops::unknown_text(reading)
                   << "; run `i20 " << card.endpoint().flags() << " discover`, or pass --allow-unverified\n";
-        return app::kRefused;
+        return ops::exit_code(ops::reading_outcome(std::span(&reading, 1)));
       }
       if (!reading.confirmed)
         std::cerr << "rpd: warning: " << reading.param->name << " read at an address " << reading.reason
@@ -69,9 +72,9 @@ static int run(int argc, char** argv) {
         std::printf("%0*llX\n", static_cast<int>(p.width_bits / 4),
                     static_cast<unsigned long long>(*reading.raw) & mask);
       }
-      return app::kOk;
+      return ops::exit_code(ops::Outcome::Done);
     } catch (...) {
-      return session.report_failure("rpd");  // the card settled too: a mode may be on
+      return app::print_failure("rpd", session.fail());  // the card settled too: a mode may be on
     }
   } catch (...) {
     return app::report_current_exception("rpd");

@@ -11,26 +11,27 @@
 
 #include "change_render.hpp"
 #include "errors.hpp"
-#include "interrupt.hpp"
-#include "legacy_env.hpp"
 #include "ops/change.hpp"
+#include "ops/errors.hpp"
 #include "ops/faults.hpp"
+#include "ops/signals.hpp"
+#include "options.hpp"
 #include "params/value.hpp"
-#include "session.hpp"
+#include "terminal.hpp"
 #include "version/build_info.hpp"
 
 using namespace i20;
 
 namespace {
 
-int clear_faults(app::Session& session, const device::WriteOptions& write) {
+int clear_faults(ops::Session& session, const ops::WriteOptions& write) {
   const auto result = ops::clear_faults(session.card(), write, std::chrono::milliseconds(1000));
   std::cout << "FAULT cleared through CLEARFAULT: was " << lbp::hex_value(result.fault_before, 4) << ", now "
             << lbp::hex_value(result.after.fault, 4) << "\n";
-  if (!result.faults_remain()) return app::kOk;
-  std::cerr << "wpd: faults remain because their cause is still present; run `i20 "
-            << session.endpoint().flags() << " faults` for details\n";
-  return app::kFaultsRemain;
+  if (result.faults_remain())
+    std::cerr << "wpd: faults remain because their cause is still present; run `i20 "
+              << session.endpoint().flags() << " faults` for details\n";
+  return ops::exit_code(result.outcome());
 }
 
 // One line on success, like WPD; the full report when anything else happened.
@@ -62,6 +63,16 @@ int report(const ops::TargetRun& run, const params::ParamDb& db) {
   return run.exit_code();
 }
 
+// The card settled after the command; a note when a mode had to be left, and exit 4 when the
+// card did not confirm (which the command's own report already said).
+int settled(ops::Session& session, int code) {
+  const auto s = session.settle();
+  if (s.note) std::cerr << "wpd: " << s.note->label << ": " << s.note->message << "\n";
+  return s.outcome == ops::Outcome::Done || code != ops::exit_code(ops::Outcome::Done)
+             ? code
+             : ops::exit_code(s.outcome);
+}
+
 }  // namespace
 
 static int run(int argc, char** argv) {
@@ -78,7 +89,7 @@ static int run(int argc, char** argv) {
       "  wpd --sim BRAKEONV 30000  (300 V, live)"};
   cli.set_version_flag("--version", "wpd " + std::string(build::kVersion), "Print the version and exit");
   app::GlobalOptions options;
-  device::WriteOptions write;
+  ops::WriteOptions write;
   std::string name, value_text;
   cli.add_option("NAME", name, "Parameter name, e.g. NVMAXCURRENT")->required();
   cli.add_option("VALUE", value_text, "Raw integer value")->required();
@@ -95,10 +106,10 @@ static int run(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app::report_parse_error(cli, e, "wpd");
   }
-  app::install_interrupt_handler("wpd");  // SIGINT, SIGTERM, SIGHUP stop safely; SIGPIPE ignored
+  ops::install_stop_signals();  // SIGINT, SIGTERM, SIGHUP stop safely (ops::Session); SIGPIPE ignored
+  options.legacy = ops::LegacyEnvironment::Required;
   try {
-    app::apply_legacy_environment(options, true);
-    app::Session session(options);
+    ops::Session session(options, app::stop_acknowledgement("wpd"));
     try {
       const auto& db = session.db();
       const auto& param = db.get(name);
@@ -107,7 +118,7 @@ static int run(int argc, char** argv) {
       // writable, the card clears faults through CLEARFAULT.
       if (param.name == "FAULT" && raw == 0) {
         const int code = clear_faults(session, write);
-        return session.settle("wpd") != app::kOk && code == app::kOk ? app::kCardState : code;
+        return settled(session, code);
       }
       const auto profile = ops::profile_from_value(name, value_text, db, ops::ValueSyntax::Raw);
       ops::precheck(profile, db, write);  // before the link is even opened
@@ -119,7 +130,7 @@ static int run(int argc, char** argv) {
       job.transaction.cancel = card.cancel();
       return report(ops::run_apply_on(card, job), card.db());  // run_apply_on settles the card itself
     } catch (...) {
-      return session.report_failure("wpd");  // the card settled too: a mode may be on
+      return app::print_failure("wpd", session.fail());  // the card settled too: a mode may be on
     }
   } catch (...) {
     return app::report_current_exception("wpd");

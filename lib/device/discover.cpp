@@ -118,7 +118,7 @@ Finding value_finding(const Param& working, const Param& nv, std::int64_t nv_raw
   }
   const std::string what = nv.name + " = " + std::to_string(nv_raw);
   if (candidates.size() == 1) {
-    f.outcome = Outcome::Found;
+    f.outcome = Search::Found;
     f.method = Method::UniqueValueMatch;
     f.address = candidates.front();
     f.detail = what + " found once in RAM " + lbp::hex_value(o.scan_begin, 4) + ".." +
@@ -127,7 +127,7 @@ Finding value_finding(const Param& working, const Param& nv, std::int64_t nv_raw
     f.detail = what + " not found in RAM " + lbp::hex_value(o.scan_begin, 4) + ".." +
                lbp::hex_value(o.scan_end - 1, 4);
   } else {
-    f.outcome = Outcome::Ambiguous;
+    f.outcome = Search::Ambiguous;
     f.candidates = candidates;
     f.detail = what + " found at " + std::to_string(candidates.size()) +
                " places; make the NV value unique (write it, reset) and run discover again";
@@ -149,35 +149,36 @@ void mark_twins_ambiguous(std::span<Finding> findings, const std::vector<const P
       if (findings[j].address) candidates.push_back(*findings[j].address);
       candidates.insert(candidates.end(), findings[j].candidates.begin(), findings[j].candidates.end());
     }
-    if (equals.empty() || findings[i].outcome == Outcome::NotFound) continue;
+    if (equals.empty() || findings[i].outcome == Search::NotFound) continue;
     std::ranges::sort(candidates);
     candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
     auto& f = findings[i];
     std::string others;
     for (const auto& name : equals) others += (others.empty() ? "" : ", ") + name;
-    f.outcome = Outcome::Ambiguous;
+    f.outcome = Search::Ambiguous;
     f.method.reset();
     f.address.reset();
     f.candidates = std::move(candidates);
-    f.detail = nv_values[i].param->name + " = " + std::to_string(nv_values[i].raw) + " equals the NV value of " +
-               others + ": the scan cannot tell them apart; make the NV values differ (write one, reset) and run "
+    f.detail = nv_values[i].param->name + " = " + std::to_string(nv_values[i].raw) +
+               " equals the NV value of " + others +
+               ": the scan cannot tell them apart; make the NV values differ (write one, reset) and run "
                "discover again";
   }
 }
 
 }  // namespace
 
-const char* to_string(Outcome outcome) {
+const char* to_string(Search outcome) {
   switch (outcome) {
-    case Outcome::Found: return "found";
-    case Outcome::Ambiguous: return "ambiguous";
-    case Outcome::NotFound: return "not found";
-    case Outcome::NotSearchable: return "not searchable";
+    case Search::Found: return "found";
+    case Search::Ambiguous: return "ambiguous";
+    case Search::NotFound: return "not found";
+    case Search::NotSearchable: return "not searchable";
   }
   return "?";
 }
 
-std::size_t DiscoveryReport::count(Outcome outcome) const {
+std::size_t DiscoveryReport::count(Search outcome) const {
   return static_cast<std::size_t>(std::ranges::count(findings, outcome, &Finding::outcome));
 }
 
@@ -197,7 +198,7 @@ DiscoveryReport discover(Amp8i20& amp, const DiscoveryOptions& o) {
     taken.emplace_back(*db.get(fixed).address, db.get(fixed).bytes());
   for (const auto& [name, address] : from_rpc) {
     report.findings.push_back({.name = name,
-                               .outcome = Outcome::Found,
+                               .outcome = Search::Found,
                                .method = Method::RpcTable,
                                .address = address,
                                .database_address = db.get(name).address,
@@ -228,7 +229,7 @@ DiscoveryReport discover(Amp8i20& amp, const DiscoveryOptions& o) {
     if (p.is_nv() || p.provenance.confirmed_on_all) continue;
     if (std::ranges::find(report.findings, p.name, &Finding::name) != report.findings.end()) continue;
     report.findings.push_back({.name = p.name,
-                               .outcome = Outcome::NotSearchable,
+                               .outcome = Search::NotSearchable,
                                .database_address = p.address,
                                .detail = "no NV twin and not in the RPC table: cannot be located read-only"});
   }
@@ -246,7 +247,7 @@ std::string DiscoveryReport::overlay_yaml(const std::string& generated_at) const
     << "schema: 1\nswrevision: " << lbp::hex_value(swrevision, 4) << "\n"
     << "note: \"i20 discover, unit " << unit_number << ", " << generated_at << "\"\nparameters:\n";
   for (const auto& f : findings) {
-    if (f.outcome != Outcome::Found) continue;
+    if (f.outcome != Search::Found) continue;
     const char* how = f.method == Method::RpcTable ? "RPC table decode" : "unique NV value match after reset";
     y << "  - name: " << f.name << "\n    address: " << lbp::hex_value(*f.address, 4) << "\n"
       << "    provenance: {source: \"i20 discover (" << how << ") on unit " << unit_number << ", "
@@ -255,13 +256,13 @@ std::string DiscoveryReport::overlay_yaml(const std::string& generated_at) const
   // The database's guesses for what was not found are wrong on this card as often as
   // not, and could collide with what was: on this revision their address is unknown.
   for (const auto& f : findings) {
-    if (f.outcome == Outcome::Found) continue;
+    if (f.outcome == Search::Found) continue;
     y << "  - name: " << f.name << "\n    address: null\n"
       << "    provenance: {source: \"i20 discover on unit " << unit_number << ": " << to_string(f.outcome)
       << "\", confirmed_on: []}\n";
   }
   for (const auto& f : findings) {
-    if (f.outcome == Outcome::Found) continue;
+    if (f.outcome == Search::Found) continue;
     y << "# " << f.name << ": " << to_string(f.outcome) << ": " << f.detail;
     if (!f.candidates.empty()) {
       y << " (candidates:";

@@ -35,11 +35,12 @@ struct DiscoveryOptions {
 };
 
 enum class Method { RpcTable, UniqueValueMatch };
-enum class Outcome { Found, Ambiguous, NotFound, NotSearchable };
+// What the search for one parameter's working address found.
+enum class Search { Found, Ambiguous, NotFound, NotSearchable };
 
 struct Finding {
   std::string name;
-  Outcome outcome = Outcome::NotFound;
+  Search outcome = Search::NotFound;
   std::optional<Method> method{};
   std::optional<std::uint16_t> address{};           // when Found
   std::vector<std::uint16_t> candidates{};          // when Ambiguous
@@ -55,7 +56,7 @@ struct DiscoveryReport {
   std::uint32_t scan_end = 0;
   std::vector<Finding> findings;
 
-  std::size_t count(Outcome outcome) const;
+  std::size_t count(Search outcome) const;
   // The overlay file for `i20 --params`: found addresses confirmed for this revision,
   // the rest as comments.
   std::string overlay_yaml(const std::string& generated_at) const;
@@ -74,6 +75,6 @@ RpcEvidence decode_rpc_evidence(const lbp::Bytes& table);
 // memory access flag (always cleared again) and, when reset_first, the 0xFE 0x5A reset.
 DiscoveryReport discover(Amp8i20& amp, const DiscoveryOptions& options);
 
-const char* to_string(Outcome outcome);
+const char* to_string(Search outcome);
 
 }  // namespace i20::device

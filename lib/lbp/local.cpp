@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "lbp/local.hpp"
 
+#include <utility>
+
 #include "lbp/header.hpp"
 
 namespace i20::lbp::local {
@@ -49,6 +51,19 @@ std::optional<std::string_view> name_of(Byte command) {
     case kResetParser: return "reset LBP parser";
     default: return std::nullopt;
   }
+}
+
+std::string status_text(Byte status) {
+  if (status == 0) return "no errors";
+  std::string text;
+  const std::pair<Byte, const char*> bits[] = {{kStatusCrcError, "CRC error"},
+                                               {kStatusWatchdog, "watchdog timeout"},
+                                               {kStatusBufferOverflow, "buffer overflow"},
+                                               {kStatusInvalidWrite, "invalid write"},
+                                               {kStatusCommandTimeout, "command timeout"}};
+  for (const auto& [bit, name] : bits)
+    if (status & bit) text += (text.empty() ? "" : ", ") + std::string(name);
+  return text;
 }
 
 }  // namespace i20::lbp::local

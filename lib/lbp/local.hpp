@@ -6,6 +6,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <string_view>
 
 #include "lbp/bytes.hpp"
@@ -67,5 +68,9 @@ std::size_t data_bytes(Byte command);
 
 // Human name of a documented local command ("get LBP status"), nullopt if reserved.
 std::optional<std::string_view> name_of(Byte command);
+
+// The LBP status byte (kGetStatus) in words: "no errors", or its bits ("CRC error, watchdog
+// timeout").
+std::string status_text(Byte status);
 
 }  // namespace i20::lbp::local

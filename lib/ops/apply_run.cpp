@@ -8,6 +8,7 @@
 #include "faults/bit_info.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/device_access.hpp"
+#include "ops/failure.hpp"
 #include "ops/pending.hpp"
 #include "ops/read.hpp"
 #include "ops/reset.hpp"
@@ -145,14 +146,12 @@ TargetRun run_apply_opened(const Endpoint& target, const ApplyJob& job, const Ca
     if (activity) activity("connecting");
     const auto card = open();
     run = run_apply_on(*card, job, activity);
-  } catch (const Error& e) {
+  } catch (...) {
+    // One meaning for every failure (ops/failure.hpp): a defect is uncertain here too.
+    const auto failure = failure_of_current_exception();
     run.target = target;
-    run.error = e.what();
-    run.outcome = outcome_of(e.kind());
-  } catch (const std::exception& e) {
-    run.target = target;
-    run.error = e.what();
-    run.outcome = Outcome::Failed;
+    run.error = failure.line.message;
+    run.outcome = failure.outcome;
   }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (activity) activity("done");

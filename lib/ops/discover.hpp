@@ -13,6 +13,11 @@
 
 namespace i20::ops {
 
+// The device layer's discovery terms, as the apps name them (no app includes lib/device).
+using device::DiscoveryReport;
+using device::Search;
+using device::to_string;
+
 struct DiscoverOptions {
   device::DiscoveryOptions scan;
   std::filesystem::path output;  // empty: i20-map-SWREVISION.yaml in the current directory
@@ -25,7 +30,7 @@ struct DiscoverResult {
   std::filesystem::path written;  // the overlay file, loaded back and accepted
 };
 
-// Throws device::Cancelled on Ctrl-C (between scan chunks), UsageError when the file exists
+// Throws Cancelled on Ctrl-C (between scan chunks), UsageError when the file exists
 // and `overwrite` is not set, ParamFileError when the overlay would not load (nothing is
 // written then).
 DiscoverResult discover(Card& card, const params::ParamDb& loaded, const DiscoverOptions& options);

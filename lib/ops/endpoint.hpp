@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "link/link.hpp"
+#include "link/ports.hpp"
 #include "params/param_db.hpp"
 
 namespace i20::ops {
@@ -60,13 +61,17 @@ std::vector<Endpoint> resolve_endpoints(const std::vector<std::string>& targets,
                                         const std::optional<Endpoint>& global);
 
 struct LinkSettings {
-  unsigned baud = 115200;     // setup mode is always 115200 (manual)
-  unsigned timeout_ms = 50;   // reply timeout on top of the wire time
-  bool take_over = false;     // Ethernet: stop a port another host (LinuxCNC) is driving
+  unsigned baud = 115200;    // setup mode is always 115200 (manual)
+  unsigned timeout_ms = 50;  // reply timeout on top of the wire time
+  bool take_over = false;    // Ethernet: stop a port another host (LinuxCNC) is driving
   // In-process simulator only: control lines (lib/sim/control.hpp, e.g. "busv 160") applied
   // before the first command, so --sim can stand in for a card on another supply.
   std::vector<std::string> sim_control;
 };
+
+// `i20 ports`: the serial ports with hardware behind them (USB adapters with their ids).
+using link::list_ports;
+using link::PortInfo;
 
 // Opens the link. A serial port is locked for this process (flock, root included). The
 // in-process simulator follows `db`, so overlays that move addresses move them on both

@@ -42,6 +42,7 @@ struct ClearResult {
   FaultReadings after;
   std::chrono::milliseconds took{0};
   bool faults_remain() const { return after.fault != 0; }
+  Outcome outcome() const { return faults_remain() ? Outcome::FaultsRemain : Outcome::Done; }
 };
 
 // Sets CLEARFAULT, waits until the card acts on it (bounded by `wait`), and reads the
@@ -52,7 +53,7 @@ ClearResult clear_faults(Card& card, const device::WriteOptions& write, std::chr
 struct MaskResult {
   std::uint16_t before = 0;  // FAULTMASK as read
   std::uint16_t wanted = 0;
-  TargetRun run;             // the transaction (nothing to do when already as asked)
+  TargetRun run;  // the transaction (nothing to do when already as asked)
 };
 
 // Masks (or unmasks) the maskable FAULT bit named by `key`, keeping every other bit as

@@ -63,6 +63,20 @@ const char* error_label(ErrorKind kind) {
   return "error";
 }
 
+int exit_code(Comparison comparison) {
+  switch (comparison) {
+    case Comparison::Same: return kExitOk;
+    case Comparison::Differs: return 1;
+    case Comparison::Trouble: return 2;
+    case Comparison::Interrupted: return kExitInterrupted;
+  }
+  return 2;
+}
+
+Comparison most_serious(Comparison a, Comparison b) {
+  return static_cast<int>(b) > static_cast<int>(a) ? b : a;
+}
+
 namespace {
 
 // Lower is more serious.

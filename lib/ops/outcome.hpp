@@ -16,12 +16,12 @@
 namespace i20::ops {
 
 enum class Outcome {
-  Done,          // applied and verified
-  NothingToDo,   // the card already held every value: nothing was written
-  DryRun,        // planned only, on request
-  Failed,        // failed before anything was written: the card was not reached, or a backup could not be written
-  BadInput,      // nothing was sent
-  Refused,       // nothing was written
+  Done,         // applied and verified
+  NothingToDo,  // the card already held every value: nothing was written
+  DryRun,       // planned only, on request
+  Failed,    // failed before anything was written: the card was not reached, or a backup could not be written
+  BadInput,  // nothing was sent
+  Refused,   // nothing was written
   RolledBack,    // a change failed; what was written was restored and verified
   Uncertain,     // some cell may differ from both the old and the new value
   FaultsRemain,  // faults stay latched after clearing
@@ -45,6 +45,14 @@ const char* to_string(Outcome outcome);
 // The label printed before an error message on stderr: "error", "refused", "card state",
 // "interrupted", ...
 const char* error_label(ErrorKind kind);
+
+// `i20 profile diff` answers as diff(1) does: 0 every target holds every value, 1 some value
+// differs, 2 trouble (bad input, a card not reached, a value that is not a fact on the card);
+// 130 stopped.
+enum class Comparison { Same, Differs, Trouble, Interrupted };
+int exit_code(Comparison comparison);
+// Of several comparisons (a diff over many targets), the one that decides the exit code.
+Comparison most_serious(Comparison a, Comparison b);
 
 // Of several outcomes (a fleet), the one that needs attention first: uncertain outranks
 // interrupted, not reached, refused and bad input; 0 only if every run ended well.

@@ -22,6 +22,9 @@
 
 namespace i20::ops {
 
+// At most this many UDP requests a second (eth/passive_reader.hpp says why).
+using eth::kPassiveMaxRequestsPerSecond;
+
 struct PassiveChange {
   enum class Kind {
     Joined,       // an 8I20 is in the host's cycle (first sample, or back)

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "ops/read.hpp"
 
+#include <algorithm>
+
 namespace i20::ops {
 
 std::vector<Reading> read_values(Card& card, std::span<const params::Param* const> params,
@@ -36,6 +38,11 @@ std::vector<Reading> read_all(Card& card, Unconfirmed unconfirmed) {
 
 std::string unknown_text(const Reading& reading) {
   return "unknown (" + (reading.reason.empty() ? std::string("not read") : reading.reason) + ")";
+}
+
+Outcome reading_outcome(std::span<const Reading> readings) {
+  const bool all_read = std::ranges::all_of(readings, [](const Reading& r) { return r.raw.has_value(); });
+  return all_read ? Outcome::Done : Outcome::Refused;
 }
 
 }  // namespace i20::ops

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "ops/card.hpp"
+#include "ops/outcome.hpp"
 #include "params/param.hpp"
 
 namespace i20::ops {
@@ -20,7 +21,7 @@ struct Reading {
   const params::Param* param = nullptr;  // in the card's resolved database
   std::optional<std::int64_t> raw;       // nullopt: not read, see `reason`
   bool confirmed = false;                // the address is confirmed for this firmware
-  std::string reason;                    // why it is not a fact: "address not confirmed for SWREVISION 0x1234"
+  std::string reason;  // why it is not a fact: "address not confirmed for SWREVISION 0x1234"
 
   bool fact() const { return raw && confirmed; }
 };
@@ -39,6 +40,10 @@ std::vector<Reading> read_values(Card& card, const std::vector<std::string>& nam
                                  Unconfirmed unconfirmed = Unconfirmed::Skip);
 // Every parameter the database places: `i20 dump`, `profile save`, `report`.
 std::vector<Reading> read_all(Card& card, Unconfirmed unconfirmed = Unconfirmed::Skip);
+
+// A read's outcome: Refused when any value could not be read as asked (its address is not
+// confirmed and --allow-unverified was not given, or it has none), Done otherwise.
+Outcome reading_outcome(std::span<const Reading> readings);
 
 // "unknown (address not confirmed for SWREVISION 0x1234)".
 std::string unknown_text(const Reading& reading);

@@ -14,6 +14,7 @@
 
 #include "ops/card.hpp"
 #include "ops/card_access.hpp"
+#include "ops/outcome.hpp"
 #include "ops/pending.hpp"
 #include "params/param_db.hpp"
 #include "profile/finding.hpp"
@@ -26,8 +27,8 @@ struct ResetJudgement {
   // NV cells whose working twin is not a fact on this firmware: a reset may make them live,
   // so they are judged as if pending.
   std::vector<std::string> unknown_live;
-  RawValues nv;                          // the NV values judged (as read, or as planned)
-  std::optional<double> measured_bus_v;  // BUSV now, when it is a fact
+  RawValues nv;                            // the NV values judged (as read, or as planned)
+  std::optional<double> measured_bus_v;    // BUSV now, when it is a fact
   std::vector<profile::Finding> findings;  // errors refuse the reset; warnings when forced
 
   bool refused() const { return profile::has_errors(findings); }
@@ -53,6 +54,8 @@ void add_reset_findings(std::vector<profile::Finding>& findings, const params::P
 struct ResetRun {
   ResetJudgement judgement;
   bool done = false;  // the reset was sent and the card answered again
+  // Refused when the judgement stopped it (only reads were sent).
+  Outcome outcome() const { return done ? Outcome::Done : Outcome::Refused; }
 };
 
 // `i20 reset`: judges, then resets unless refused (refused: nothing but reads was sent).

@@ -188,3 +188,21 @@ TEST(ToolsMute, AModeLeftOnIsSaidOnceByEveryProgram) {
     EXPECT_GT(left_on, 0) << program << ": no mute landed inside a mode; the test proves nothing";
   }
 }
+
+// COMPORT names the card for every i20 command given no target (ops::Session), the profile
+// commands included: they once opened cards themselves and ignored it.
+TEST_F(LegacyTools, ProfileCommandsFindTheCardThroughComportAsEveryI20CommandDoes) {
+  auto r = run("i20", {"profile", "diff", "line-120v"}, env());
+  EXPECT_EQ(r.exit_code, 1) << "the card differs from a 120 V profile, as diff(1): " << r.out << r.err;
+  EXPECT_NE(r.out.find("against 8I20"), std::string::npos) << r.out;
+  TempDir dir;
+  const auto saved = (dir / "saved.yaml").string();
+  r = run("i20", {"profile", "save", saved}, env());
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  r = run("i20", {"profile", "diff", saved}, env());
+  EXPECT_EQ(r.exit_code, 0) << "the card holds what was saved from it: " << r.out << r.err;
+  const auto writes = sim.writes_seen();
+  r = run("i20", {"profile", "validate", "line-120v"}, env());
+  EXPECT_EQ(r.exit_code, 3) << "judged against this card's 320 V bus, as apply would be: " << r.out << r.err;
+  EXPECT_EQ(sim.writes_seen(), writes) << "validate only reads";
+}

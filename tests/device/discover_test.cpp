@@ -48,7 +48,7 @@ TEST(Discover, RpcTableNamesTheCycleRegistersOfAShuffledMap) {
   const auto report = device::discover(amp, whole_map_range());
   for (const char* name : {"ANGLE", "QSETPOINT", "BUSV", "TEMPERATURE", "FAULT", "STATUS"}) {
     const auto& f = finding(report, name);
-    EXPECT_EQ(f.outcome, device::Outcome::Found) << name;
+    EXPECT_EQ(f.outcome, device::Search::Found) << name;
     EXPECT_EQ(f.method, device::Method::RpcTable) << name;
     EXPECT_EQ(f.address, rig.card_address(name)) << name;
     EXPECT_NE(f.address, rig.db.get(name).address)
@@ -70,7 +70,7 @@ TEST(Discover, UniqueNvValuesLocateTheirWorkingTwins) {
   for (const char* name : {"MAXCURRENT", "KQP", "KQI", "KQIL", "KDP", "KDI", "KDIL", "DEADZONE", "BUSUNDERV",
                            "BUSOVERV", "BRAKEONV", "BRAKEOFFV"}) {
     const auto& f = finding(report, name);
-    EXPECT_EQ(f.outcome, device::Outcome::Found) << name << ": " << f.detail;
+    EXPECT_EQ(f.outcome, device::Search::Found) << name << ": " << f.detail;
     EXPECT_EQ(f.method, device::Method::UniqueValueMatch) << name;
     EXPECT_EQ(f.address, rig.card_address(name)) << name;
   }
@@ -82,14 +82,14 @@ TEST(Discover, EqualNvValuesAreReportedAmbiguousNotGuessed) {
   device::Amp8i20 amp(*rig.link, rig.db);
   const auto report = device::discover(amp, whole_map_range());  // KQP = KDP = 50 by default
   const auto& kqp = finding(report, "KQP");
-  EXPECT_EQ(kqp.outcome, device::Outcome::Ambiguous);
+  EXPECT_EQ(kqp.outcome, device::Search::Ambiguous);
   EXPECT_FALSE(kqp.address);
   EXPECT_EQ(kqp.candidates.size(), 2u);
   EXPECT_NE(std::find(kqp.candidates.begin(), kqp.candidates.end(), rig.card_address("KQP")),
             kqp.candidates.end());
   EXPECT_NE(std::find(kqp.candidates.begin(), kqp.candidates.end(), rig.card_address("KDP")),
             kqp.candidates.end());
-  EXPECT_EQ(finding(report, "CLEARFAULT").outcome, device::Outcome::NotSearchable);
+  EXPECT_EQ(finding(report, "CLEARFAULT").outcome, device::Search::NotSearchable);
 }
 
 TEST(Discover, OverlayConfirmsFindingsForThisRevisionOnly) {

@@ -285,7 +285,7 @@ TEST(OpsDiscover, TwinsWithEqualValuesAreAmbiguousAndTheOverlayLoadsBack) {
   for (const char* twin : {"KQP", "KDP", "KQI", "KDI", "KQIL", "KDIL"}) {
     const auto it = std::ranges::find(result.report.findings, std::string(twin), &device::Finding::name);
     ASSERT_NE(it, result.report.findings.end()) << twin;
-    EXPECT_EQ(it->outcome, device::Outcome::Ambiguous)
+    EXPECT_EQ(it->outcome, device::Search::Ambiguous)
         << twin << " holds the same value as its twin: " << it->detail;
   }
   // The overlay loads, and with it the faults are read where the card keeps them.

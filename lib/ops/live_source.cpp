@@ -1,22 +1,22 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include "live_source.hpp"
+#include "ops/live_source.hpp"
 
 #include "eth/normal_mode.hpp"
 #include "eth/target.hpp"
 
-namespace i20::cli {
+namespace i20::ops {
 namespace {
 
 class RegisterSource final : public LiveSource {
  public:
-  explicit RegisterSource(Context& ctx) : ctx_(ctx) {}
-  Readings read() override { return ops::read_fault_registers(ctx_.card()); }
-  std::string describe() override { return ctx_.session().endpoint().text; }
-  void reconnect() override { ctx_.session().reconnect(); }
+  explicit RegisterSource(Session& session) : session_(session) {}
+  FaultReadings read() override { return read_fault_registers(session_.card()); }
+  std::string describe() override { return session_.endpoint().text; }
+  void reconnect() override { session_.reconnect(); }
   std::string method() const override { return "register reads"; }
 
  private:
-  Context& ctx_;
+  Session& session_;
 };
 
 class NormalModeSource final : public LiveSource {
@@ -25,12 +25,12 @@ class NormalModeSource final : public LiveSource {
     options_.running_host.take_over = take_over;
   }
 
-  Readings read() override {
+  FaultReadings read() override {
     if (!session_) session_ = eth::NormalModeSession::open(target_, options_);
     const auto status = session_->wait_for_sample(std::chrono::milliseconds(500));
     const auto* ch = status.channel(target_.channel);
     if (!ch) throw Error("SSLBP normal mode returned no data for channel " + std::to_string(target_.channel));
-    Readings r;
+    FaultReadings r;
     r.fault = ch->fault;
     r.status = ch->status;
     r.busv_v = ch->bus_volts();
@@ -49,16 +49,16 @@ class NormalModeSource final : public LiveSource {
 
 }  // namespace
 
-bool is_eth_target(const app::GlobalOptions& o) {
-  const auto e = ops::endpoint_from(o.target);
+bool is_eth_target(const Session& session) {
+  const auto e = session.endpoint_if_any();
   return e && e->is_eth();
 }
 
-std::unique_ptr<LiveSource> make_live_source(Context& ctx, LiveMode mode) {
-  if (mode == LiveMode::NormalModeOnEthernet && is_eth_target(ctx.options))
-    return std::make_unique<NormalModeSource>(eth::parse_target(ctx.session().endpoint().eth_url),
-                                              ctx.options.link.take_over);
-  return std::make_unique<RegisterSource>(ctx);
+std::unique_ptr<LiveSource> make_live_source(Session& session, LiveMode mode) {
+  if (mode == LiveMode::NormalModeOnEthernet && is_eth_target(session))
+    return std::make_unique<NormalModeSource>(eth::parse_target(session.endpoint().eth_url),
+                                              session.options().link.take_over);
+  return std::make_unique<RegisterSource>(session);
 }
 
-}  // namespace i20::cli
+}  // namespace i20::ops

@@ -1,12 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include "session.hpp"
+#include "options.hpp"
 
 #include <CLI/CLI.hpp>
-#include <iostream>
-
-#include "device/errors.hpp"
-#include "errors.hpp"
-#include "interrupt.hpp"
 
 namespace i20::app {
 
@@ -35,9 +30,9 @@ void add_target_options(CLI::App& app, GlobalOptions& o) {
                  "EEPROM image file for --sim, so NV values persist between runs")
       ->needs(sim);
   app.add_option(
-      "--sim-control", o.link.sim_control,
-      "A simulator control line applied before the first command, e.g. \"busv 160\" (a card on a 120 V "
-      "line) or \"enable off\"; repeatable, for --sim and sim targets. `i20sim --help` lists them")
+         "--sim-control", o.link.sim_control,
+         "A simulator control line applied before the first command, e.g. \"busv 160\" (a card on a 120 V "
+         "line) or \"enable off\"; repeatable, for --sim and sim targets. `i20sim --help` lists them")
       ->excludes(port)
       ->excludes(eth);  // a real card would silently ignore it: refused before any byte
   app.add_option("--baud", o.link.baud, "Serial baud rate; setup mode is always 115200 (manual)")
@@ -58,87 +53,6 @@ void add_database_options(CLI::App& app, GlobalOptions& o) {
                  "$I20_PARAMS and ~/.config/i20/params.yaml")
       ->check(CLI::ExistingFile);
   app.add_flag("--no-user-params", o.no_user_params, "Ignore $I20_PARAMS and ~/.config/i20/params.yaml");
-}
-
-params::ParamDb load_database(const GlobalOptions& options) {
-  auto db = params::ParamDb::builtin();
-  if (!options.no_user_params)
-    for (const auto& path : params::default_overlay_paths()) db.apply_overlay_file(path);
-  for (const auto& path : options.params_files) db.apply_overlay_file(path);
-  return db;
-}
-
-Session::Session(GlobalOptions options) : options_(std::move(options)) {}
-Session::~Session() = default;
-
-const params::ParamDb& Session::db() {
-  if (!db_) db_ = std::make_unique<params::ParamDb>(load_database(options_));
-  return *db_;
-}
-
-const ops::Endpoint& Session::endpoint() {
-  if (!endpoint_) endpoint_ = std::make_unique<ops::Endpoint>(ops::require_endpoint(options_.target));
-  return *endpoint_;
-}
-
-ops::Card& Session::card() {
-  if (!card_) {
-    ops::OpenOptions open;
-    open.link = options_.link;
-    card_ = ops::Card::open(endpoint(), db(), open, ops::Cancel(install_interrupt_handler()));
-  }
-  return *card_;
-}
-
-int Session::settle(const char* program) {
-  if (!card_) return kOk;
-  const bool said = card_->unsettled_said();
-  try {
-    if (const auto mode = card_->settle(); !mode.empty())
-      std::cerr << program << ": note: the line failed while the card was in " << mode
-                << "; it answered again and left it\n";
-  } catch (const device::CardStateError&) {
-    if (!said) throw;
-    return kCardState;
-  }
-  return kOk;
-}
-
-namespace {
-bool handling_card_state_error() {
-  try {
-    throw;
-  } catch (const device::CardStateError&) {
-    return true;
-  } catch (...) {
-    return false;
-  }
-}
-}  // namespace
-
-int Session::report_failure(const char* program) {
-  int code = report_current_exception(program);
-  // A CardStateError is the settle's own verdict (or a mode already named): not again.
-  if (!card_ || handling_card_state_error()) return code;
-  try {
-    if (settle(program) != kOk) code = kCardState;
-  } catch (const Error& e) {
-    std::cerr << program << ": card state: " << e.what() << "\n";
-    code = kCardState;
-  }
-  return code;
-}
-
-void Session::reconnect() {
-  card_.reset();
-}
-
-std::vector<std::string> Session::notes() const {
-  return card_ ? card_->link().notes() : std::vector<std::string>{};
-}
-
-const link::Link* Session::link_if_open() const {
-  return card_ ? &card_->link() : nullptr;
 }
 
 }  // namespace i20::app

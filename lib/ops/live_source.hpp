@@ -11,16 +11,16 @@
 #include <memory>
 #include <string>
 
-#include "context.hpp"
-#include "faults_render.hpp"
+#include "ops/faults.hpp"
+#include "ops/session.hpp"
 
-namespace i20::cli {
+namespace i20::ops {
 
 class LiveSource {
  public:
   virtual ~LiveSource() = default;
   // One set of readings. Throws i20::Error when the card cannot be reached.
-  virtual Readings read() = 0;
+  virtual FaultReadings read() = 0;
   // "8I20 on ..." target text, for messages.
   virtual std::string describe() = 0;
   // Drop the connection; the next read() opens it again.
@@ -34,9 +34,12 @@ enum class LiveMode {
   NormalModeOnEthernet,  // Ethernet targets: SSLBP normal mode (its start clears faults)
 };
 
-std::unique_ptr<LiveSource> make_live_source(Context& ctx, LiveMode mode);
+// Over the session's card (Registers), or its own SSLBP normal-mode session on the session's
+// Ethernet endpoint (NormalModeOnEthernet; register reads on other endpoints). It refuses a
+// running host unless the session's options say take over.
+std::unique_ptr<LiveSource> make_live_source(Session& session, LiveMode mode);
 
-// True when the global options name an Ethernet target (--eth or an eth:// --port).
-bool is_eth_target(const app::GlobalOptions& options);
+// True when the session names an Ethernet target (--eth or an eth:// --port).
+bool is_eth_target(const Session& session);
 
-}  // namespace i20::cli
+}  // namespace i20::ops

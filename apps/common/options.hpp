@@ -1,0 +1,23 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// The global options every app parses (where the 8I20 is, which database, how to print):
+// the session's options plus the apps' own output switches.
+#pragma once
+
+#include "ops/session.hpp"
+
+namespace CLI {
+class App;
+}
+
+namespace i20::app {
+
+struct GlobalOptions : ops::SessionOptions {
+  bool json = false;
+  bool verbose = false;
+};
+
+// Adds --port/--sim/--eth/... to an app (the i20 umbrella, wpd, rpd).
+void add_target_options(CLI::App& app, GlobalOptions& options);
+void add_database_options(CLI::App& app, GlobalOptions& options);
+
+}  // namespace i20::app

@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// What a failure means, in one place for every program and use case: the toolkit's own
+// errors by their kind, YAML errors as bad input, and anything else as a defect after which
+// nothing is claimed about the card.
+#pragma once
+
+#include <string>
+
+#include "ops/outcome.hpp"
+
+namespace i20::ops {
+
+// One line of a report: "LABEL: MESSAGE" ("error", "refused", "card state", "note", ...).
+struct ReportLine {
+  std::string label;
+  std::string message;
+};
+
+// What the apps may add to a failure's message: the flag that changes it is theirs to name.
+enum class Advice {
+  None,
+  ReadPassively,  // refused beside a running host: a passive read would not stop it
+};
+
+// What a failure means, for the exception being handled (call from a catch block): the
+// toolkit's own errors by their kind; YAML errors are bad input; anything else is a defect
+// at a point nobody planned for, so nothing is claimed about the card (uncertain).
+struct Failure {
+  Outcome outcome = Outcome::Uncertain;
+  ReportLine line;
+  Advice advice = Advice::None;
+};
+Failure failure_of_current_exception();
+
+}  // namespace i20::ops

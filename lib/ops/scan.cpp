@@ -1,0 +1,25 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "ops/scan.hpp"
+
+#include "eth/running_host.hpp"
+
+namespace i20::ops {
+
+std::optional<HostPort> ethernet_card(const TargetFlags& target) {
+  const std::string text =
+      !target.eth.empty() ? target.eth : (eth::is_eth_url(target.port) ? target.port : std::string());
+  if (text.empty()) return std::nullopt;
+  return eth::is_eth_url(text) ? eth::parse_target(text).card : eth::parse_host_port(text);
+}
+
+ScanRun scan_card(const HostPort& card, const LinkSettings& link) {
+  eth::ScanOptions options;
+  options.udp.timeout = std::chrono::milliseconds(link.timeout_ms);
+  options.running_host.take_over = link.take_over;
+  ScanRun run{eth::scan(card, options)};
+  run.stopped_running_host =
+      link.take_over && eth::host_is_running(run.result.host_activity, options.running_host);
+  return run;
+}
+
+}  // namespace i20::ops

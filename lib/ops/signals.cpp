@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "ops/signals.hpp"
+
+#include <csignal>
+
+namespace i20::ops {
+namespace {
+
+// The one piece of process-wide state: a signal handler can reach nothing else.
+StopRequest g_stop;
+
+extern "C" void on_stop_signal(int sig) {
+  g_stop.request(sig);  // async-signal-safe; the main flow decides and answers
+}
+
+}  // namespace
+
+StopRequest& install_stop_signals() {
+  static const bool installed = [] {
+    struct sigaction action {};
+    action.sa_handler = on_stop_signal;
+    sigemptyset(&action.sa_mask);
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &action, nullptr);
+    struct sigaction ignore {};
+    ignore.sa_handler = SIG_IGN;
+    sigemptyset(&ignore.sa_mask);
+    sigaction(SIGPIPE, &ignore, nullptr);
+    return true;
+  }();
+  (void)installed;
+  return g_stop;
+}
+
+bool stop_requested() {
+  return g_stop.requested();
+}
+
+}  // namespace i20::ops
