@@ -24,6 +24,7 @@
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
 #include "ops/fleet.hpp"
+#include "ops/link_options.hpp"
 #include "sim/control.hpp"
 #include "sim/ground_truth.hpp"
 #include "sim/param_map.hpp"
@@ -242,7 +243,7 @@ void run_single(const EthScenario& e, std::size_t index, const params::ParamDb& 
   std::unique_ptr<ops::Card> card;
   InjectingLink* link = nullptr;
   try {
-    auto inner = ops::open_link(endpoint, db, job.open.link);
+    auto inner = ops::open_link(endpoint, db, job.open.link, job.open.retry);
     auto wrapped = std::make_unique<InjectingLink>(std::move(inner), stop);
     link = wrapped.get();
     card = ops::Card::attach(std::move(wrapped), endpoint, db, job.open.retry, cancel);

@@ -563,9 +563,13 @@ void PassthroughPort::run(std::vector<Channel>& channels) {
         throw link::TimeoutError(
             "SSLBP DOITs on " + describe() + " keep finishing later than their serial traffic needs (" +
             std::to_string(replays) + " replays in one exchange): the remote answers too slowly");
-      if (result.next == PacketResult::Next::Resend && ++resends > options_.sslbp.lost_reply_retries)
-        throw link::TimeoutError("the replies from " + describe() + " were lost " + std::to_string(resends) +
-                                 " times in a row; the card or the network is not answering");
+      // A packet whose reply was lost is resent within options_.lost_packet_resends; under
+      // ops (0 resends) the caller's retry budget repeats the exchange instead.
+      if (result.next == PacketResult::Next::Resend && ++resends > options_.lost_packet_resends)
+        throw link::TimeoutError((resends == 1 ? "the reply from " + describe() + " was lost"
+                                               : "the replies from " + describe() + " were lost " +
+                                                     std::to_string(resends) + " times in a row") +
+                                 "; the card or the network is not answering");
     }
   } catch (const link::LinkError&) {
     needs_resync_ = true;

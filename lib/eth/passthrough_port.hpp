@@ -98,6 +98,11 @@ struct PassthroughOptions {
   // Late requests (fenced_transport.hpp): how long an unanswered one may still arrive.
   FenceOptions fence;
   SslbpOptions sslbp;
+  // How often a passthrough packet whose reply was lost is sent again, after the fence and
+  // a read-only probe (PassthroughPort::lost_reply; a step that must not run twice never
+  // is). ops sends 0 (ops::passthrough_options): it repeats a lost exchange itself, within
+  // its retry budget, and a write only after a read-back.
+  unsigned lost_packet_resends = 2;
   RunningHostCheck running_host;
   // Refuse a channel whose remote is not an 8I20 (INTERFACE1 after setup start).
   bool require_8i20 = true;

@@ -31,8 +31,11 @@ struct SslbpOptions {
   // WaituS after a local parameter request or a stop: SSLBP's processor answers those
   // in microseconds, so the read-back in the same packet normally finds them done.
   std::chrono::microseconds local_settle{50};
-  // How often a packet with writes is resent when its reply is lost and the operation
-  // is repeatable (only after a read-only probe found COMMAND idle).
+  // How often an SSLBP command's packet (it holds writes) is resent when its reply is lost
+  // and the operation is repeatable, only after a read-only probe found COMMAND idle; also
+  // how often a command that found COMMAND busy with another one is issued again. Only
+  // SslbpPort::run's own commands: passthrough packets follow
+  // PassthroughOptions::lost_packet_resends. ops hands down its budget's resends.
   unsigned lost_reply_retries = 2;
 };
 

@@ -71,7 +71,11 @@ struct UdpOptions {
   // The longest wait for one reply (back-off included): a stalled host gets this much, a
   // dead card costs at most this much per attempt.
   std::chrono::milliseconds max_timeout{1000};
-  // Extra attempts for packets that may be resent (see Resend).
+  // Extra attempts for packets that may be resent (see Resend): a transaction is sent at
+  // most 1 + retries times. Packets with writes are sent once unless the caller vouches
+  // for them (Resend::Idempotent). ops hands down its budget's resends (ops/retry.hpp);
+  // the passthrough's packets hold writes, so ops' own reads over Ethernet never get
+  // resent here.
   unsigned retries = 2;
   // Sequence-number tagging through space 6 Scratch (see above). Off only for cards
   // whose firmware lacks space 6; then stale replies cannot be told apart.

@@ -67,11 +67,4 @@ class Cancel {
   Acknowledge acknowledge_;
 };
 
-// How often a step is tried again when the line loses or garbles a reply: the one retry
-// policy of the toolkit. Reads are repeated as they are (they change nothing); writes are
-// repeated only after a read-back shows the card does not hold the value yet.
-struct RetryPolicy {
-  unsigned attempts = 3;
-};
-
 }  // namespace i20::ops

@@ -6,6 +6,7 @@
 #include "device/discover.hpp"
 #include "device/errors.hpp"
 #include "lbp/bytes.hpp"
+#include "ops/link_options.hpp"
 
 namespace i20::ops {
 namespace {
@@ -51,7 +52,8 @@ Card::Card(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retr
 std::unique_ptr<Card> Card::open(const Endpoint& endpoint, const params::ParamDb& loaded,
                                  const OpenOptions& options, Cancel cancel) {
   cancel.check("connecting");
-  return attach(open_link(endpoint, loaded, options.link), endpoint, loaded, options.retry, cancel);
+  return attach(open_link(endpoint, loaded, options.link, options.retry), endpoint, loaded, options.retry,
+                cancel);
 }
 
 std::unique_ptr<Card> Card::attach(std::unique_ptr<link::Link> link, Endpoint endpoint,

@@ -17,6 +17,7 @@
 #include "link/link.hpp"
 #include "ops/cancel.hpp"
 #include "ops/endpoint.hpp"
+#include "ops/retry.hpp"
 #include "params/param_db.hpp"
 
 namespace i20::ops {
@@ -74,7 +75,9 @@ class Card {
     Card& card_;
   };
 
-  // Runs `step` (reads only: they change nothing), again on a link error, per the retry policy.
+  // Runs `step` again on a link error, `retry().attempts` times in all: the one loop over
+  // a lost exchange, since the links under a Card send each exchange once (retry.hpp).
+  // `step` must be harmless to run twice: reads, or the writes that switch a mode off.
   template <class F>
   auto with_retries(F&& step) {
     for (unsigned attempt = 1;; ++attempt) {

@@ -22,8 +22,9 @@ void DeviceCardAccess::note(const std::string& what) {
 RawValues DeviceCardAccess::read(const std::vector<std::string>& names) {
   if (!failed_ && written_ == 0) note("reading");
   RawValues out;
-  // Reads change nothing on the card, so they are simply asked again when a reply is lost
-  // or the card reset in the middle of an NV read.
+  // Reads change nothing on the card, so they are simply asked again: read_values when a
+  // reply is lost (Card::with_retries, the retry budget), here when the card reset in the
+  // middle of an NV read.
   for (unsigned attempt = 1;; ++attempt) {
     try {
       // With --allow-unverified the user vouches for the addresses: their values count.
@@ -65,9 +66,11 @@ void DeviceCardAccess::write(const std::string& name, std::int64_t raw) {
 }
 
 // A lost or garbled reply says nothing about whether the write landed: the card is asked
-// what it holds, and the write repeated (writing the same value again is harmless) until
-// the read-back shows the value or the attempts run out. A read-back that disagrees with
-// a completed exchange (VerifyError) is an answer, not a line fault: it is not retried.
+// what it holds, and the write is repeated (writing the same value again is harmless) only
+// when that read-back shows the card does not hold the value yet, and only within the retry
+// budget. A read-back that gets no answer either leaves the write's fate unknown: the
+// error stands, nothing is written blindly. A read-back that disagrees with a completed
+// exchange (VerifyError) is an answer, not a line fault: it is not retried.
 void DeviceCardAccess::write_once(const std::string& name, std::int64_t raw) {
   const unsigned attempts = card_.retry().attempts;
   for (unsigned attempt = 1;; ++attempt) {
@@ -78,16 +81,19 @@ void DeviceCardAccess::write_once(const std::string& name, std::int64_t raw) {
       return;
     } catch (const device::NvModeLost& lost) {
       recover_from_mode_loss(lost);
-      if (holds(name, raw)) return;
-      if (attempt >= attempts) throw;
+      const auto held = holds(name, raw);
+      if (held == true) return;
+      if (!held || attempt >= attempts) throw;
     } catch (const link::LinkError&) {
-      if (holds(name, raw)) return;
-      if (attempt >= attempts) throw;
+      const auto held = holds(name, raw);
+      if (held == true) return;
+      if (!held || attempt >= attempts) throw;
     } catch (const device::CardStateError&) {
       // Leaving NV mode failed after the write. An NV read-back enters and leaves NV mode
       // again, so a successful one also proves the card is back in normal access mode.
-      if (holds(name, raw)) return;
-      if (attempt >= attempts) throw;
+      const auto held = holds(name, raw);
+      if (held == true) return;
+      if (!held || attempt >= attempts) throw;
     }
     card_.count_retry();
   }
@@ -107,19 +113,22 @@ void DeviceCardAccess::recover_from_mode_loss(const device::NvModeLost& lost) {
                     lost.cell() + "'s EEPROM cell: the tool reset the card to re-initialise it");
 }
 
-bool DeviceCardAccess::holds(const std::string& name, std::int64_t raw) {
-  for (unsigned attempt = 1; attempt <= card_.retry().attempts; ++attempt) {
+// read_values repeats a read whose reply is lost (Card::with_retries): that spends the
+// budget, so a lost read-back is not repeated here on top. Only a card that reset in the
+// middle of an NV read-back (CardStateError) is asked again, within the same budget.
+std::optional<bool> DeviceCardAccess::holds(const std::string& name, std::int64_t raw) {
+  for (unsigned attempt = 1;; ++attempt) {
     try {
       const auto unconfirmed = write_.allow_unverified ? Unconfirmed::Read : Unconfirmed::Skip;
       const auto r = read_values(card_, std::vector<std::string>{name}, unconfirmed);
       return r.front().raw == raw;
     } catch (const link::LinkError&) {
-      card_.count_retry();
+      return std::nullopt;
     } catch (const device::CardStateError&) {
+      if (attempt >= card_.retry().attempts) return std::nullopt;
       card_.count_retry();
     }
   }
-  return false;
 }
 
 void DeviceCardAccess::reset() {

@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,7 +40,9 @@ class DeviceCardAccess final : public CardAccess {
  private:
   void write_once(const std::string& name, std::int64_t raw);
   void recover_from_mode_loss(const device::NvModeLost& lost);
-  bool holds(const std::string& name, std::int64_t raw);
+  // Whether the card holds `raw` in `name`, read back within the retry budget; nullopt when
+  // the read-back got no answer either (the write's fate is then unknown).
+  std::optional<bool> holds(const std::string& name, std::int64_t raw);
   void note(const std::string& what);
 
   Card& card_;

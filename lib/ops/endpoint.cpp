@@ -8,6 +8,7 @@
 #include "eth/target.hpp"
 #include "lbp/error.hpp"
 #include "link/serial_link.hpp"
+#include "ops/link_options.hpp"
 #include "sim/param_map.hpp"
 #include "sim/sim_stream.hpp"
 
@@ -98,8 +99,8 @@ std::optional<Endpoint> endpoint_from(const TargetFlags& f) {
   if (given > 1) throw UsageError("name one 8I20: --port, --sim or --eth, not several");
   if (f.sim) return sim_endpoint(f.sim_eeprom, 0);
   if (!f.eth.empty()) {
-    const auto target =
-        eth::is_eth_url(f.eth) ? eth::parse_target(f.eth) : eth::make_target(f.eth, f.channel, f.sserial_port);
+    const auto target = eth::is_eth_url(f.eth) ? eth::parse_target(f.eth)
+                                               : eth::make_target(f.eth, f.channel, f.sserial_port);
     return eth_endpoint(target, target.url());
   }
   if (!f.port.empty()) return parse_endpoint(f.port);
@@ -128,13 +129,40 @@ std::vector<Endpoint> resolve_endpoints(const std::vector<std::string>& texts,
     out.push_back(std::move(e));
   }
   if (out.empty())
-    throw UsageError(std::string("no 8I20 given: use --target (") + kEndpointForms + "), or --port/--sim/--eth");
+    throw UsageError(std::string("no 8I20 given: use --target (") + kEndpointForms +
+                     "), or --port/--sim/--eth");
   return out;
 }
 
+link::PipelinedLinkOptions serial_link_options(const LinkSettings& s, const RetryPolicy&) {
+  link::PipelinedLinkOptions options;
+  options.base_timeout = std::chrono::milliseconds(s.timeout_ms);
+  // ops repeats the exchanges itself (Card::with_retries): a batch is sent once here.
+  options.retries = 0;
+  return options;
+}
+
+eth::PassthroughOptions passthrough_options(const LinkSettings& s, const RetryPolicy& retry) {
+  eth::PassthroughOptions options;
+  options.udp.timeout = std::chrono::milliseconds(s.timeout_ms);
+  options.running_host.take_over = s.take_over;
+  // ops repeats the exchanges itself: a passthrough packet whose reply is lost is not sent
+  // again by the port (it fences, probes, and reports the loss).
+  options.lost_packet_resends = 0;
+  // The Ethernet layers' own exchanges, which ops never sees: read-only packets and
+  // repeatable SSLBP commands, at most `attempts` sends each.
+  options.udp.retries = retry.resends();
+  options.sslbp.lost_reply_retries = retry.resends();
+  return options;
+}
+
 std::unique_ptr<link::Link> open_link(const Endpoint& e, const params::ParamDb& db, const LinkSettings& s) {
-  link::PipelinedLinkOptions link_options;
-  link_options.base_timeout = std::chrono::milliseconds(s.timeout_ms);
+  return open_link(e, db, s, RetryPolicy{});
+}
+
+std::unique_ptr<link::Link> open_link(const Endpoint& e, const params::ParamDb& db, const LinkSettings& s,
+                                      const RetryPolicy& retry) {
+  const link::PipelinedLinkOptions link_options = serial_link_options(s, retry);
   switch (e.kind) {
     case Endpoint::Kind::Sim: {
       sim::SimOptions sim;
@@ -146,10 +174,7 @@ std::unique_ptr<link::Link> open_link(const Endpoint& e, const params::ParamDb& 
       return std::make_unique<link::PipelinedLink>(std::move(stream), link_options);
     }
     case Endpoint::Kind::Eth: {
-      eth::PassthroughOptions options;
-      options.udp.timeout = std::chrono::milliseconds(s.timeout_ms);
-      options.running_host.take_over = s.take_over;
-      return eth::SslbpPassthroughLink::open(eth::parse_target(e.eth_url), options);
+      return eth::SslbpPassthroughLink::open(eth::parse_target(e.eth_url), passthrough_options(s, retry));
     }
     case Endpoint::Kind::Serial: {
       link::SerialOptions serial;

@@ -6,6 +6,7 @@
 
 #include "eth/passthrough_port.hpp"
 #include "eth/target.hpp"
+#include "ops/link_options.hpp"
 
 namespace i20::ops {
 namespace {
@@ -56,12 +57,10 @@ std::vector<EthPort> by_port(const std::vector<Endpoint>& targets) {
 void open_ports(std::vector<EthPort>& ports, const OpenOptions& open) {
   std::map<std::string, std::shared_ptr<eth::Lbp16Transport>> transports;
   for (auto& p : ports) {
-    eth::PassthroughOptions options;
-    options.udp.timeout = std::chrono::milliseconds(open.link.timeout_ms);
-    options.running_host.take_over = open.link.take_over;
+    const eth::PassthroughOptions options = passthrough_options(open.link, open.retry);
     try {
       auto& transport = transports[p.card.describe()];
-      if (!transport) transport = eth::PassthroughPort::card_transport(p.card, options.udp);
+      if (!transport) transport = eth::PassthroughPort::card_transport(p.card, options.udp, options.fence);
       p.port = eth::PassthroughPort::open(transport, p.sserial_port, p.mask, options);
     } catch (const Error& e) {
       p.error = e.what();

@@ -1,0 +1,263 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Issue 19, "one retry budget": ops owns it (ops/retry.hpp) and hands it down where the
+// links are built (ops::serial_link_options, ops::passthrough_options), so the layers
+// never multiply their resends. The worst case asserted here: a read whose replies are all
+// lost reaches the card at most RetryPolicy::attempts (3) times in all, over serial and over
+// Ethernet, and ends with an error that says so; a write whose replies are lost is sent
+// once and never again without a read-back showing it missing. Every count is taken where
+// the requests land: the simulated 8I20's own command counter, or the packets on the way.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "device/errors.hpp"
+#include "eth/fenced_transport.hpp"
+#include "eth/passthrough_port.hpp"
+#include "eth/udp_client.hpp"
+#include "ethsim/faulty_network.hpp"
+#include "fixtures.hpp"
+#include "lbp/header.hpp"
+#include "ops/card.hpp"
+#include "ops/device_access.hpp"
+#include "ops/link_options.hpp"
+#include "ops/read.hpp"
+#include "sim/param_map.hpp"
+#include "sim/sim_stream.hpp"
+
+using namespace i20;
+using namespace std::chrono_literals;
+
+namespace {
+
+// One batch of three reads: over Ethernet three DOITs in one packet.
+const std::vector<std::string> kRead{"BUSV", "FAULT", "STATUS"};
+
+// Reads kRead as every i20 command does (Card::with_retries); the error's text when it fails.
+std::string read_or_error(ops::Card& card) {
+  try {
+    ops::read_values(card, kRead, ops::Unconfirmed::Read);
+  } catch (const link::LinkError& e) {
+    return e.what();
+  }
+  return {};
+}
+
+// ---------------------------------------------------------------- serial
+
+// Counts what ops hands the link: batches with a write (data or local), and the others.
+class CountingLink final : public link::Link {
+ public:
+  explicit CountingLink(std::unique_ptr<link::Link> inner) : inner_(std::move(inner)) {}
+  std::vector<lbp::Bytes> execute(std::span<const lbp::Command> batch) override {
+    const bool writes = std::any_of(batch.begin(), batch.end(), [](const lbp::Command& c) {
+      const auto kind = lbp::kind_of(c.bytes.front());
+      return kind == lbp::CommandKind::LocalWrite ||
+             (kind == lbp::CommandKind::Data && lbp::DataHeader::decode(c.bytes.front()).write);
+    });
+    ++(writes ? writing_batches : reading_batches);
+    commands += batch.size();
+    return inner_->execute(batch);
+  }
+  std::string describe() const override { return inner_->describe(); }
+  unsigned writing_batches = 0;
+  unsigned reading_batches = 0;
+  std::uint64_t commands = 0;
+
+ private:
+  std::unique_ptr<link::Link> inner_;
+};
+
+// The serial simulator behind the link ops builds for a serial port, opened as a Card.
+struct SerialRig {
+  sim::SimStream* stream = nullptr;
+  CountingLink* counting = nullptr;
+  std::unique_ptr<ops::Card> card;
+
+  SerialRig() {
+    const ops::RetryPolicy retry;
+    ops::LinkSettings settings;
+    settings.timeout_ms = 20;
+    sim::SimOptions sim;
+    sim.device.map = sim::register_map_from(params::ParamDb::builtin());
+    auto s = std::make_unique<sim::SimStream>(std::move(sim));
+    stream = s.get();
+    auto link = std::make_unique<CountingLink>(
+        std::make_unique<link::PipelinedLink>(std::move(s), ops::serial_link_options(settings, retry)));
+    counting = link.get();
+    card = ops::Card::attach(std::move(link), ops::parse_endpoint("sim"), params::ParamDb::builtin(), retry);
+  }
+  std::uint64_t executed() {
+    return stream->with_card([](sim::Virtual8i20& c) { return c.stats().commands_executed; });
+  }
+};
+
+TEST(RetryBudget, SerialReadWithEveryReplyLostIsSentAtMostThreeTimes) {
+  SerialRig rig;
+  auto before = rig.executed();
+  ASSERT_EQ(read_or_error(*rig.card), "");
+  const auto per_read = rig.executed() - before;
+  ASSERT_GT(per_read, 0u);
+
+  rig.stream->control("drop 1");
+  before = rig.executed();
+  const std::string error = read_or_error(*rig.card);
+  const auto sends = (rig.executed() - before) / per_read;
+  EXPECT_EQ(sends, rig.card->retry().attempts) << "the read reached the card " << sends << " times";
+  EXPECT_LE(sends, 3u);
+  EXPECT_NE(error, "") << "a read with every reply lost must fail";
+  EXPECT_NE(error.find("no reply"), std::string::npos) << error;
+}
+
+TEST(RetryBudget, SerialWriteWithEveryReplyLostIsSentOnceAndReadBackAtMostThreeTimes) {
+  SerialRig rig;
+  ops::DeviceCardAccess access(*rig.card, device::WriteOptions{});
+  const std::int64_t kqp = ops::read_values(*rig.card, std::vector<std::string>{"KQP"}).front().raw.value();
+  access.check_write("KQP", kqp + 1);
+  rig.stream->control("drop 1");
+  const auto writes_before = rig.counting->writing_batches;
+  const auto reads_before = rig.counting->reading_batches;
+  const auto commands_before = rig.counting->commands;
+  const auto before = rig.executed();
+  std::string error;
+  try {
+    access.write("KQP", kqp + 1);
+  } catch (const link::LinkError& e) {
+    error = e.what();
+  }
+  EXPECT_NE(error, "") << "a write with every reply lost must fail";
+  const auto writes = rig.counting->writing_batches - writes_before;
+  const auto read_backs = rig.counting->reading_batches - reads_before;
+  EXPECT_EQ(writes, 1u) << "a write whose fate is unknown must not be sent again blindly";
+  EXPECT_LE(read_backs, 3u) << "read back " << read_backs << " times";
+  // The link sends each batch once: what reached the card is what ops handed it.
+  EXPECT_EQ(rig.executed() - before, rig.counting->commands - commands_before);
+}
+
+// ---------------------------------------------------------------- Ethernet
+
+// Between the ledger (FencedTransport) and UDP, as the loss of a datagram sits: counts the
+// packets that carry DOITs (the only ones with writes) and, once told, loses their replies
+// (the card executed them) or the requests themselves (the card never saw them).
+// Read-only packets (the fence's and the port's probes) pass.
+class LosingDoits final : public eth::Lbp16Transport {
+ public:
+  enum class Lose { Nothing, Replies, Requests };
+  explicit LosingDoits(std::unique_ptr<eth::Lbp16Transport> inner) : inner_(std::move(inner)) {}
+  std::vector<lbp::Bytes> transact(std::span<const lbp::lbp16::Command> commands,
+                                   eth::Resend resend) override {
+    const bool doits = std::any_of(commands.begin(), commands.end(),
+                                   [](const lbp::lbp16::Command& c) { return c.word.write; });
+    if (!doits || lose == Lose::Nothing) return inner_->transact(commands, resend);
+    ++doit_packets;
+    if (lose == Lose::Requests) throw link::TimeoutError("request lost (test)");
+    inner_->transact(commands, resend);
+    throw link::TimeoutError("reply lost (test)");
+  }
+  std::string describe() const override { return inner_->describe(); }
+  eth::TransportStats stats() const override { return inner_->stats(); }
+
+  Lose lose = Lose::Nothing;
+  unsigned doit_packets = 0;  // counted while losing
+
+ private:
+  std::unique_ptr<eth::Lbp16Transport> inner_;
+};
+
+// The options ops hands an Ethernet link, with waits shortened for a test.
+eth::PassthroughOptions eth_options(const ops::RetryPolicy& retry) {
+  ops::LinkSettings settings;
+  settings.timeout_ms = 20;
+  auto options = ops::passthrough_options(settings, retry);
+  options.udp.max_timeout = 100ms;
+  options.fence.bound = 100ms;
+  return options;
+}
+
+std::uint64_t executed(test::RunningCard& card) {
+  return card.with_amplifier(0, 0, [](sim::Virtual8i20& a) { return a.stats().commands_executed; });
+}
+
+std::unique_ptr<ops::Card> open_eth(const eth::HostPort& at, const eth::PassthroughOptions& options,
+                                    const ops::RetryPolicy& retry, std::unique_ptr<eth::Lbp16Transport> bus) {
+  auto port = std::make_shared<eth::PassthroughPort>(std::shared_ptr<eth::Lbp16Transport>(std::move(bus)), 0,
+                                                     std::uint8_t{1}, options);
+  const eth::EthTarget target{.card = at, .sserial_port = 0, .channel = 0};
+  return ops::Card::attach(port->link(0), ops::parse_endpoint(target.url()), params::ParamDb::builtin(),
+                           retry);
+}
+
+void PrintTo(LosingDoits::Lose lose, std::ostream* os) {
+  *os << (lose == LosingDoits::Lose::Replies ? "Replies" : "Requests");
+}
+
+class EthLoss : public ::testing::TestWithParam<LosingDoits::Lose> {};
+
+TEST_P(EthLoss, AReadWhoseDoitPacketsAreAllLostIsSentAtMostThreeTimes) {
+  test::RunningCard card;
+  const ops::RetryPolicy retry;
+  const auto options = eth_options(retry);
+  auto losing = std::make_unique<LosingDoits>(
+      std::make_unique<eth::UdpClient>(card.address().ip, card.address().port, options.udp));
+  LosingDoits* loss = losing.get();
+  auto opened = open_eth(card.address(), options, retry,
+                         std::make_unique<eth::FencedTransport>(std::move(losing), options.fence));
+
+  auto before = executed(card);
+  ASSERT_EQ(read_or_error(*opened), "");
+  const auto per_read = executed(card) - before;
+  ASSERT_GT(per_read, 0u);
+
+  loss->lose = GetParam();
+  before = executed(card);
+  const std::string error = read_or_error(*opened);
+  EXPECT_NE(error, "") << "a read whose every DOIT packet is lost must fail";
+  EXPECT_LE(loss->doit_packets, 3u) << "the read was sent " << loss->doit_packets << " times";
+  EXPECT_EQ(loss->doit_packets, retry.attempts);
+  const auto arrived = (executed(card) - before) / per_read;
+  EXPECT_LE(arrived, 3u) << "the read reached the 8I20 " << arrived << " times";
+  EXPECT_NE(error.find("lost"), std::string::npos) << error;
+}
+
+INSTANTIATE_TEST_SUITE_P(RetryBudget, EthLoss,
+                         ::testing::Values(LosingDoits::Lose::Replies, LosingDoits::Lose::Requests),
+                         [](const auto& info) {
+                           return info.param == LosingDoits::Lose::Replies ? std::string("Replies")
+                                                                           : std::string("Requests");
+                         });
+
+// Every reply on the network lost (the faulty network's proxy drops them all), probes
+// included: the read reaches the 8I20 at most three times and the error says why.
+TEST(RetryBudget, EthReadWithEveryReplyOnTheNetworkLostIsSentAtMostThreeTimes) {
+  test::RunningCard card;
+  ethsim::FaultyNetwork network(card.address(), ethsim::NetworkFaults{});
+  const eth::HostPort proxy = eth::parse_host_port(network.address());
+  const ops::RetryPolicy retry;
+  const auto options = eth_options(retry);
+  auto losing =
+      std::make_unique<LosingDoits>(std::make_unique<eth::UdpClient>(proxy.ip, proxy.port, options.udp));
+  LosingDoits* counter = losing.get();
+  auto opened = open_eth(proxy, options, retry,
+                         std::make_unique<eth::FencedTransport>(std::move(losing), options.fence));
+
+  auto before = executed(card);
+  ASSERT_EQ(read_or_error(*opened), "");
+  const auto per_read = executed(card) - before;
+  ASSERT_GT(per_read, 0u);
+
+  network.set_faults(ethsim::NetworkFaults{.drop_share = 1.0, .requests = false, .replies = true});
+  before = executed(card);
+  const auto sent_before = counter->stats().packets_sent;
+  const std::string error = read_or_error(*opened);
+  EXPECT_NE(error, "") << "a read with every reply lost must fail";
+  ASSERT_TRUE(network.wait_idle(5s));
+  const auto arrived = (executed(card) - before) / per_read;
+  EXPECT_LE(arrived, 3u) << "the read reached the 8I20 " << arrived << " times";
+  EXPECT_GE(arrived, 1u);
+  EXPECT_NE(error.find("no reply"), std::string::npos) << error;
+  RecordProperty("udp_packets", std::to_string(counter->stats().packets_sent - sent_before));
+}
+
+}  // namespace
