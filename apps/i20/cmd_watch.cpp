@@ -1,11 +1,9 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // i20 watch: a live view of bus voltage, card temperature, brake, STATUS and FAULT.
 //
-// Made for standing at the machine while the axis runs: every change of FAULT, STATUS or
-// FAULTMASK becomes a timestamped event that says what the bit means and what to check,
-// and a card that resets or an adapter that is unplugged does not end the watch: it says
-// so and reconnects. Three views share one loop: a redrawn screen on a terminal, plain
-// lines for pipes and files (--plain), and JSON lines (--json); --log adds a CSV series.
+// The loop (sampling, events, reconnects, the switch to SSLBP normal mode) is lib/ops'
+// monitor; this file holds its views: a redrawn screen on a terminal, plain lines for pipes
+// and files (--plain), and JSON lines (--json); --log adds a CSV series.
 #include <sys/ioctl.h>
 #include <unistd.h>
 
@@ -19,16 +17,12 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
-#include <thread>
 
 #include "context.hpp"
-#include "faults/bit_diff.hpp"
 #include "faults/fault_mask.hpp"
 #include "faults_render.hpp"
 #include "lbp/bytes.hpp"
-#include "ops/errors.hpp"
-#include "ops/live_source.hpp"
-#include "ops/signals.hpp"
+#include "ops/monitor.hpp"
 #include "passive.hpp"
 
 namespace i20::cli {
@@ -38,11 +32,14 @@ namespace F = i20::faults;
 using Clock = std::chrono::steady_clock;
 using WallClock = std::chrono::system_clock;
 
-// A lost card is retried at the sample interval, but not more often than this: opening a
-// vanished port or waiting out a timeout every 20 ms would only spin.
-constexpr std::chrono::milliseconds kMinRetry{500};
-constexpr std::chrono::milliseconds kSleepSlice{20};  // how fast Ctrl-C is noticed
 constexpr std::size_t kEventsShown = 12;
+
+using Event = ops::MonitorEvent;
+using Kind = ops::MonitorEvent::Kind;
+using Sample = ops::MonitorSample;
+using Summary = ops::MonitorSummary;
+using ops::bit_names;
+using ops::output_on;
 
 struct WatchOptions {
   unsigned interval_ms = 200;
@@ -53,57 +50,6 @@ struct WatchOptions {
   bool passive = false;    // Ethernet beside a running host: its process data, reads only
   double busv_step_v = 0.5;
   std::string log;
-};
-
-enum class Kind {
-  FaultSet,
-  FaultCleared,
-  StatusSet,
-  StatusCleared,
-  Mask,
-  Output,
-  Lost,
-  Reconnected,
-  Restarted,
-  Mode,  // the source changed (Ethernet: from register reads to SSLBP normal mode)
-};
-
-const char* kind_name(Kind k) {
-  switch (k) {
-    case Kind::FaultSet: return "fault_set";
-    case Kind::FaultCleared: return "fault_cleared";
-    case Kind::StatusSet: return "status_set";
-    case Kind::StatusCleared: return "status_cleared";
-    case Kind::Mask: return "faultmask";
-    case Kind::Output: return "fault_output";
-    case Kind::Lost: return "lost";
-    case Kind::Reconnected: return "reconnected";
-    case Kind::Restarted: return "restarted";
-    case Kind::Mode: return "mode";
-  }
-  return "";
-}
-
-struct Event {
-  WallClock::time_point when;
-  Kind kind = Kind::FaultSet;
-  std::string text;  // one line a person can act on
-  std::optional<unsigned> bit;
-  std::string name;
-};
-
-struct Sample {
-  WallClock::time_point when;
-  double elapsed_s = 0;
-  Readings r;
-};
-
-struct Summary {
-  std::uint64_t samples = 0;
-  double elapsed_s = 0;
-  std::uint64_t fault_changes = 0;
-  std::uint64_t reconnects = 0;
-  bool connected = true;
 };
 
 // ------------------------------------------------------------------ formatting
@@ -126,84 +72,10 @@ std::string fixed(const std::optional<double>& v, const char* unit) {
   return buf;
 }
 
-bool output_on(const Readings& r) {
-  return F::mask_state(r.fault, r.faultmask.value_or(F::kNothingMasked)).fault_output_on();
-}
-
-std::string bit_names(F::Register reg, std::uint16_t value) {
-  std::string out;
-  for (const auto& b : F::decode(reg, value).bits) out += (out.empty() ? "" : " ") + b.label();
-  return out;
-}
-
 std::string seconds_text(double s) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.1f s", s);
   return buf;
-}
-
-// ------------------------------------------------------------------ events from two samples
-Event bit_event(WallClock::time_point when, Kind kind, const F::DecodedBit& b) {
-  Event e{when, kind, {}, b.bit, b.label()};
-  const bool fault = b.reg == F::Register::Fault;
-  const bool set = kind == Kind::FaultSet || kind == Kind::StatusSet;
-  e.text = std::string(fault ? "FAULT " : "STATUS ") + (set ? "set: " : "cleared: ") + b.label() + " (bit " +
-           std::to_string(b.bit) + ")";
-  if (!set) return e;
-  std::string meaning = b.meaning();
-  if (!meaning.empty() && meaning.back() == '.') meaning.pop_back();  // "...; check: ..." follows
-  e.text += ": " + meaning;
-  // A fault that just rose needs the first thing to check; STATUS bits explain themselves.
-  if (fault && b.info && !b.info->checks.empty()) e.text += "; check: " + b.info->checks.front();
-  return e;
-}
-
-void add_bits(std::vector<Event>& out, WallClock::time_point when, const F::BitChanges& c, Kind rose,
-              Kind fell) {
-  for (const auto& b : c.rose) out.push_back(bit_event(when, rose, b));
-  for (const auto& b : c.fell) out.push_back(bit_event(when, fell, b));
-}
-
-std::vector<Event> changes(const Readings& before, const Readings& after, WallClock::time_point when) {
-  std::vector<Event> out;
-  add_bits(out, when, F::diff(F::Register::Fault, before.fault, after.fault), Kind::FaultSet,
-           Kind::FaultCleared);
-  if (output_on(before) != output_on(after))
-    out.push_back({when,
-                   Kind::Output,
-                   output_on(after)
-                       ? "fault output ON: no unmasked fault, the drive may run"
-                       : "fault output OFF: a non-masked fault stopped motor drive and the current loop",
-                   {},
-                   {}});
-  add_bits(out, when, F::diff(F::Register::Status, before.status, after.status), Kind::StatusSet,
-           Kind::StatusCleared);
-  if (before.faultmask != after.faultmask && after.faultmask)
-    out.push_back({when,
-                   Kind::Mask,
-                   "FAULTMASK " + (before.faultmask ? lbp::hex_value(*before.faultmask, 4) : "?") + " -> " +
-                       lbp::hex_value(*after.faultmask, 4),
-                   {},
-                   {}});
-  return out;
-}
-
-// STATUS bits whose knowledge-base escalation starts to hold (BRAKESTATUS while the bus sits
-// above BRAKEONV): a warning that says what will happen, once, when it begins.
-std::vector<Event> warning_events(const Readings* before, const Readings& after, WallClock::time_point when) {
-  std::vector<Event> out;
-  const auto was = before ? live_status_report(*before) : F::Report{};
-  for (const auto& line : live_status_report(after).lines) {
-    if (!line.escalated) continue;
-    const bool already = std::any_of(was.lines.begin(), was.lines.end(), [&](const F::ReportLine& w) {
-      return w.bit == line.bit && w.escalated;
-    });
-    if (already) continue;
-    out.push_back({when, Kind::StatusSet,
-                   "WARNING: " + bit_label(line) + ": " + line.meaning + " (" + line.evidence + ")", line.bit,
-                   line.name});
-  }
-  return out;
 }
 
 // ------------------------------------------------------------------ CSV time series
@@ -334,7 +206,7 @@ class JsonView : public View {
  private:
   static app::Json event_json(const Event& e) {
     auto j = app::Json::object();
-    j.set("time", clock_text(e.when, true)).set("kind", kind_name(e.kind)).set("text", e.text);
+    j.set("time", clock_text(e.when, true)).set("kind", ops::to_string(e.kind)).set("text", e.text);
     j.set("bit", e.bit ? app::Json(*e.bit) : app::Json())
         .set("name", e.name.empty() ? app::Json() : app::Json(e.name));
     return j;
@@ -501,176 +373,27 @@ void AnsiView::draw() const {
   std::cout << frame << ansi::kClearBelow << std::flush;
 }
 
-// ------------------------------------------------------------------ the loop
-class Watcher {
+// ------------------------------------------------------------------ the views as one sink
+// The chosen view, and the CSV series beside it when --log asks for one.
+class WatchSink final : public ops::MonitorSink {
  public:
-  // The first look is always a register read, so latched faults are shown as they are;
-  // on Ethernet (unless --registers) the watch then goes on in SSLBP normal mode.
-  Watcher(Context& ctx, const WatchOptions& o, View& view, CsvLog* log)
-      : ctx_(ctx),
-        o_(o),
-        view_(view),
-        log_(log),
-        interval_(o.interval_ms),
-        source_(ops::make_live_source(ctx.session(), ops::LiveMode::Registers)) {}
-
-  void run();
+  WatchSink(View& view, CsvLog* log, const WatchOptions& o) : view_(view), log_(log), o_(o) {}
+  void start(const std::string& target, const ops::MonitorOptions&) override { view_.start(target, o_); }
+  void sample(const Sample& s, const Readings* previous, const std::vector<Event>& events) override {
+    view_.sample(s, previous, events);
+    if (log_) log_->sample(s, events);
+  }
+  void event(const Event& e) override {
+    view_.event(e);
+    if (log_) log_->gap(e, e.elapsed_s);
+  }
+  void finish(const Summary& summary) override { view_.finish(summary); }
 
  private:
-  bool done() const;
-  bool sleep_until(Clock::time_point t) const;
-  Readings read() { return source_->read(); }
-  void record(const Readings& r, std::vector<Event> events);
-  void sample_once();
-  void lose(const std::string& why);
-  std::vector<Event> restart_events(const Readings& r);
-  double elapsed() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
-  std::string target() { return source_->describe(); }
-
-  void switch_to_normal_mode(std::vector<Event>& events);
-
-  Context& ctx_;
-  const WatchOptions& o_;
   View& view_;
   CsvLog* log_;
-  std::chrono::milliseconds interval_;
-  Clock::time_point start_;
-  std::optional<Readings> previous_;
-  std::optional<Clock::time_point> lost_at_;  // set while the card cannot be read
-  std::string where_;
-  Summary summary_;
-  std::unique_ptr<ops::LiveSource> source_;
+  const WatchOptions& o_;
 };
-
-bool Watcher::done() const {
-  if (ops::stop_requested()) return true;
-  if (o_.count && summary_.samples >= o_.count) return true;
-  return o_.duration_s > 0 && elapsed() >= o_.duration_s;
-}
-
-// Sleeps in slices so Ctrl-C and --duration end the watch promptly. False: stop now.
-bool Watcher::sleep_until(Clock::time_point t) const {
-  while (Clock::now() < t) {
-    if (done()) return false;
-    std::this_thread::sleep_for(std::min<Clock::duration>(kSleepSlice, t - Clock::now()));
-  }
-  return !done();
-}
-
-std::vector<Event> Watcher::restart_events(const Readings& r) {
-  std::vector<Event> out;
-  if (!previous_) return out;
-  const auto rose = static_cast<std::uint16_t>(r.status & ~previous_->status & F::kResetCauseBits);
-  if (rose == 0) return out;
-  out.push_back({WallClock::now(),
-                 Kind::Restarted,
-                 "8I20 restarted (" + bit_names(F::Register::Status, rose) +
-                     " rose): working values are back to their NV values; reconnecting to re-identify it",
-                 {},
-                 {}});
-  source_->reconnect();  // the next read opens the link again and re-reads SWREVISION
-  return out;
-}
-
-void Watcher::record(const Readings& r, std::vector<Event> events) {
-  Sample s{WallClock::now(), elapsed(), r};
-  const auto when = s.when;
-  if (previous_) {
-    auto diffs = changes(*previous_, r, when);
-    events.insert(events.end(), diffs.begin(), diffs.end());
-    if (previous_->fault != r.fault) ++summary_.fault_changes;
-  }
-  auto restarted = restart_events(r);
-  events.insert(events.end(), restarted.begin(), restarted.end());
-  auto warnings = warning_events(previous_ ? &*previous_ : nullptr, r, when);
-  events.insert(events.end(), warnings.begin(), warnings.end());
-  ++summary_.samples;
-  view_.sample(s, previous_ ? &*previous_ : nullptr, events);
-  if (log_) log_->sample(s, events);
-  previous_ = r;
-}
-
-void Watcher::lose(const std::string& why) {
-  lost_at_ = Clock::now();
-  summary_.connected = false;
-  const Event e{WallClock::now(),
-                Kind::Lost,
-                "lost contact with the 8I20 on " + where_ + ": " + why + "; retrying every " +
-                    seconds_text(std::chrono::duration<double>(std::max(interval_, kMinRetry)).count()) +
-                    " (Ctrl-C stops)",
-                {},
-                {}};
-  view_.event(e);
-  if (log_) log_->gap(e, elapsed());
-  source_->reconnect();  // drop the link: the port may have gone away with the adapter
-}
-
-void Watcher::sample_once() {
-  std::vector<Event> events;
-  try {
-    const Readings r = read();
-    if (lost_at_) {
-      const double away = std::chrono::duration<double>(Clock::now() - *lost_at_).count();
-      events.push_back({WallClock::now(),
-                        Kind::Reconnected,
-                        "reconnected to the 8I20 on " + target() + " after " + seconds_text(away),
-                        {},
-                        {}});
-      ++summary_.reconnects;
-      lost_at_.reset();
-      summary_.connected = true;
-    }
-    record(r, std::move(events));
-  } catch (const ops::Cancelled&) {
-    return;  // Ctrl-C during a read: done() ends the loop
-  } catch (const UsageError&) {
-    throw;
-  } catch (const Error& e) {
-    if (lost_at_) {
-      source_->reconnect();  // still away: try a fresh open next time
-      return;
-    }
-    lose(e.what());
-  }
-}
-
-// SSLBP's normal start clears faults and enables the current loop (manual, 8I20 DEVICE
-// SPECIFIC SETUP): only after the latched faults were reported, and saying so.
-void Watcher::switch_to_normal_mode(std::vector<Event>& events) {
-  if (o_.registers || !ops::is_eth_target(ctx_.session())) return;
-  source_->reconnect();  // close the setup-mode passthrough before the port is re-moded
-  source_ = ops::make_live_source(ctx_.session(), ops::LiveMode::NormalModeOnEthernet);
-  events.push_back({WallClock::now(),
-                    Kind::Mode,
-                    "switching to SSLBP normal mode for the live view: its start CLEARS the latched faults "
-                    "above and enables the current loop (QSETPOINT stays 0); use --registers to keep reading "
-                    "registers",
-                    {},
-                    {}});
-}
-
-void Watcher::run() {
-  start_ = Clock::now();
-  const Readings first = read();  // a card that cannot be read at all is an error, not a wait
-  where_ = target();
-  view_.start(where_, o_);
-  std::vector<Event> initial;
-  for (const auto& b : F::decode_fault(first.fault).bits)
-    initial.push_back(bit_event(WallClock::now(), Kind::FaultSet, b));
-  switch_to_normal_mode(initial);
-  record(first, std::move(initial));
-  auto next = start_ + interval_;
-  while (!done()) {
-    if (!sleep_until(next)) break;
-    sample_once();
-    const auto step = lost_at_ ? std::max(interval_, kMinRetry) : interval_;
-    next += step;
-    if (next < Clock::now()) next = Clock::now() + step;  // a slow read skips ticks, never bunches them
-  }
-  summary_.elapsed_s = elapsed();
-  view_.finish(summary_);
-  if (ops::stop_requested()) ctx_.record(ops::Outcome::Interrupted);  // after leaving the card as it was
-}
 
 // ------------------------------------------------------------------ registration
 std::unique_ptr<View> make_view(const Context& ctx, const WatchOptions& o) {
@@ -697,7 +420,12 @@ void run_watch(Context& ctx, const WatchOptions& o) {
   std::unique_ptr<CsvLog> log;
   if (!o.log.empty()) log = std::make_unique<CsvLog>(o.log);  // a bad path fails before the link opens
   auto view = make_view(ctx, o);
-  Watcher(ctx, o, *view, log.get()).run();
+  WatchSink sink(*view, log.get(), o);
+  const ops::MonitorOptions monitor{.interval = std::chrono::milliseconds(o.interval_ms),
+                                    .count = o.count,
+                                    .duration_s = o.duration_s,
+                                    .registers = o.registers};
+  ctx.record(ops::run_monitor(ctx.session(), monitor, sink));
 }
 
 }  // namespace

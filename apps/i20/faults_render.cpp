@@ -160,11 +160,6 @@ CauseNow cause_now(unsigned fault_bit, const Readings& r) {
   }
 }
 
-std::string bit_label(const F::ReportLine& line) {
-  if (line.reserved) return "reserved bit " + std::to_string(line.bit);
-  return line.name + " (bit " + std::to_string(line.bit) + ")";
-}
-
 std::string fault_output_text(const F::Report& report) {
   const std::string head = "Fault output (TB1 pins 5-6): ";
   if (!report.fault_output_on)
@@ -197,28 +192,6 @@ void print_status_report(std::ostream& out, const F::Report& report) {
     if (line.severity != F::Severity::Info)
       for (const auto& check : line.checks) out << "      check: " << check << "\n";
   }
-}
-
-bool brake_on(const Readings& r) {
-  // Which bit that is, is the knowledge base's (params/faults.yaml, slug brake-on).
-  static const F::BitInfo* const brake = F::FaultTable::builtin().find(F::Register::Status, "brake-on");
-  return brake && (r.status & brake->mask()) != 0;
-}
-
-F::LiveValues live_values(const Readings& r) {
-  F::LiveValues live;
-  const std::pair<const char*, const std::optional<double>*> all[] = {{"BUSV", &r.busv_v},
-                                                                      {"TEMPERATURE", &r.temperature_c},
-                                                                      {"BUSUNDERV", &r.busunderv_v},
-                                                                      {"BUSOVERV", &r.busoverv_v},
-                                                                      {"BRAKEONV", &r.brakeonv_v}};
-  for (const auto& [name, value] : all)
-    if (*value) live[name] = **value;
-  return live;
-}
-
-F::Report live_status_report(const Readings& r) {
-  return F::status_report(r.status, live_values(r));
 }
 
 app::Json line_json(const F::ReportLine& line, const F::Report& report, const Readings* live) {

@@ -12,6 +12,7 @@
 #include "faults/report.hpp"
 #include "json.hpp"
 #include "ops/faults.hpp"
+#include "ops/live_readings.hpp"
 
 namespace CLI {
 class App;
@@ -35,8 +36,13 @@ struct CauseNow {
 };
 CauseNow cause_now(unsigned fault_bit, const Readings& r);
 
-// "NOENABLEFAULT (bit 1)" or "reserved bit 3".
-std::string bit_label(const faults::ReportLine& line);
+// What the readings say by the fault table's data (lib/ops): bit_label, brake_on,
+// live_status_report, ...
+using ops::bit_label;
+using ops::brake_on;
+using ops::live_status_report;
+using ops::live_values;
+using ops::output_on;
 
 struct RenderOptions {
   const Readings* live = nullptr;                  // adds a "now:" line per fault (cause present or gone)
@@ -50,13 +56,6 @@ void print_fault_report(std::ostream& out, const faults::Report& report, const R
 void print_status_report(std::ostream& out, const faults::Report& report);
 // "Fault output (TB1 pins 5-6): OFF: ..." for a FAULT report.
 std::string fault_output_text(const faults::Report& report);
-
-bool brake_on(const Readings& r);
-// The live readings by parameter name, for the knowledge base's `escalate` conditions.
-faults::LiveValues live_values(const Readings& r);
-// STATUS explained with the live readings: BRAKESTATUS while the bus sits above BRAKEONV is
-// a warning, not information.
-faults::Report live_status_report(const Readings& r);
 
 // JSON of a report: raw value, hex, title, and every set bit with all its advice; with
 // live readings each FAULT bit also says whether its cause is present now.

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "ops/live_readings.hpp"
+
+#include <optional>
+#include <utility>
+
+#include "faults/fault_mask.hpp"
+#include "faults/fault_table.hpp"
+
+namespace i20::ops {
+
+namespace F = i20::faults;
+
+bool brake_on(const FaultReadings& r) {
+  // Which bit that is, is the knowledge base's (params/faults.yaml, slug brake-on).
+  static const F::BitInfo* const brake = F::FaultTable::builtin().find(F::Register::Status, "brake-on");
+  return brake && (r.status & brake->mask()) != 0;
+}
+
+bool output_on(const FaultReadings& r) {
+  return F::mask_state(r.fault, r.faultmask.value_or(F::kNothingMasked)).fault_output_on();
+}
+
+F::LiveValues live_values(const FaultReadings& r) {
+  F::LiveValues live;
+  const std::pair<const char*, const std::optional<double>*> all[] = {{"BUSV", &r.busv_v},
+                                                                      {"TEMPERATURE", &r.temperature_c},
+                                                                      {"BUSUNDERV", &r.busunderv_v},
+                                                                      {"BUSOVERV", &r.busoverv_v},
+                                                                      {"BRAKEONV", &r.brakeonv_v}};
+  for (const auto& [name, value] : all)
+    if (*value) live[name] = **value;
+  return live;
+}
+
+F::Report live_status_report(const FaultReadings& r) {
+  return F::status_report(r.status, live_values(r));
+}
+
+std::string bit_label(const F::ReportLine& line) {
+  if (line.reserved) return "reserved bit " + std::to_string(line.bit);
+  return line.name + " (bit " + std::to_string(line.bit) + ")";
+}
+
+std::string bit_names(F::Register reg, std::uint16_t value) {
+  std::string out;
+  for (const auto& b : F::decode(reg, value).bits) out += (out.empty() ? "" : " ") + b.label();
+  return out;
+}
+
+}  // namespace i20::ops
