@@ -12,7 +12,7 @@
 #include "ethsim/virtual_8i20_remote.hpp"
 #include "ethsim/virtual_card.hpp"
 #include "fuzz_support.hpp"
-#include "lbp/lbp16.hpp"
+#include "lbp16/lbp16.hpp"
 
 namespace {
 

@@ -18,7 +18,7 @@
 #include <typeinfo>
 
 #include "lbp/bytes.hpp"
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 namespace i20::fuzz {
 

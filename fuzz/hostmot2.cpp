@@ -3,7 +3,7 @@
 // IDROM, module and pin parsers and SSERIAL register location, directly and through
 // discovery (eth::read_hostmot2) against a card whose space 0 reads are the fuzzer's
 // bytes in the order discovery asks for them (ident area, IDROM, modules, pins).
-#include "lbp/hostmot2.hpp"
+#include "hostmot2/hostmot2.hpp"
 
 #include <cstddef>
 #include <cstdint>

@@ -19,7 +19,7 @@
 #include "ethsim/virtual_8i20_remote.hpp"
 #include "ethsim/virtual_card.hpp"
 #include "lbp/command.hpp"
-#include "lbp/lbp16.hpp"
+#include "lbp16/lbp16.hpp"
 #include "link/pipelined_link.hpp"
 #include "params/param_db.hpp"
 #include "sim/rpc_table.hpp"

@@ -5,7 +5,7 @@
 
 #include <system_error>
 
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 namespace i20::cli {
 namespace fs = std::filesystem;

@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "cli.hpp"
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 #include "lbp/rpc.hpp"
 #include "sim/control.hpp"
 #include "sim/rpc_table.hpp"

@@ -2,7 +2,7 @@
 // Errors of the device layer. SafetyError means nothing was sent to the card.
 #pragma once
 
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 namespace i20::device {
 

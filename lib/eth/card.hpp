@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "eth/transport.hpp"
-#include "lbp/hostmot2.hpp"
+#include "hostmot2/hostmot2.hpp"
 
 namespace i20::eth {
 

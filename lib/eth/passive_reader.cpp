@@ -7,7 +7,7 @@
 #include "eth/errors.hpp"
 #include "eth/running_host.hpp"
 #include "lbp/bytes.hpp"
-#include "lbp/hostmot2.hpp"
+#include "hostmot2/hostmot2.hpp"
 
 namespace i20::eth {
 

@@ -2,7 +2,7 @@
 #include "eth/passthrough_plan.hpp"
 
 #include "lbp/header.hpp"
-#include "lbp/hostmot2.hpp"
+#include "hostmot2/hostmot2.hpp"
 #include "lbp/local.hpp"
 #include "link/link.hpp"
 

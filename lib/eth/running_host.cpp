@@ -8,7 +8,7 @@
 #include "eth/batched_opening.hpp"
 #include "eth/errors.hpp"
 #include "lbp/bytes.hpp"
-#include "lbp/hostmot2.hpp"
+#include "hostmot2/hostmot2.hpp"
 
 namespace i20::eth {
 

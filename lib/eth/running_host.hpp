@@ -29,7 +29,7 @@
 
 #include "eth/card.hpp"
 #include "eth/transport.hpp"
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 namespace i20::eth {
 

@@ -18,7 +18,7 @@
 
 #include "eth/card.hpp"
 #include "eth/transport.hpp"
-#include "lbp/hostmot2.hpp"
+#include "hostmot2/hostmot2.hpp"
 
 namespace i20::eth {
 

@@ -3,7 +3,7 @@
 
 #include <charconv>
 
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 namespace i20::eth {
 namespace {

@@ -19,7 +19,7 @@
 #include <string>
 #include <string_view>
 
-#include "lbp/lbp16.hpp"
+#include "lbp16/lbp16.hpp"
 
 namespace i20::eth {
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "lbp/lbp16.hpp"
+#include "lbp16/lbp16.hpp"
 
 namespace i20::eth {
 

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cctype>
 
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 namespace i20::ethsim {
 

@@ -18,7 +18,7 @@
 #include <string_view>
 #include <vector>
 
-#include "lbp/hostmot2.hpp"
+#include "hostmot2/hostmot2.hpp"
 
 namespace i20::ethsim {
 

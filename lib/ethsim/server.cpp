@@ -7,7 +7,7 @@
 #include <boost/asio/ip/udp.hpp>
 
 #include "ethsim/virtual_8i20_remote.hpp"
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 namespace i20::ethsim {
 

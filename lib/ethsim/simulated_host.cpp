@@ -5,7 +5,7 @@
 #include <thread>
 
 #include "lbp/bytes.hpp"
-#include "lbp/hostmot2.hpp"
+#include "hostmot2/hostmot2.hpp"
 
 namespace i20::ethsim {
 

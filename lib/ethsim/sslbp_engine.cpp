@@ -4,7 +4,7 @@
 #include <algorithm>
 
 #include "lbp/crc8.hpp"
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 #include "lbp/header.hpp"
 #include "lbp/local.hpp"
 

@@ -32,7 +32,7 @@
 #include <vector>
 
 #include "ethsim/remote_device.hpp"
-#include "lbp/hostmot2.hpp"
+#include "hostmot2/hostmot2.hpp"
 
 namespace i20::ethsim {
 

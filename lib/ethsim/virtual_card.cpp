@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 namespace i20::ethsim {
 

@@ -37,7 +37,7 @@
 #include "ethsim/card_config.hpp"
 #include "ethsim/remote_device.hpp"
 #include "ethsim/sslbp_engine.hpp"
-#include "lbp/lbp16.hpp"
+#include "lbp16/lbp16.hpp"
 
 namespace i20::ethsim {
 

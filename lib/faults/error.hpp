@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 namespace i20::faults {
 

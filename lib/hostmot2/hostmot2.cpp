@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include "lbp/hostmot2.hpp"
+#include "hostmot2/hostmot2.hpp"
 
 #include "lbp/bytes.hpp"
 #include "lbp/error.hpp"
-#include "lbp/lbp16.hpp"
+#include "lbp16/lbp16.hpp"
 
 namespace i20::lbp::hm2 {
 namespace {

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "lbp/crc8.hpp"
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 namespace i20::lbp {
 namespace {

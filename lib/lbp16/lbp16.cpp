@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include "lbp/lbp16.hpp"
+#include "lbp16/lbp16.hpp"
 
 #include <algorithm>
 

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "lbp/command.hpp"
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 namespace i20::link {
 

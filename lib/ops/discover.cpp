@@ -4,7 +4,7 @@
 #include <fstream>
 
 #include "lbp/bytes.hpp"
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 namespace i20::ops {
 namespace {

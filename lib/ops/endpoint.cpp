@@ -6,7 +6,7 @@
 
 #include "eth/passthrough_link.hpp"
 #include "eth/target.hpp"
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 #include "link/serial_link.hpp"
 #include "ops/link_options.hpp"
 #include "sim/param_map.hpp"

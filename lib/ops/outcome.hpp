@@ -11,7 +11,7 @@
 //   130 interrupted, after the card was left in a known state
 #pragma once
 
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 namespace i20::ops {
 

@@ -14,7 +14,7 @@
 #include <string_view>
 #include <vector>
 
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 #include "params/param.hpp"
 
 namespace i20::params {

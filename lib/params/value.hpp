@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "lbp/bytes.hpp"
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 #include "params/param.hpp"
 
 namespace i20::params {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 namespace i20::profile {
 

@@ -3,7 +3,7 @@
 // files, control lines) and host-side failures of the served streams.
 #pragma once
 
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 namespace i20::sim {
 

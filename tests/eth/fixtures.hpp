@@ -15,7 +15,7 @@
 
 #include "eth/target.hpp"
 #include "ethsim/server.hpp"
-#include "lbp/lbp16.hpp"
+#include "lbp16/lbp16.hpp"
 
 namespace i20::test {
 

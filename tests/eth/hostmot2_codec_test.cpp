@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "lbp/error.hpp"
-#include "lbp/hostmot2.hpp"
+#include "hostmot2/hostmot2.hpp"
 
 using namespace i20;
 using namespace i20::lbp;

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "lbp/error.hpp"
-#include "lbp/lbp16.hpp"
+#include "lbp16/lbp16.hpp"
 
 using namespace i20;
 using namespace i20::lbp;

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 using namespace i20;
 using namespace i20::eth;

@@ -7,7 +7,7 @@
 
 #include "eth/errors.hpp"
 #include "fixtures.hpp"
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 using namespace i20;
 using namespace i20::eth;

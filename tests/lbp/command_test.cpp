@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "lbp/crc8.hpp"
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 
 using namespace i20;
 using namespace i20::lbp;

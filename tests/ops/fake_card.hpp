@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "lbp/error.hpp"
+#include "error/error.hpp"
 #include "params/param_db.hpp"
 #include "ops/card_access.hpp"
 

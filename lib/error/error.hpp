@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// The toolkit's typed errors, below every layer: each message names what was wrong in words
+// a user can act on, and its kind says what it means for the card (lib/ops maps the kind to
+// an outcome and an exit code, in one place).
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace i20 {
+
+// What an error means for the user and the card; apps map it to an exit code in one
+// place (lib/ops/outcome.hpp).
+enum class ErrorKind {
+  Failure,       // the card or the line failed; nothing was left half done unreported
+  BadInput,      // arguments, files or values are wrong: nothing was sent
+  Refused,       // a safety rule refused: nothing was written
+  Uncertain,     // the card's state may differ from what was asked: the message names the cells
+  FaultsRemain,  // faults stay latched after clearing
+  Cancelled,     // the user interrupted, after the card was left in a known state
+};
+
+// Base of every error the toolkit raises on purpose.
+class Error : public std::runtime_error {
+ public:
+  explicit Error(const std::string& message, ErrorKind kind = ErrorKind::Failure)
+      : std::runtime_error(message), kind_(kind) {}
+  ErrorKind kind() const noexcept { return kind_; }
+
+ private:
+  ErrorKind kind_;
+};
+
+// Arguments, files or values that are wrong, in any layer (a data size the protocol cannot
+// express, an unknown option, a bad value): nothing was sent.
+class UsageError : public Error {
+ public:
+  explicit UsageError(const std::string& message) : Error(message, ErrorKind::BadInput) {}
+};
+
+}  // namespace i20
