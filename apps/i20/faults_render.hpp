@@ -11,6 +11,7 @@
 
 #include "faults/report.hpp"
 #include "json.hpp"
+#include "ops/diagnosis.hpp"
 #include "ops/faults.hpp"
 
 namespace CLI {
@@ -27,13 +28,10 @@ void register_watch_command(CLI::App& app, Context& ctx);
 // One pass over the registers that explain a fault (lib/ops reads them, honestly).
 using Readings = ops::FaultReadings;
 
-// What the live readings say about a FAULT bit's cause right now.
-struct CauseNow {
-  enum State { Present, Gone, Unknown };
-  State state = Unknown;
-  std::string evidence;  // "BUSV is 24.00 V, below BUSUNDERV 35.00 V"; empty when Unknown
-};
-CauseNow cause_now(unsigned fault_bit, const Readings& r);
+// Whether a FAULT bit's cause is there now: lib/ops judges it from the fault table's live
+// checks; the commands here only render the answer.
+using ops::cause_now;
+using ops::CauseNow;
 
 // "NOENABLEFAULT (bit 1)" or "reserved bit 3".
 std::string bit_label(const faults::ReportLine& line);
@@ -52,8 +50,6 @@ void print_status_report(std::ostream& out, const faults::Report& report);
 std::string fault_output_text(const faults::Report& report);
 
 bool brake_on(const Readings& r);
-// The live readings by parameter name, for the knowledge base's `escalate` conditions.
-faults::LiveValues live_values(const Readings& r);
 // STATUS explained with the live readings: BRAKESTATUS while the bus sits above BRAKEONV is
 // a warning, not information.
 faults::Report live_status_report(const Readings& r);
