@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "faults_render.hpp"
 
-#include <cstdio>
 #include <iostream>
 #include <vector>
 
@@ -12,77 +11,6 @@ namespace i20::cli {
 namespace {
 
 namespace F = i20::faults;
-
-// FAULT bits whose cause the live readings can confirm (manual, FAULT CONDITIONS).
-constexpr unsigned kNoEnableBit = 1;
-constexpr unsigned kOverTempBit = 2;
-constexpr unsigned kBusLowBit = 8;
-constexpr unsigned kBusHighBit = 9;
-constexpr unsigned kBusMaxBit = 10;
-// STATUS bits LinuxCNC names (docs/facts.md s4) that report a level condition live.
-constexpr std::uint16_t kStatusBusUnderV = 1u << 3;
-constexpr std::uint16_t kStatusNoEnable = 1u << 8;
-constexpr double kOverTempLimitC = 85.0;           // manual: PCB temperature > 85C
-constexpr double kFixedMaxBusV = 400.0;            // manual: fixed at 400V
-
-std::string volts(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2f V", v);
-  return buf;
-}
-
-std::string celsius(double c) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2f degC", c);
-  return buf;
-}
-
-CauseNow present(std::string evidence) {
-  return {CauseNow::Present, std::move(evidence)};
-}
-
-CauseNow gone(std::string evidence) {
-  return {CauseNow::Gone, std::move(evidence)};
-}
-
-CauseNow enable_cause(const Readings& r) {
-  if (r.status & kStatusNoEnable)
-    return present("the enable input (TB1 pins 3-4) is not driven now (STATUS bit 8)");
-  return gone("the enable input is driven now (STATUS bit 8 clear)");
-}
-
-CauseNow temperature_cause(const Readings& r) {
-  if (!r.temperature_c) return {};
-  if (*r.temperature_c > kOverTempLimitC)
-    return present("TEMPERATURE is " + celsius(*r.temperature_c) +
-                   ", above the 85 degC limit: let the card cool");
-  return gone("TEMPERATURE is " + celsius(*r.temperature_c) + ", below the 85 degC limit");
-}
-
-CauseNow bus_low_cause(const Readings& r) {
-  if (r.busv_v && r.busunderv_v) {
-    if (*r.busv_v < *r.busunderv_v)
-      return present("BUSV is " + volts(*r.busv_v) + ", below BUSUNDERV " + volts(*r.busunderv_v) +
-                     ": motor supply off or low, or BUSUNDERV set too high");
-    return gone("BUSV is " + volts(*r.busv_v) + ", above BUSUNDERV " + volts(*r.busunderv_v));
-  }
-  if (r.status & kStatusBusUnderV) return present("the motor supply is under-voltage now (STATUS bit 3)");
-  return {};
-}
-
-CauseNow bus_high_cause(const Readings& r) {
-  if (!r.busv_v || !r.busoverv_v) return {};
-  if (*r.busv_v > *r.busoverv_v)
-    return present("BUSV is " + volts(*r.busv_v) + ", above BUSOVERV " + volts(*r.busoverv_v));
-  return gone("BUSV is " + volts(*r.busv_v) + ", below BUSOVERV " + volts(*r.busoverv_v));
-}
-
-CauseNow bus_max_cause(const Readings& r) {
-  if (!r.busv_v) return {};
-  if (*r.busv_v > kFixedMaxBusV)
-    return present("BUSV is " + volts(*r.busv_v) + ", above the fixed 400 V limit");
-  return gone("BUSV is " + volts(*r.busv_v) + ", below the fixed 400 V limit");
-}
 
 void print_list(std::ostream& out, const char* heading, const std::vector<std::string>& items,
                 bool numbered) {
@@ -149,17 +77,6 @@ app::Json cause_json(const CauseNow& c) {
 
 }  // namespace
 
-CauseNow cause_now(unsigned fault_bit, const Readings& r) {
-  switch (fault_bit) {
-    case kNoEnableBit: return enable_cause(r);
-    case kOverTempBit: return temperature_cause(r);
-    case kBusLowBit: return bus_low_cause(r);
-    case kBusHighBit: return bus_high_cause(r);
-    case kBusMaxBit: return bus_max_cause(r);
-    default: return {};  // hardware events: only the card itself can tell
-  }
-}
-
 std::string fault_output_text(const F::Report& report) {
   const std::string head = "Fault output (TB1 pins 5-6): ";
   if (!report.fault_output_on)
@@ -209,7 +126,8 @@ app::Json line_json(const F::ReportLine& line, const F::Report& report, const Re
   j.set("masked", known ? app::Json(line.masked) : app::Json());
   j.set("clears_while_cause_persists", line.clears_while_cause_persists).set("source", line.source);
   if (report.reg == F::Register::Status)
-    j.set("escalated", line.escalated).set("evidence", line.escalated ? app::Json(line.evidence) : app::Json());
+    j.set("escalated", line.escalated)
+        .set("evidence", line.escalated ? app::Json(line.evidence) : app::Json());
   if (live && report.reg == F::Register::Fault) j.set("cause_now", cause_json(cause_now(line.bit, *live)));
   return j;
 }

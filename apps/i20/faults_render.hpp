@@ -11,6 +11,7 @@
 
 #include "faults/report.hpp"
 #include "json.hpp"
+#include "ops/diagnosis.hpp"
 #include "ops/faults.hpp"
 #include "ops/live_readings.hpp"
 
@@ -28,13 +29,10 @@ void register_watch_command(CLI::App& app, Context& ctx);
 // One pass over the registers that explain a fault (lib/ops reads them, honestly).
 using Readings = ops::FaultReadings;
 
-// What the live readings say about a FAULT bit's cause right now.
-struct CauseNow {
-  enum State { Present, Gone, Unknown };
-  State state = Unknown;
-  std::string evidence;  // "BUSV is 24.00 V, below BUSUNDERV 35.00 V"; empty when Unknown
-};
-CauseNow cause_now(unsigned fault_bit, const Readings& r);
+// Whether a FAULT bit's cause is there now: lib/ops judges it from the fault table's live
+// checks; the commands here only render the answer.
+using ops::cause_now;
+using ops::CauseNow;
 
 // What the readings say by the fault table's data (lib/ops): bit_label, brake_on,
 // live_status_report, ...

@@ -40,6 +40,26 @@ struct Escalation {
   std::vector<std::string> checks;  // replace the bit's checks while it holds
 };
 
+// How live readings show whether a latched FAULT bit's cause is there now. From the YAML's
+// `live_check:` block; lib/ops/diagnosis judges it. Either a measured value against a
+// threshold (BUSV below BUSUNDERV), or a STATUS bit that follows the condition, or both (the
+// measurement first; the STATUS bit when the measurement or its threshold is not known).
+struct LiveCheck {
+  enum class Compare { Above, Below };
+  std::string measured;                   // parameter read live, e.g. "BUSV"; "" = STATUS only
+  Compare compare = Compare::Above;       // the cause is present while measured is above/below
+  std::string threshold_param;            // parameter read live, e.g. "BUSUNDERV", or ...
+  std::optional<double> threshold_value;  // ... a limit of the card itself (85 degC)
+  bool fixed = false;                     // the manual calls the limit fixed (MAXBUSVFAULT: 400 V)
+  std::string unit;                       // of measured and the threshold, for the evidence
+  std::string advice;                     // appended to the evidence while the cause is present
+  std::string status_slug;                // STATUS bit set while the condition holds ("" = none)
+  std::optional<unsigned> status_bit;     // that bit, resolved by the loader
+  std::string status_set;                 // what a set STATUS bit shows
+  std::string status_clear;               // what a clear one shows; "" = a clear bit proves nothing
+  std::string origin;                     // "file:line" of the block
+};
+
 struct BitInfo {
   Register reg = Register::Fault;
   unsigned bit = 0;          // 0..15
@@ -56,6 +76,7 @@ struct BitInfo {
   std::string source;  // manual section or docs/facts.md
   std::string origin;  // "file:line" of the entry
   std::optional<Escalation> escalation;
+  std::optional<LiveCheck> live_check;  // FAULT bits only
 
   std::uint16_t mask() const { return static_cast<std::uint16_t>(1u << bit); }
 };

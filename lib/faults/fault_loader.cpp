@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -31,8 +33,11 @@ const std::set<std::string> kBitKeys{"bit",
                                      "maskable",
                                      "clears_while_cause_persists",
                                      "source",
-                                     "escalate"};
+                                     "escalate",
+                                     "live_check"};
 const std::set<std::string> kEscalateKeys{"measured", "above", "unit", "severity", "meaning", "checks"};
+const std::set<std::string> kLiveCheckKeys{"measured", "above",  "below",      "unit",        "fixed",
+                                           "advice",   "status", "status_set", "status_clear"};
 
 std::string join(const std::set<std::string>& words) {
   std::string out;
@@ -146,12 +151,85 @@ Escalation read_escalation(const Reader& r, const YAML::Node& node, const std::s
   return e;
 }
 
+// A fixed limit: a finite decimal number, e.g. 85 or 400.
+std::optional<double> number(const std::string& s) {
+  double value = 0;
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+  if (s.empty() || ec != std::errc() || ptr != s.data() + s.size() || !std::isfinite(value))
+    return std::nullopt;
+  return value;
+}
+
+LiveCheck read_live_check(const Reader& r, const YAML::Node& node, const std::string& what) {
+  const std::string where = "the 'live_check' block of " + what;
+  if (!node.IsMap()) r.fail(node, "'live_check' must be a map of keys");
+  r.only_keys(node, kLiveCheckKeys, where);
+  LiveCheck c;
+  c.origin = r.where(node);
+  if (!node["measured"] && !node["status"])
+    r.fail(node,
+           where + " needs 'measured' (a reading and its threshold) or 'status' (a STATUS bit), or both");
+  if (node["measured"]) {
+    c.measured = r.text(node["measured"], "measured");
+    if (!parameter_name(c.measured))
+      r.fail(node["measured"], "'measured' must be a parameter name like BUSV");
+    if (node["above"].IsDefined() == node["below"].IsDefined())
+      r.fail(node, where + " needs exactly one of 'above' and 'below' with 'measured'");
+    const bool above = node["above"].IsDefined();
+    const auto key = above ? "above" : "below";
+    c.compare = above ? LiveCheck::Compare::Above : LiveCheck::Compare::Below;
+    const std::string threshold = r.text(node[key], key);
+    if (const auto value = number(threshold))
+      c.threshold_value = value;
+    else if (parameter_name(threshold))
+      c.threshold_param = threshold;
+    else
+      r.fail(node[key], std::string("'") + key +
+                            "' must be a parameter name like BUSOVERV or a number, not '" + threshold + "'");
+    r.require(node, "unit", where);
+    c.unit = r.text(node["unit"], "unit");
+    if (node["fixed"]) {
+      c.fixed = r.boolean(node["fixed"], "fixed");
+      if (c.fixed && !c.threshold_value)
+        r.fail(node["fixed"], "'fixed: true' is for a number (a limit of the card), not a parameter");
+    }
+    if (node["advice"]) c.advice = r.text(node["advice"], "advice");
+  } else {
+    for (const auto* key : {"above", "below", "unit", "fixed", "advice"})
+      if (node[key]) r.fail(node[key], std::string("'") + key + "' needs 'measured' in " + where);
+  }
+  if (node["status"]) {
+    c.status_slug = r.text(node["status"], "status");
+    r.require(node, "status_set", where);
+    c.status_set = r.text(node["status_set"], "status_set");
+    if (node["status_clear"]) c.status_clear = r.text(node["status_clear"], "status_clear");
+  } else {
+    for (const auto* key : {"status_set", "status_clear"})
+      if (node[key]) r.fail(node[key], std::string("'") + key + "' needs 'status' in " + where);
+  }
+  return c;
+}
+
+// A live check's `status` names a STATUS bit by slug; known only once both registers are read.
+void resolve_status_bits(std::vector<BitInfo>& fault, const std::vector<BitInfo>& status) {
+  for (auto& b : fault) {
+    if (!b.live_check || b.live_check->status_slug.empty()) continue;
+    auto& c = *b.live_check;
+    const auto it = std::ranges::find(status, c.status_slug, &BitInfo::slug);
+    if (it == status.end())
+      throw FaultFileError(c.origin + ": 'status' of FAULT bit " + std::to_string(b.bit) +
+                           "'s live_check names no STATUS bit: '" + c.status_slug +
+                           "' (give a STATUS bit's slug, e.g. status-no-enable)");
+    c.status_bit = it->bit;
+  }
+}
+
 BitInfo read_bit(const Reader& r, const YAML::Node& entry, Register reg) {
   const std::string what = "a " + std::string(to_string(reg)) + " bit";
   if (!entry.IsMap()) r.fail(entry, "each bit must be a map of keys");
   r.only_keys(entry, kBitKeys, what);
   for (const auto& key : kBitKeys)
-    if (key != "linuxcnc_pin" && key != "escalate") r.require(entry, key, what);
+    if (key != "linuxcnc_pin" && key != "escalate" && key != "live_check") r.require(entry, key, what);
 
   BitInfo b;
   b.reg = reg;
@@ -188,6 +266,11 @@ BitInfo read_bit(const Reader& r, const YAML::Node& entry, Register reg) {
   b.source = r.text(entry["source"], "source");
   b.origin = r.where(entry);
   if (entry["escalate"]) b.escalation = read_escalation(r, entry["escalate"], what);
+  if (entry["live_check"]) {
+    if (reg != Register::Fault)
+      r.fail(entry["live_check"], "'live_check' is for FAULT bits (a STATUS bit shows its condition itself)");
+    b.live_check = read_live_check(r, entry["live_check"], what);
+  }
   return b;
 }
 
@@ -281,6 +364,7 @@ FaultTable FaultTable::load_string(std::string_view yaml, const std::string& sou
   Uniqueness unique(r);
   table.fault_ = read_register(r, root, Register::Fault, unique);
   table.status_ = read_register(r, root, Register::Status, unique);
+  resolve_status_bits(table.fault_, table.status_);
   table.fault_notes_ = read_notes(r, root, "fault");
   table.status_notes_ = read_notes(r, root, "status");
   table.source_ = source_name;

@@ -111,6 +111,13 @@ std::uint16_t FaultTable::maskable_bits() const {
   return out;
 }
 
+double FaultTable::fixed_limit(std::string_view key) const {
+  const BitInfo* b = find(Register::Fault, key);
+  if (b && b->live_check && b->live_check->threshold_value) return *b->live_check->threshold_value;
+  throw FaultFileError(source_ + ": FAULT bit '" + std::string(key) +
+                       "' has no live_check with a fixed limit (above: or below: a number)");
+}
+
 std::vector<std::string> FaultTable::suggestions(Register reg, std::string_view key, std::size_t max) const {
   if (bit_number(key)) return {};
   // Every spelling of a bit counts; the slug, the CLI's word, is what is suggested.

@@ -48,6 +48,11 @@ class FaultTable {
   // Closest slugs to a mistyped key, best first.
   std::vector<std::string> suggestions(Register reg, std::string_view key, std::size_t max = 3) const;
 
+  // The fixed limit in the live check of the FAULT bit `key` (slug, name or bit number):
+  // MAXBUSVFAULT's 400 V. Throws FaultFileError when that bit has no numeric limit, so a
+  // table that lost it fails loudly instead of dropping a safety check.
+  double fixed_limit(std::string_view key) const;
+
   const std::string& source() const { return source_; }
 
  private:

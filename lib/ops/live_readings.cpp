@@ -1,9 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "ops/live_readings.hpp"
 
-#include <optional>
-#include <utility>
-
 #include "faults/fault_mask.hpp"
 #include "faults/fault_table.hpp"
 
@@ -19,18 +16,6 @@ bool brake_on(const FaultReadings& r) {
 
 bool output_on(const FaultReadings& r) {
   return F::mask_state(r.fault, r.faultmask.value_or(F::kNothingMasked)).fault_output_on();
-}
-
-F::LiveValues live_values(const FaultReadings& r) {
-  F::LiveValues live;
-  const std::pair<const char*, const std::optional<double>*> all[] = {{"BUSV", &r.busv_v},
-                                                                      {"TEMPERATURE", &r.temperature_c},
-                                                                      {"BUSUNDERV", &r.busunderv_v},
-                                                                      {"BUSOVERV", &r.busoverv_v},
-                                                                      {"BRAKEONV", &r.brakeonv_v}};
-  for (const auto& [name, value] : all)
-    if (*value) live[name] = **value;
-  return live;
 }
 
 F::Report live_status_report(const FaultReadings& r) {

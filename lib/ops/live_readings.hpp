@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // What a set of live readings (FAULT, STATUS, FAULTMASK, BUSV, ...) says, by the fault
 // table's own data (params/faults.yaml): whether the brake is on, whether the fault output
-// is on, STATUS explained with the live values, bit names. For every view of the card: the
+// is on, STATUS explained with the live values (ops::live_values), bit names. For every view of the card: the
 // faults report, the watch's events, the passive monitor.
 #pragma once
 
@@ -10,6 +10,7 @@
 
 #include "faults/decode.hpp"
 #include "faults/report.hpp"
+#include "ops/diagnosis.hpp"
 #include "ops/faults.hpp"
 
 namespace i20::ops {
@@ -18,8 +19,6 @@ namespace i20::ops {
 bool brake_on(const FaultReadings& r);
 // The fault output (TB1 pins 5-6): on unless a fault FAULTMASK does not mask is set.
 bool output_on(const FaultReadings& r);
-// The live readings by parameter name, for the fault table's `escalate` conditions.
-faults::LiveValues live_values(const FaultReadings& r);
 // STATUS explained with the live readings: BRAKESTATUS while the bus sits above BRAKEONV is
 // a warning, not information.
 faults::Report live_status_report(const FaultReadings& r);

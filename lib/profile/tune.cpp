@@ -6,12 +6,12 @@
 #include <cstdio>
 #include <numbers>
 
+#include "profile/card_limits.hpp"
 #include "profile/error.hpp"
 
 namespace i20::profile {
 namespace {
 
-constexpr double kCardMaxCurrentA = 30.0;
 // Below this many counts, rounding to an integer moves the gain by 5% or more.
 constexpr double kCoarseCounts = 10.0;
 
@@ -31,7 +31,8 @@ void check(const TuneRequest& r) {
   require_positive(r.bus_voltage_v, "the bus voltage");
   require_positive(r.bandwidth_hz, "the current-loop bandwidth");
   require_positive(r.sample_rate_hz, "the loop sample rate");
-  if (r.max_current_a > kCardMaxCurrentA) throw TuneError("MAXCURRENT must not exceed the 8I20's 30 A");
+  if (r.max_current_a > kCardMaxCurrentA)
+    throw TuneError("MAXCURRENT must not exceed the 8I20's " + limit_text(kCardMaxCurrentA, "A"));
   const ReferenceTuning& ref = r.reference;
   require_positive(ref.motor.resistance_ohm, "the reference motor's resistance");
   require_positive(ref.motor.inductance_h, "the reference motor's inductance");

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "params/value.hpp"
+#include "profile/card_limits.hpp"
 #include "profile/effective.hpp"
 #include "profile/error.hpp"
 #include "profile/step_response.hpp"
@@ -17,11 +18,10 @@ namespace {
 
 using params::Space;
 
-// Limits the manual states (sections MOTOR POWER, MOTOR BRAKE, MAXCURRENT, SPECIFICATIONS).
+// Limits the manual states (sections MOTOR BRAKE, OPERATE MODE BAUD RATE, BRAKEONV and
+// BRAKEOFFV); the card's current and bus limits are in profile/card_limits.hpp.
 constexpr double kFixedBrakeOnV = 385.0;    // fixed brake-on that protects the module
-constexpr double kCardMaxCurrentA = 30.0;   // MAXCURRENT: 30 A RMS card rating
 constexpr std::int64_t kMaxBaudIndex = 11;  // OPERATE MODE BAUD RATE: the table's last index
-constexpr double kCardMaxBusV = 400.0;      // motor supply 35..400 V; fixed 400 V fault
 constexpr double kBrakeHysteresisV = 20.0;  // "BRAKEOFFV be set 20V lower than BRAKEON"
 constexpr double kBrakeHysteresisToleranceV = 5.0;
 // Servo motors are commonly rated for about three times their continuous current as peak.
@@ -148,7 +148,8 @@ class Checker {
               &s);
         if (base == "MAXCURRENT" && engineering > kCardMaxCurrentA + 1e-9)
           add(Severity::Error, cell, "maxcurrent-card",
-              text + " (profile) is above the 8I20's 30 A RMS rating", &s);
+              text + " (profile) is above the 8I20's " + limit_text(kCardMaxCurrentA, "A") + " RMS rating",
+              &s);
         if (base == "BRAKEONV" && engineering > kFixedBrakeOnV + 1e-9)
           add(Severity::Error, cell, "brake-on-limit",
               text + " (profile) is above the fixed 385 V brake-on that protects the 8I20 module", &s);
@@ -173,9 +174,11 @@ class Checker {
 
   void supply_limit() {
     const auto bus = profile_.supply.bus_voltage_v;
-    if (bus && *bus > kCardMaxBusV)
+    if (bus && *bus > card_max_bus_v())
       add(Severity::Error, "supply.bus_voltage", "bus-card-limit",
-          "a " + volts(*bus) + " bus is above the 8I20's 400 V motor supply rating", nullptr);
+          "a " + volts(*bus) + " bus is above the 8I20's " + limit_text(card_max_bus_v(), "V") +
+              " motor supply rating",
+          nullptr);
   }
 
   // --- cross-parameter rules, judged on what one space (EEPROM or working) will hold

@@ -220,6 +220,20 @@ TEST(FaultBuiltin, CompiledInCopyEqualsParamsFaultsYaml) {
       EXPECT_EQ(a[i].maskable, b[i].maskable);
       EXPECT_EQ(a[i].clears_while_cause_persists, b[i].clears_while_cause_persists);
       EXPECT_EQ(a[i].source, b[i].source);
+      ASSERT_EQ(a[i].live_check.has_value(), b[i].live_check.has_value());
+      if (a[i].live_check) {
+        const auto &x = *a[i].live_check, &y = *b[i].live_check;
+        EXPECT_EQ(x.measured, y.measured);
+        EXPECT_EQ(x.compare, y.compare);
+        EXPECT_EQ(x.threshold_param, y.threshold_param);
+        EXPECT_EQ(x.threshold_value, y.threshold_value);
+        EXPECT_EQ(x.fixed, y.fixed);
+        EXPECT_EQ(x.unit, y.unit);
+        EXPECT_EQ(x.advice, y.advice);
+        EXPECT_EQ(x.status_bit, y.status_bit);
+        EXPECT_EQ(x.status_set, y.status_set);
+        EXPECT_EQ(x.status_clear, y.status_clear);
+      }
       // Same line in both: the compiled copy is the file byte for byte up to there.
       EXPECT_EQ(a[i].origin.substr(a[i].origin.rfind(':')), b[i].origin.substr(b[i].origin.rfind(':')));
     }
