@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "eth/card.hpp"
+#include "eth/anything_io.hpp"
 #include "eth/transport.hpp"
 #include "fuzz_support.hpp"
 

@@ -14,7 +14,7 @@
 #include <sstream>
 
 #include "device/amp.hpp"
-#include "eth/card.hpp"
+#include "eth/anything_io.hpp"
 #include "eth/passthrough_link.hpp"
 #include "ethsim/virtual_8i20_remote.hpp"
 #include "ethsim/virtual_card.hpp"

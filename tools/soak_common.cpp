@@ -261,7 +261,7 @@ profile::Profile profile_of(const Scenario& s, const params::ParamDb& db) {
     profile::Setting setting;
     setting.name = db.get(cell).name;
     setting.raw = raw;
-    if (s.both && db.get(cell).is_nv() && !db.get(cell).twin.empty()) setting.target = profile::Target::Both;
+    if (s.both && db.get(cell).is_nv() && !db.get(cell).twin.empty()) setting.target = profile::Memory::Both;
     p.settings.push_back(setting);
   }
   return p;

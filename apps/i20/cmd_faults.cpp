@@ -64,7 +64,7 @@ void print_next_step(const F::Report& fault, const F::Report& status, const std:
   // "No faults" is not all there is to say while a STATUS warning stands (the brake resistor
   // on at a supply above BRAKEONV burns it out without any fault).
   for (const auto& line : status.lines)
-    if (line.severity != F::Severity::Info)
+    if (line.severity != F::Impact::Info)
       std::cout << "\nWARNING: " << bit_label(line) << ": " << line.meaning
                 << (line.evidence.empty() ? "" : " (" + line.evidence + ")") << "\n";
   if (fault.value == 0) {

@@ -487,7 +487,7 @@ void run_apply_command(Context& ctx, const ApplyCliOptions& o) {
   if (!profile) return;
   if (!o.to.empty()) {
     try {
-      profile = profile::retarget(*profile, *profile::parse_target(o.to), db);
+      profile = profile::retarget(*profile, *profile::parse_memory(o.to), db);
     } catch (const profile::ProfileError& e) {
       return report_invalid(ctx, o.file, e);
     }

@@ -106,7 +106,7 @@ void print_status_report(std::ostream& out, const F::Report& report) {
         << "\n";
     if (line.escalated) out << "      now: " << line.evidence << "\n";
     // Informational bits explain themselves; warnings need something to act on.
-    if (line.severity != F::Severity::Info)
+    if (line.severity != F::Impact::Info)
       for (const auto& check : line.checks) out << "      check: " << check << "\n";
   }
 }

@@ -22,7 +22,7 @@
 #include <span>
 #include <vector>
 
-#include "eth/card.hpp"
+#include "eth/anything_io.hpp"
 #include "eth/running_host.hpp"
 #include "eth/sslbp_port.hpp"
 

@@ -33,7 +33,7 @@
 #include <thread>
 #include <vector>
 
-#include "eth/card.hpp"
+#include "eth/anything_io.hpp"
 #include "eth/running_host.hpp"
 #include "eth/sslbp_port.hpp"
 #include "eth/target.hpp"

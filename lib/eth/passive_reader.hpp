@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "eth/batched_opening.hpp"
-#include "eth/card.hpp"
+#include "eth/anything_io.hpp"
 #include "eth/target.hpp"
 #include "eth/transport.hpp"
 #include "eth/udp_client.hpp"

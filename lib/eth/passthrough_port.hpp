@@ -81,7 +81,7 @@
 #include <utility>
 #include <vector>
 
-#include "eth/card.hpp"
+#include "eth/anything_io.hpp"
 #include "eth/fenced_transport.hpp"
 #include "eth/passthrough_plan.hpp"
 #include "eth/running_host.hpp"

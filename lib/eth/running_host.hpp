@@ -27,7 +27,7 @@
 #include <string_view>
 #include <vector>
 
-#include "eth/card.hpp"
+#include "eth/anything_io.hpp"
 #include "eth/transport.hpp"
 #include "error/error.hpp"
 

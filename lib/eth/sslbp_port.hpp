@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "eth/card.hpp"
+#include "eth/anything_io.hpp"
 #include "eth/transport.hpp"
 #include "hostmot2/hostmot2.hpp"
 

@@ -7,11 +7,11 @@ std::string_view to_string(Register reg) {
   return reg == Register::Fault ? "FAULT" : "STATUS";
 }
 
-std::string_view to_string(Severity severity) {
+std::string_view to_string(Impact severity) {
   switch (severity) {
-    case Severity::Fault: return "fault";
-    case Severity::Warning: return "warning";
-    case Severity::Info: return "info";
+    case Impact::Fault: return "fault";
+    case Impact::Warning: return "warning";
+    case Impact::Info: return "info";
   }
   return "fault";
 }

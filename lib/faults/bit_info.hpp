@@ -20,8 +20,9 @@ inline constexpr std::uint16_t kResetCauseBits = kStatusWdto | kStatusSwr | kSta
 
 enum class Register { Fault, Status };
 
-// How much the bit matters to someone whose axis just dropped out.
-enum class Severity {
+// How much the bit matters to someone whose axis just dropped out (the table's `severity:`;
+// a profile finding's severity is profile::Severity, another scale).
+enum class Impact {
   Fault,    // the drive is (or was) off because of it
   Warning,  // the drive may run, but something is not right
   Info,     // normal operation; shown for completeness
@@ -35,7 +36,7 @@ struct Escalation {
   std::string measured;            // parameter read live, e.g. "BUSV"
   std::vector<std::string> above;  // thresholds, any of which the measured value is above
   std::string unit;                // of the measured value and the thresholds, for the evidence
-  Severity severity = Severity::Warning;
+  Impact severity = Impact::Warning;
   std::string meaning;              // replaces the bit's meaning while the condition holds
   std::vector<std::string> checks;  // replace the bit's checks while it holds
 };
@@ -66,7 +67,7 @@ struct BitInfo {
   std::string name;          // the manual's name (LinuxCNC-only bits: see source)
   std::string slug;          // short lowercase id for the command line
   std::string linuxcnc_pin;  // HAL pin suffix LinuxCNC shows, "" if none
-  Severity severity = Severity::Fault;
+  Impact severity = Impact::Fault;
   std::string meaning;              // one line
   std::vector<std::string> causes;  // most likely first
   std::vector<std::string> checks;  // what to check on the machine, in order
@@ -84,6 +85,6 @@ struct BitInfo {
 // "FAULT" / "STATUS": the register names the manual and the parameter database use.
 std::string_view to_string(Register reg);
 // "fault" / "warning" / "info": the spelling params/faults.yaml uses.
-std::string_view to_string(Severity severity);
+std::string_view to_string(Impact severity);
 
 }  // namespace i20::faults

@@ -121,11 +121,11 @@ class Reader {
   std::string source_;
 };
 
-Severity severity(const Reader& r, const YAML::Node& node) {
+Impact severity(const Reader& r, const YAML::Node& node) {
   const auto s = r.text(node, "severity");
-  if (s == "fault") return Severity::Fault;
-  if (s == "warning") return Severity::Warning;
-  if (s == "info") return Severity::Info;
+  if (s == "fault") return Impact::Fault;
+  if (s == "warning") return Impact::Warning;
+  if (s == "info") return Impact::Info;
   r.fail(node, "'severity' must be fault, warning or info, not '" + s + "'");
 }
 

@@ -14,7 +14,7 @@ ReportLine reserved_line(Register reg, unsigned bit) {
   ReportLine line;
   line.bit = bit;
   line.reserved = true;
-  line.severity = Severity::Warning;
+  line.severity = Impact::Warning;
   line.meaning = "reserved/undocumented bit " + std::to_string(bit) + " set";
   line.causes = {
       "The 8I20 manual does not define this bit: newer firmware, or a value that did not come from "
@@ -129,7 +129,7 @@ Report status_report(std::uint16_t status, const LiveValues& live, const FaultTa
 
 std::size_t count_at_least_warning(const Report& report) {
   std::size_t n = 0;
-  for (const auto& line : report.lines) n += line.severity != Severity::Info ? 1 : 0;
+  for (const auto& line : report.lines) n += line.severity != Impact::Info ? 1 : 0;
   return n;
 }
 

@@ -21,7 +21,7 @@ struct ReportLine {
   std::string name;
   std::string slug;
   std::string linuxcnc_pin;
-  Severity severity = Severity::Fault;
+  Impact severity = Impact::Fault;
   std::string meaning;
   std::vector<std::string> causes;
   std::vector<std::string> checks;

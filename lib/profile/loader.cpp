@@ -162,9 +162,9 @@ void read_supply(const Reader& r, const YAML::Node& node, SupplyInfo& supply) {
     supply.bus_voltage_v = r.quantity(node["bus_voltage"], "bus_voltage", Quantity::Voltage);
 }
 
-Target read_target(const Reader& r, const YAML::Node& node, const std::string& key) {
+Memory read_target(const Reader& r, const YAML::Node& node, const std::string& key) {
   const std::string text = r.text(node, key);
-  const auto target = parse_target(text);
+  const auto target = parse_memory(text);
   if (!target) r.fail(node, key, "target", "target must be nv, working or both, not '" + text + "'");
   return *target;
 }

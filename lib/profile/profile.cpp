@@ -13,10 +13,10 @@ bool MotorInfo::empty() const {
          !phase_inductance_h;
 }
 
-Target Profile::target_of(const Setting& setting, const params::ParamDb& db) const {
+Memory Profile::target_of(const Setting& setting, const params::ParamDb& db) const {
   if (setting.target) return *setting.target;
   if (target) return *target;
-  return db.get(setting.name).is_nv() ? Target::Nv : Target::Working;
+  return db.get(setting.name).is_nv() ? Memory::Nv : Memory::Working;
 }
 
 std::string Profile::where(const Setting& setting) const {
@@ -26,7 +26,7 @@ std::string Profile::where(const Setting& setting) const {
 
 std::vector<std::string> cells_of(const Profile& profile, const Setting& setting, const params::ParamDb& db) {
   const params::Param& p = db.get(setting.name);
-  const Target target = profile.target_of(setting, db);
+  const Memory target = profile.target_of(setting, db);
   const auto need_twin = [&](const char* space) -> std::string {
     if (p.twin.empty())
       throw ProfileError(profile.where(setting), setting.name, "target",
@@ -35,9 +35,9 @@ std::vector<std::string> cells_of(const Profile& profile, const Setting& setting
     return p.twin;
   };
   switch (target) {
-    case Target::Nv: return {p.is_nv() ? p.name : need_twin("EEPROM")};
-    case Target::Working: return {p.is_nv() ? need_twin("working") : p.name};
-    case Target::Both: {
+    case Memory::Nv: return {p.is_nv() ? p.name : need_twin("EEPROM")};
+    case Memory::Working: return {p.is_nv() ? need_twin("working") : p.name};
+    case Memory::Both: {
       const std::string twin = need_twin(p.is_nv() ? "working" : "EEPROM");
       return p.is_nv() ? std::vector<std::string>{p.name, twin} : std::vector<std::string>{twin, p.name};
     }
@@ -62,7 +62,7 @@ std::vector<CellWrite> cell_writes(const Profile& profile, const params::ParamDb
   return writes;
 }
 
-Profile retarget(Profile profile, Target target, const params::ParamDb& db) {
+Profile retarget(Profile profile, Memory target, const params::ParamDb& db) {
   profile.target = target;
   for (auto& s : profile.settings) s.target.reset();
   (void)cell_writes(profile, db);  // throws if the new target makes two entries collide

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "params/param_db.hpp"
-#include "profile/target.hpp"
+#include "profile/memory.hpp"
 
 namespace i20::profile {
 
@@ -47,7 +47,7 @@ struct SupplyInfo {
 struct Setting {
   std::string name;  // the database's spelling of the key, e.g. "NVMAXCURRENT"
   std::int64_t raw = 0;
-  std::optional<Target> target;  // per-entry target, if the entry gives one
+  std::optional<Memory> target;  // per-entry target, if the entry gives one
   int line = 0;                  // 1-based line in the source file, 0 if not from a file
 };
 
@@ -58,12 +58,12 @@ struct Profile {
   MotorInfo motor;
   SupplyInfo supply;
   std::string notes;
-  std::optional<Target> target;  // profile-wide target; entries may override it
+  std::optional<Memory> target;  // profile-wide target; entries may override it
   std::vector<Setting> settings;
   std::vector<std::string> comments;  // written as '#' lines on top (provenance); not read back
 
   // Entry target, else profile target, else the space the key names (NV... -> nv).
-  Target target_of(const Setting& setting, const params::ParamDb& db) const;
+  Memory target_of(const Setting& setting, const params::ParamDb& db) const;
   // "file:line" of an entry (just the file when the line is unknown).
   std::string where(const Setting& setting) const;
 };
@@ -83,6 +83,6 @@ std::vector<std::string> cells_of(const Profile& profile, const Setting& setting
 std::vector<CellWrite> cell_writes(const Profile& profile, const params::ParamDb& db);
 // The same profile with every entry aimed at `target` (e.g. to try a profile live first).
 // Throws ProfileError if an entry cannot take that target.
-Profile retarget(Profile profile, Target target, const params::ParamDb& db);
+Profile retarget(Profile profile, Memory target, const params::ParamDb& db);
 
 }  // namespace i20::profile

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "device/errors.hpp"
-#include "fake_card.hpp"
+#include "recording_link.hpp"
 #include "lbp/local.hpp"
 
 using namespace i20;

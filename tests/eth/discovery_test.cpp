@@ -2,7 +2,7 @@
 // Card identification, HostMot2 discovery and scan over UDP against the virtual card.
 #include <gtest/gtest.h>
 
-#include "eth/card.hpp"
+#include "eth/anything_io.hpp"
 #include "eth/errors.hpp"
 #include "eth/scan.hpp"
 #include "eth/sslbp_port.hpp"

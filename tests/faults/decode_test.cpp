@@ -122,7 +122,7 @@ TEST(FaultDecode, FaultsLatchUntilClearfaultAndOnlyBusUnderVoltageIsMaskable) {
     SCOPED_TRACE(b.name);
     EXPECT_TRUE(b.sticky);
     EXPECT_EQ(b.maskable, b.bit == 8);
-    EXPECT_EQ(b.severity, Severity::Fault);
+    EXPECT_EQ(b.severity, Impact::Fault);
   }
   EXPECT_EQ(FaultTable::builtin().maskable_bits(), 0x0100);
 }

@@ -14,7 +14,7 @@ TEST(FaultReport, TitleNamesEverySetFault) {
   EXPECT_EQ(r.lines[1].slug, "bus-under-voltage");
   EXPECT_FALSE(r.lines[0].checks.empty());
   EXPECT_FALSE(r.lines[0].causes.empty());
-  EXPECT_EQ(r.lines[0].severity, Severity::Fault);
+  EXPECT_EQ(r.lines[0].severity, Impact::Fault);
   EXPECT_FALSE(r.notes.empty());
   EXPECT_EQ(r.fault_output_on, false);  // no-enable cannot be masked
 }
@@ -74,7 +74,7 @@ TEST(StatusReport, TitleAndLines) {
   const auto r = status_report(0x0204);
   EXPECT_EQ(r.title, "STATUS 0x0204: 2 bits set: BRAKEWASONSTATUS (bit 2), PIDONSTATUS (bit 9)");
   EXPECT_FALSE(r.fault_output_on.has_value());
-  EXPECT_EQ(r.lines[1].severity, Severity::Info);
+  EXPECT_EQ(r.lines[1].severity, Impact::Info);
   EXPECT_EQ(status_report(0).title, "STATUS 0x0000: no bits set");
   EXPECT_EQ(status_report(0x0100).title, "STATUS 0x0100: 1 bit set: NOENABLESTATUS (bit 8)");
 }

@@ -15,7 +15,7 @@
 #include <string>
 #include <thread>
 
-#include "fake_card.hpp"
+#include "fake_lbp_memory.hpp"
 #include "lbp/preparse.hpp"
 
 namespace i20::link::fake {

@@ -13,7 +13,7 @@
 #include <set>
 #include <thread>
 
-#include "fake_card.hpp"
+#include "fake_lbp_memory.hpp"
 #include "lbp/command.hpp"
 #include "lbp/preparse.hpp"
 #include "link/byte_stream.hpp"

@@ -97,13 +97,13 @@ TEST(ProfileLoader, RawFormTakesCounts) {
 
 TEST(ProfileLoader, RetargetAimsEveryEntry) {
   const Profile p = load(with_params("  NVKQP: 60\n  NVBRAKEONV: {value: 300 V, target: both}\n"));
-  const Profile live = retarget(p, Target::Working, db());
+  const Profile live = retarget(p, Memory::Working, db());
   const auto writes = cell_writes(live, db());
   ASSERT_EQ(writes.size(), 2u);
   EXPECT_EQ(writes[0].cell, "KQP");
   EXPECT_EQ(writes[1].cell, "BRAKEONV");
   // FAULTMASK has no EEPROM twin, so it cannot go to nv.
-  EXPECT_THROW(retarget(load(with_params("  FAULTMASK: 0xFEFF\n")), Target::Nv, db()), ProfileError);
+  EXPECT_THROW(retarget(load(with_params("  FAULTMASK: 0xFEFF\n")), Memory::Nv, db()), ProfileError);
 }
 
 TEST(ProfileLoader, RejectsUnknownParameterWithSuggestion) {

@@ -214,7 +214,7 @@ TEST(ProfileValidate, HandMadeProfilesWithCollisionsAreFindingsNotExceptions) {
   Profile p;
   p.name = "hand-made";
   p.source = "code";
-  p.settings = {{"NVKQP", 50, Target::Both, 0}, {"KQP", 50, std::nullopt, 0}};
+  p.settings = {{"NVKQP", 50, Memory::Both, 0}, {"KQP", 50, std::nullopt, 0}};
   const auto f = validate(p, db());
   EXPECT_TRUE(has_rule(f, "duplicate", Severity::Error)) << dump(f);
 }

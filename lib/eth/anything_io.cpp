@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include "eth/card.hpp"
+#include "eth/anything_io.hpp"
 
 #include <algorithm>
 
