@@ -5,10 +5,19 @@
 
 namespace i20::app {
 
+std::string advice_text(ops::Advice advice) {
+  switch (advice) {
+    case ops::Advice::None: return {};
+    case ops::Advice::RunningHost: return " (--take-over)";  // add_target_options defines it
+  }
+  return {};
+}
+
 int print_failure(const char* program, const ops::FailureReport& report, const std::string& hint) {
   for (std::size_t i = 0; i < report.lines.size(); ++i) {
     const auto& line = report.lines[i];
-    std::cerr << program << ": " << line.label << ": " << line.message << (i == 0 ? hint : "") << "\n";
+    std::cerr << program << ": " << line.label << ": " << line.message
+              << (i == 0 ? advice_text(report.advice) + hint : "") << "\n";
   }
   return ops::exit_code(report.outcome);
 }

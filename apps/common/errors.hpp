@@ -11,8 +11,12 @@
 
 namespace i20::app {
 
-// Prints the report's lines and returns its exit code. `hint` is appended to the first
-// line's message (the flag that changes the outcome, which only the app can name).
+// The global option that changes the failure's outcome, as every app names it (added to the
+// first line): " (--take-over)" beside a running host; empty for none.
+std::string advice_text(ops::Advice advice);
+
+// Prints the report's lines and returns its exit code. The first line gets advice_text and
+// then `hint` (what only this app offers, e.g. i20's --passive).
 int print_failure(const char* program, const ops::FailureReport& report, const std::string& hint = {});
 
 // From a catch block when no session is open: prints the one line and returns the exit code.

@@ -35,12 +35,12 @@ void Context::settle() {
 int Context::report_failure() {
   if (!session_) {
     const auto failure = ops::failure_of_current_exception();
-    const auto hint = failure.advice == ops::Advice::ReadPassively ? passive_hint(*this) : std::string();
+    const auto hint = failure.advice == ops::Advice::RunningHost ? passive_hint(*this) : std::string();
     return app::print_failure("i20", {failure.outcome, {failure.line}, failure.advice}, hint);
   }
   const auto report = session_->fail();
   return app::print_failure("i20", report,
-                            report.advice == ops::Advice::ReadPassively ? passive_hint(*this) : "");
+                            report.advice == ops::Advice::RunningHost ? passive_hint(*this) : "");
 }
 
 void Context::print_json(const app::Json& json) const {

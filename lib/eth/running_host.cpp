@@ -7,8 +7,8 @@
 
 #include "eth/batched_opening.hpp"
 #include "eth/errors.hpp"
-#include "lbp/bytes.hpp"
 #include "hostmot2/hostmot2.hpp"
+#include "lbp/bytes.hpp"
 
 namespace i20::eth {
 
@@ -94,8 +94,9 @@ HostActivity refuse_if_running(Lbp16Transport& bus, const RunningHostCheck& chec
   if (check.take_over || !host_is_running(activity, check)) return activity;
   std::string message = "refusing to " + std::string(action) + " on " + bus.describe();
   message += ": another host is running the card (" + activity.describe() + "). ";
-  message += "Stop LinuxCNC first, or pass " + check.take_over_flag;
-  message += ": every axis on that port drops out";
+  // What the user may do, in words: the option that says it is the app's to name
+  // (ops::Advice::RunningHost).
+  message += "Stop LinuxCNC first, or take the port over: every axis on that port drops out";
   throw RunningHostError(message, activity);
 }
 

@@ -27,9 +27,9 @@
 #include <string_view>
 #include <vector>
 
+#include "error/error.hpp"
 #include "eth/anything_io.hpp"
 #include "eth/transport.hpp"
-#include "error/error.hpp"
 
 namespace i20::eth {
 
@@ -38,9 +38,6 @@ struct RunningHostCheck {
   // Proceed even when another host is using the card. Its machine stops: every axis on
   // the port drops out.
   bool take_over = false;
-  // How the user says take_over, named in the refusal: "--take-over", the one option
-  // every command (scan included) takes for it.
-  std::string take_over_flag = "--take-over";
   std::chrono::milliseconds window{30};
   unsigned command_samples = 4;  // COMMAND reads per port spread over the window
   // Foreign packets (received plus sent) in the window above which the card counts as in

@@ -11,7 +11,7 @@ Failure failure_of_current_exception() {
   try {
     throw;
   } catch (const eth::RunningHostError& e) {
-    return {outcome_of(e.kind()), {error_label(e.kind()), e.what()}, Advice::ReadPassively};
+    return {outcome_of(e.kind()), {error_label(e.kind()), e.what()}, Advice::RunningHost};
   } catch (const Error& e) {
     return {outcome_of(e.kind()), {error_label(e.kind()), e.what()}};
   } catch (const YAML::Exception& e) {

@@ -19,7 +19,8 @@ struct ReportLine {
 // What the apps may add to a failure's message: the flag that changes it is theirs to name.
 enum class Advice {
   None,
-  ReadPassively,  // refused beside a running host: a passive read would not stop it
+  RunningHost,  // refused beside a running host: the app names its take-over option, and a
+                // passive read where it has one (reads that stop nothing)
 };
 
 // What a failure means, for the exception being handled (call from a catch block): the

@@ -202,8 +202,10 @@ TEST(EthCli, ScanIsRefusedBesideARunningMachineAndTakeOverSaysWhatItDid) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("refusing to stop and scan the SSERIAL ports"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("another host is running the card"), std::string::npos) << r.err;
-  // One name for one thing: the refusal names the option every command takes.
-  EXPECT_NE(r.err.find("pass --take-over: every axis on that port drops out"), std::string::npos) << r.err;
+  // One name for one thing: the refusal names the option every command takes (the app adds it).
+  EXPECT_NE(r.err.find("take the port over: every axis on that port drops out (--take-over)"),
+            std::string::npos)
+      << r.err;
   EXPECT_EQ(card.control("host").find("(0 failed)") != std::string::npos, true) << "the machine runs on";
   r = run_i20(eth(card), {"scan", "--take-over"});
   EXPECT_EQ(r.exit_code, 0) << r.err;

@@ -125,7 +125,7 @@ TEST(EthRunningHost, ForeignPacketsAndABusyCommandAreNamed) {
     EXPECT_EQ(e.kind(), ErrorKind::Refused);
     const std::string m = e.what();
     EXPECT_NE(m.find("refusing to stop SSERIAL port 0"), std::string::npos) << m;
-    EXPECT_NE(m.find("Stop LinuxCNC first, or pass --take-over"), std::string::npos) << m;
+    EXPECT_NE(m.find("Stop LinuxCNC first, or take the port over"), std::string::npos) << m;
     EXPECT_NE(m.find("every axis on that port drops out"), std::string::npos) << m;
     EXPECT_EQ(m.find('\n'), std::string::npos) << "one line";
   }
@@ -231,12 +231,13 @@ TEST(EthRunningHost, ScanIsRefusedAndWithTakeOverProceeds) {
   test::RunningCard card(with_running_host());
   let_host_run(card);
   ScanOptions options;
-  options.running_host.take_over_flag = "--force";
   try {
     scan(card.address(), options);
     FAIL();
   } catch (const RunningHostError& e) {
-    EXPECT_NE(std::string(e.what()).find("pass --force"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("take the port over"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos)
+        << "the library names no app's flag: " << e.what();
   }
   EXPECT_EQ(mode_of(card), ethsim::ChannelMode::Normal);
   options.running_host.take_over = true;

@@ -164,7 +164,7 @@ TEST(FailureMeaning, EveryFailureHasOneOutcomeAndOneLabel) {
 TEST(FailureMeaning, ARefusalBesideARunningHostAsksTheAppForItsPassiveHint) {
   const auto f = meaning_of([] { throw eth::RunningHostError("another host runs the card", {}); });
   EXPECT_EQ(f.outcome, Outcome::Refused);
-  EXPECT_EQ(f.advice, Advice::ReadPassively);
+  EXPECT_EQ(f.advice, Advice::RunningHost);
   EXPECT_EQ(f.line.message, "another host runs the card") << "the library names no flag of an app";
 }
 
