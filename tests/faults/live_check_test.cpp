@@ -4,50 +4,20 @@
 // table's checks against the manual's FAULT CONDITIONS.
 #include <gtest/gtest.h>
 
-#include <cctype>
-
 #include "faults/fault_table.hpp"
 #include "params/param_db.hpp"
+#include "table_yaml.hpp"
 
 using namespace i20::faults;
+using namespace i20::faults::testing;
 
 namespace {
-
-// A valid bit entry: 11 lines from its "- bit:" line, then `extra`.
-std::string bit(unsigned n, const std::string& slug, const std::string& extra = "") {
-  std::string upper;
-  for (char c : slug)
-    upper += c == '-' ? '_' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return "  - bit: " + std::to_string(n) + "\n    name: " + upper + "\n    slug: " + slug +
-         "\n    severity: fault\n    meaning: test\n    causes: [a cause]\n    checks: [a check]\n"
-         "    sticky: true\n    maskable: false\n    clears_while_cause_persists: true\n    source: test\n" +
-         extra;
-}
 
 // FAULT bit 1 carries `check` ("live_check:" is line 15, its first key line 16); STATUS has
 // bits 3 and 8 (STATUS bit 8's `status_extra` starts at line 52).
 std::string with_check(const std::string& check, const std::string& status_extra = "") {
   return "schema: 1\ndevice: 8I20\nfault:\n" + bit(1, "one", "    live_check:\n" + check) + bit(2, "two") +
          "status:\n" + bit(3, "status-three") + bit(8, "status-eight", status_extra);
-}
-
-std::string error_of(const std::string& yaml) {
-  try {
-    FaultTable::load_string(yaml, "bad.yaml");
-  } catch (const FaultFileError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-::testing::AssertionResult rejected_at(const std::string& yaml, int line, const std::string& reason) {
-  const auto msg = error_of(yaml);
-  const auto where = "bad.yaml:" + std::to_string(line) + ": ";
-  if (msg.rfind(where, 0) != 0 || msg.find(reason) == std::string::npos ||
-      msg.find('\n') != std::string::npos)
-    return ::testing::AssertionFailure()
-           << "expected one line '" << where << "..." << reason << "', got '" << msg << "'";
-  return ::testing::AssertionSuccess();
 }
 
 const LiveCheck& check_of(const FaultTable& t, unsigned fault_bit) {

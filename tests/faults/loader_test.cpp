@@ -2,14 +2,15 @@
 // The strict loader of params/faults.yaml, and the compiled-in copy.
 #include <gtest/gtest.h>
 
-#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
 #include "faults/fault_table.hpp"
+#include "table_yaml.hpp"
 
 using namespace i20::faults;
+using namespace i20::faults::testing;
 
 namespace {
 
@@ -18,41 +19,10 @@ std::filesystem::path source_file() {
   return std::filesystem::path(src ? src : ".") / "params" / "faults.yaml";
 }
 
-// A valid bit entry (9 lines, starting at its "- bit:" line); `extra` adds or repeats keys.
-std::string bit(unsigned n, const std::string& slug, const std::string& extra = "",
-                const std::string& name = "") {
-  std::string upper = name;
-  if (upper.empty())  // derived from the slug so that distinct slugs give distinct names
-    for (char c : slug)
-      upper += c == '-' ? '_' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return "  - bit: " + std::to_string(n) + "\n    name: " + upper + "\n    slug: " + slug +
-         "\n    severity: fault\n    meaning: test\n    causes: [a cause]\n    checks: [a check]\n"
-         "    sticky: true\n    maskable: false\n    clears_while_cause_persists: true\n    source: test\n" +
-         extra;
-}
-
 // Header is 2 lines, "fault:" line 3, first bit at line 4 (11 lines per bit).
 std::string table(const std::string& fault_bits, const std::string& status_bits = "") {
   return "schema: 1\ndevice: 8I20\nfault:\n" + fault_bits + "status:\n" +
          (status_bits.empty() ? bit(0, "status-zero") : status_bits);
-}
-
-std::string error_of(const std::string& yaml) {
-  try {
-    FaultTable::load_string(yaml, "bad.yaml");
-  } catch (const FaultFileError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-::testing::AssertionResult rejected_at(const std::string& yaml, int line, const std::string& reason) {
-  const auto msg = error_of(yaml);
-  const auto where = "bad.yaml:" + std::to_string(line) + ": ";
-  if (msg.rfind(where, 0) != 0 || msg.find(reason) == std::string::npos)
-    return ::testing::AssertionFailure()
-           << "expected '" << where << "..." << reason << "', got '" << msg << "'";
-  return ::testing::AssertionSuccess();
 }
 
 }  // namespace
