@@ -65,14 +65,17 @@
 //
 // Thread safety: execute() and the links may be used from several threads; links of
 // different channels that execute at about the same time (within options.gather_window)
-// are combined into one execute(). Ports of one card used at once share one transport
-// (card_transport()).
+// are combined into one execute() (command_combiner.hpp). Ports of one card used at once
+// share one transport (card_transport()).
+//
+// Where the code is: the port's lifecycle (opening, the running-host and foreign-packet
+// checks, resync, closing) in passthrough_port.cpp; packing, mode brackets, running
+// packets and replay in passthrough_packing.cpp, with the working state of an execute()
+// in passthrough_work.hpp; combining the links' batches in command_combiner.cpp.
 #pragma once
 
 #include <chrono>
-#include <condition_variable>
 #include <cstdint>
-#include <exception>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -82,6 +85,7 @@
 #include <vector>
 
 #include "eth/anything_io.hpp"
+#include "eth/command_combiner.hpp"
 #include "eth/fenced_transport.hpp"
 #include "eth/passthrough_plan.hpp"
 #include "eth/running_host.hpp"
@@ -168,17 +172,8 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   PassthroughPort(const PassthroughPort&) = delete;
   PassthroughPort& operator=(const PassthroughPort&) = delete;
 
-  struct Batch {
-    unsigned channel = 0;
-    std::span<const lbp::Command> commands{};
-  };
-  struct Outcome {
-    unsigned channel = 0;
-    std::vector<lbp::Bytes> replies{};  // one per command when no error
-    // A link::LinkError (or subclass) whose completed() counts the commands of this
-    // channel that got a reply; the other channels are unaffected.
-    std::exception_ptr error{};
-  };
+  using Batch = ChannelBatch;
+  using Outcome = ChannelOutcome;  // see command_combiner.hpp
   // Executes each channel's batch, the channels side by side: the k-th commands of every
   // batch share one DOIT. At most one batch per channel. UsageError for a channel not in
   // the mask.
@@ -211,22 +206,23 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   std::chrono::microseconds settle_for(const PassthroughStep& step, unsigned channel,
                                        std::optional<std::uint8_t> nv_mode) const;
 
-  // For links: runs `batch` on `channel`, combined with other links' batches.
-  std::vector<lbp::Bytes> execute_combined(unsigned channel, std::span<const lbp::Command> batch);
-  void attach() noexcept;
-  void detach() noexcept;
-
  private:
   struct Channel;
   struct Slot;
   struct Round;
-  struct Request;
   struct PacketResult;
 
+  // ---- lifecycle (passthrough_port.cpp) ----
   void start_setup();
   void read_nv_modes();
   bool another_host_runs_the_port();
   void resync();
+  // `received`: RXUDPCount read in our latest packet; `sent`: our packets by then.
+  void require_no_foreign_packets(std::uint16_t received, std::uint64_t sent);
+  // ForeignHostError when the transport's ledger counted foreign arrivals since `before`.
+  void require_undisturbed(std::uint64_t foreign_before);
+
+  // ---- packing and replay (passthrough_packing.cpp) ----
   void run(std::vector<Channel>& channels);
   // The rounds of the next packet under the packing rules, at most `max_doits` (0: no limit).
   // `leave`: the packet will be bracketed with mode-clearing DOITs (see bracket_modes).
@@ -249,11 +245,6 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   void finish(std::vector<Channel>& channels, const Slot& slot, std::uint32_t interface0, std::uint8_t data);
   void learn_modes(unsigned channel, const PassthroughStep& step, std::uint32_t interface0);
   void describe_failures(std::vector<Channel>& channels);
-  // `received`: RXUDPCount read in our latest packet; `sent`: our packets by then.
-  void require_no_foreign_packets(std::uint16_t received, std::uint64_t sent);
-  // ForeignHostError when the transport's ledger counted foreign arrivals since `before`.
-  void require_undisturbed(std::uint64_t foreign_before);
-  void lead_combined(std::unique_lock<std::mutex>& lock);
 
   std::shared_ptr<Lbp16Transport> bus_;
   unsigned sserial_port_;
@@ -286,12 +277,9 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   mutable std::mutex execute_mutex_;  // one execute at a time on the wire
   PassthroughStats stats_;            // under execute_mutex_
 
-  // Combining the links' batches.
-  std::mutex combine_mutex_;
-  std::condition_variable combine_changed_;
-  std::vector<Request*> pending_{};
-  bool leading_ = false;
-  unsigned attached_ = 0;
+  // Combines the links' batches into execute()s (after options_: it reads the window).
+  CommandCombiner combiner_{[this](std::span<const Batch> batches) { return execute(batches); },
+                            options_.gather_window};
 };
 
 }  // namespace i20::eth
