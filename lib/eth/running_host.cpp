@@ -94,18 +94,25 @@ HostActivity finish_window(Lbp16Transport& bus, std::span<const SserialPort> por
     std::this_thread::sleep_until(start + step * (i + 1));
     sample(bus, ports, false, activity, sent);
   }
-  std::this_thread::sleep_until(start + check.window);
-  const Counters last = *sample(bus, ports, true, activity, sent);
-  activity.window =
-      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start);
-  // Every packet we sent after the first counter read was counted on the way in; every
-  // reply from the first one on was counted on the way out.
-  activity.own_packets = static_cast<std::uint32_t>(sent - sent_after_first);
-  activity.foreign_received = beyond(first.received, last.received, activity.own_packets);
-  activity.foreign_sent = beyond(first.sent, last.sent, activity.own_packets);
-  activity.last_received = last.received;
-  activity.sent_at_last = sent;
-  return activity;
+  auto end = start + check.window;
+  for (unsigned extra = 0;; ++extra) {
+    std::this_thread::sleep_until(end);
+    const Counters last = *sample(bus, ports, true, activity, sent);
+    activity.window =
+        std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start);
+    // Every packet we sent after the first counter read was counted on the way in; every
+    // reply from the first one on was counted on the way out.
+    activity.own_packets = static_cast<std::uint32_t>(sent - sent_after_first);
+    activity.foreign_received = beyond(first.received, last.received, activity.own_packets);
+    activity.foreign_sent = beyond(first.sent, last.sent, activity.own_packets);
+    activity.last_received = last.received;
+    activity.sent_at_last = sent;
+    // Another host seen, but not above the limit: a stray query, or a host that talks less
+    // often than the window is long (see extra_windows). Watch on before deciding.
+    const std::uint32_t foreign = activity.foreign_packets();
+    if (foreign == 0 || foreign > check.foreign_packet_limit || extra == check.extra_windows) return activity;
+    end += check.window;
+  }
 }
 
 HostActivity refuse_if_running(Lbp16Transport& bus, const RunningHostCheck& check, std::string_view action,

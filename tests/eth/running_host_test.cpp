@@ -55,6 +55,8 @@ class CounterCard final : public Lbp16Transport {
  public:
   std::uint16_t received = 0, sent = 0, command = 0;
   std::uint16_t foreign_per_packet = 0;  // another host's packets between two of ours
+  // Transactions (1 = the first) before which another host made one exchange.
+  std::vector<unsigned> foreign_exchange_before{};
 
   std::chrono::microseconds waited{0};  // WaituS written (space 4), all packets
   Resend last_resend = Resend::Never;
@@ -76,6 +78,10 @@ class CounterCard final : public Lbp16Transport {
       ++stats_.resends;
       ++late_copies_;
     }
+    const bool exchange = std::find(foreign_exchange_before.begin(), foreign_exchange_before.end(),
+                                    transactions) != foreign_exchange_before.end();
+    received = static_cast<std::uint16_t>(received + exchange);
+    sent = static_cast<std::uint16_t>(sent + exchange);
     received = static_cast<std::uint16_t>(received + 1 + foreign_per_packet);  // counted on arrival
     std::vector<lbp::Bytes> out;
     for (const auto& c : commands) {
@@ -182,6 +188,29 @@ TEST(EthRunningHost, OurOwnResentReadIsNeitherForeignNorHidesAForeignPacket) {
   // Every transaction after the first brought 3 foreign packets with it; none is hidden.
   EXPECT_EQ(seen.foreign_received, 3u * (busy.transactions - 1)) << seen.describe();
   EXPECT_EQ(seen.foreign_sent, 3u * (busy.transactions - 1)) << seen.describe();
+}
+
+// A host slower than the window (a 20 ms DOIT period, or a 10 ms one running late on a
+// loaded PC) shows one exchange in it, as a stray query does: the watch goes on until
+// the two differ. An idle card costs no extra window.
+TEST(EthRunningHost, OneForeignExchangeInTheWindowIsWatchedLonger) {
+  RunningHostCheck check;
+  check.window = 4ms;
+  {
+    CounterCard stray;
+    stray.foreign_exchange_before = {3};  // one query from another PC, in the first window
+    const HostActivity seen = observe_host_activity(stray, std::span(&kPort, 1), check);
+    EXPECT_EQ(seen.foreign_packets(), 2u) << seen.describe();
+    EXPECT_FALSE(host_is_running(seen, check)) << seen.describe();
+    EXPECT_EQ(stray.transactions, 5u + check.extra_windows) << "every extra window was watched";
+    EXPECT_GE(seen.window, check.window * (1 + check.extra_windows)) << seen.describe();
+  }
+  CounterCard slow;
+  slow.foreign_exchange_before = {3, 7};  // the first window (5 requests) and the second extra one
+  EXPECT_TRUE(host_is_running(observe_host_activity(slow, std::span(&kPort, 1), check), check));
+  CounterCard idle;
+  EXPECT_FALSE(host_is_running(observe_host_activity(idle, std::span(&kPort, 1), check), check));
+  EXPECT_EQ(idle.transactions, 5u) << "an idle card is watched for one window";
 }
 
 // Issue 18 item 5: the passthrough opening's watch costs two requests after the survey (its
