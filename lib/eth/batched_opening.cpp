@@ -61,7 +61,9 @@ CardSurvey survey_card(Lbp16Transport& bus, std::span<const lbp16::Command> extr
   commands.insert(commands.end(), extra.begin(), extra.end());
 
   CardSurvey survey;
+  const auto resends = bus.stats().resends;
   const auto parts = bus.transact_counted(commands, Resend::IfReadOnly, survey.sent);
+  survey.sent_once = bus.stats().resends == resends;
   survey.replied_at = std::chrono::steady_clock::now();
   const auto board = lbp16::BoardInfo::parse(parts[0]);
   survey.identity = CardIdentity{.card_name = board.card_name,

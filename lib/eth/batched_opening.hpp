@@ -36,6 +36,7 @@ struct CardSurvey {
   HostMot2Info hostmot2{};
   std::vector<lbp::Bytes> extra_replies{};
   std::uint64_t sent = 0;  // our packets once that one was sent (transact_counted)
+  bool sent_once = true;   // that request went out once (no resend after a late reply)
   std::chrono::steady_clock::time_point replied_at{};
 };
 CardSurvey survey_card(Lbp16Transport& bus, std::span<const lbp::lbp16::Command> extra = {});
@@ -44,11 +45,14 @@ CardSurvey survey_card(Lbp16Transport& bus, std::span<const lbp::lbp16::Command>
 lbp::lbp16::Command udp_counters_read();
 
 // The watch's first counter read when it travelled in an earlier request (survey_card's
-// extra reads): its reply, our packet count then and the time of the reply.
+// extra reads): its reply, our packet count then and the time of the reply. A request
+// sent more than once opens no window (a copy of ours may reach the card after the read):
+// the watch then reads the counters again first.
 struct CounterSample {
   lbp::Bytes reply{};
   std::uint64_t sent = 0;
   std::chrono::steady_clock::time_point at{};
+  bool sent_once = true;
 };
 // require_no_running_host() with the window opened by `first`: command_samples - 1 COMMAND
 // samples inside it and the last counter read (with a COMMAND sample) at its end. The host

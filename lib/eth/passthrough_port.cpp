@@ -97,8 +97,10 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
   const CardSurvey survey = survey_card(*bus_, std::span(&counters, 1));
   card_ = survey.identity;
   const HostMot2Info& info = survey.hostmot2;
-  const CounterSample first{
-      .reply = survey.extra_replies.front(), .sent = survey.sent, .at = survey.replied_at};
+  const CounterSample first{.reply = survey.extra_replies.front(),
+                            .sent = survey.sent,
+                            .at = survey.replied_at,
+                            .sent_once = survey.sent_once};
   // Two COMMAND samples (halfway and at the end); the counters decide anyway
   // (running_host.hpp). The samples cannot share a request: a card that waits between
   // them (WaituS) serves no other host meanwhile.

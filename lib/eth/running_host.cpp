@@ -31,6 +31,25 @@ Counters counters_of(const lbp::Bytes& words) {
   return Counters{.received = w.front(), .sent = w.back()};
 }
 
+// How often a counter read is sent again because its request went out more than once.
+constexpr unsigned kCounterReadAttempts = 4;
+
+// `packet` (read-only) as transact_counted(). With `counters`, until one request went out
+// once: a request resent after a late reply leaves a copy of ours that may reach the card
+// after the copy whose counters we took. Counted from the first read of the window, that
+// copy would look like another host's packet (an idle card "in use": a resend on a loaded
+// host did it); counted in `sent` at the last read, it would hide one of another host's.
+// A read sent after every copy counts them all (one path to the card: they arrive in
+// order), so the counters are read again.
+std::vector<lbp::Bytes> transact_for_counters(Lbp16Transport& bus, std::span<const lbp16::Command> packet,
+                                              bool counters, std::uint64_t& sent) {
+  for (unsigned attempt = 1;; ++attempt) {
+    const auto resends = bus.stats().resends;
+    auto parts = bus.transact_counted(packet, Resend::IfReadOnly, sent);
+    if (!counters || bus.stats().resends == resends || attempt == kCounterReadAttempts) return parts;
+  }
+}
+
 // One read-only packet: optionally the counters, then COMMAND of every port. Returns the
 // counters when asked for and records busy COMMANDs.
 std::optional<Counters> sample(Lbp16Transport& bus, std::span<const SserialPort> ports, bool counters,
@@ -38,7 +57,7 @@ std::optional<Counters> sample(Lbp16Transport& bus, std::span<const SserialPort>
   std::vector<lbp16::Command> packet;
   if (counters) packet.push_back(counters_read());
   for (const auto& port : ports) packet.push_back(lbp16::read_hm2(port.registers.command));
-  const auto parts = bus.transact_counted(packet, Resend::IfReadOnly, sent);
+  const auto parts = transact_for_counters(bus, packet, counters, sent);
   const std::size_t first = counters ? 1 : 0;
   for (std::size_t i = 0; i < ports.size(); ++i) {
     const auto command = static_cast<std::uint32_t>(lbp::read_le(parts[first + i])) & 0xFFFF;
@@ -75,18 +94,25 @@ HostActivity finish_window(Lbp16Transport& bus, std::span<const SserialPort> por
     std::this_thread::sleep_until(start + step * (i + 1));
     sample(bus, ports, false, activity, sent);
   }
-  std::this_thread::sleep_until(start + check.window);
-  const Counters last = *sample(bus, ports, true, activity, sent);
-  activity.window =
-      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start);
-  // Every packet we sent after the first counter read was counted on the way in; every
-  // reply from the first one on was counted on the way out.
-  activity.own_packets = static_cast<std::uint32_t>(sent - sent_after_first);
-  activity.foreign_received = beyond(first.received, last.received, activity.own_packets);
-  activity.foreign_sent = beyond(first.sent, last.sent, activity.own_packets);
-  activity.last_received = last.received;
-  activity.sent_at_last = sent;
-  return activity;
+  auto end = start + check.window;
+  for (unsigned extra = 0;; ++extra) {
+    std::this_thread::sleep_until(end);
+    const Counters last = *sample(bus, ports, true, activity, sent);
+    activity.window =
+        std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start);
+    // Every packet we sent after the first counter read was counted on the way in; every
+    // reply from the first one on was counted on the way out.
+    activity.own_packets = static_cast<std::uint32_t>(sent - sent_after_first);
+    activity.foreign_received = beyond(first.received, last.received, activity.own_packets);
+    activity.foreign_sent = beyond(first.sent, last.sent, activity.own_packets);
+    activity.last_received = last.received;
+    activity.sent_at_last = sent;
+    // Another host seen, but not above the limit: a stray query, or a host that talks less
+    // often than the window is long (see extra_windows). Watch on before deciding.
+    const std::uint32_t foreign = activity.foreign_packets();
+    if (foreign == 0 || foreign > check.foreign_packet_limit || extra == check.extra_windows) return activity;
+    end += check.window;
+  }
 }
 
 HostActivity refuse_if_running(Lbp16Transport& bus, const RunningHostCheck& check, std::string_view action,
@@ -111,6 +137,8 @@ lbp16::Command udp_counters_read() {
 HostActivity require_no_running_host(Lbp16Transport& bus, std::span<const SserialPort> ports,
                                      const RunningHostCheck& check, std::string_view action,
                                      const CounterSample& first) {
+  // A survey sent more than once opens no window (transact_for_counters): a window of its own.
+  if (!first.sent_once) return require_no_running_host(bus, ports, check, action);
   return refuse_if_running(
       bus, check, action,
       finish_window(bus, ports, check, HostActivity{}, first.at, counters_of(first.reply), first.sent));
@@ -147,8 +175,7 @@ HostActivity observe_host_activity(Lbp16Transport& bus, std::span<const SserialP
 std::uint32_t foreign_packets_since(Lbp16Transport& bus, const HostActivity& since) {
   const lbp16::Command read = counters_read();
   std::uint64_t sent = 0;
-  const Counters now =
-      counters_of(bus.transact_counted(std::span(&read, 1), Resend::IfReadOnly, sent).front());
+  const Counters now = counters_of(transact_for_counters(bus, std::span(&read, 1), true, sent).front());
   const std::uint64_t ours = sent - since.sent_at_last;
   return beyond(since.last_received, now.received, static_cast<std::uint32_t>(ours));
 }

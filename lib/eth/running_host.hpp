@@ -3,7 +3,8 @@
 // operation that stops, starts or re-modes an SSERIAL port: on a running machine a stop
 // drops every axis on that port (their 8I20s see no DOIT for 40 ms and disable).
 //
-// What is measured, over a short window (default 30 ms), with read-only packets:
+// What is measured, over a short window (default 30 ms, longer when a little foreign
+// traffic is seen: RunningHostCheck::extra_windows), with read-only packets:
 //
 //  1. LBP16 space 6 RXUDPCount (0x0A) and TXUDPCount (0x10), read at the start and the end
 //     (7I96S/7I92T manuals, "SPACE 6 LBP STATUS/CONTROL AREA"). The card counts every UDP
@@ -44,6 +45,12 @@ struct RunningHostCheck {
   // use. One stray exchange (a mesaflash query from another PC) is tolerated; LinuxCNC's
   // servo loop moves both counters every millisecond, a 10 ms `i20 watch` every 10 ms.
   unsigned foreign_packet_limit = 2;
+  // Windows added, one at a time, while foreign packets were seen but no more than the
+  // limit. A host that DOITs every 20 ms (the slowest period that keeps the 8I20's 40 ms
+  // watchdog fed), or a 10 ms one whose cycles run late on a loaded PC, can show a single
+  // exchange in 30 ms, as a stray query does; a longer watch tells them apart. An idle
+  // card (nothing foreign) and a host above the limit cost no extra window.
+  unsigned extra_windows = 2;
   // Setup starts to try before a channel counts as silent: in a take-over the other host's
   // DOITs can land inside ours and fail a channel that is there.
   unsigned setup_start_attempts() const { return take_over ? 4 : 1; }

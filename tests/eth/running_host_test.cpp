@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "eth/batched_opening.hpp"
 #include "eth/errors.hpp"
 #include "eth/normal_mode.hpp"
@@ -53,13 +55,33 @@ class CounterCard final : public Lbp16Transport {
  public:
   std::uint16_t received = 0, sent = 0, command = 0;
   std::uint16_t foreign_per_packet = 0;  // another host's packets between two of ours
+  // Transactions (1 = the first) before which another host made one exchange.
+  std::vector<unsigned> foreign_exchange_before{};
 
   std::chrono::microseconds waited{0};  // WaituS written (space 4), all packets
   Resend last_resend = Resend::Never;
+  // Transactions (1 = the first) whose reply comes late: the client resends, takes the
+  // first copy's reply, and the second copy reaches the card just before the next packet.
+  std::vector<unsigned> resent_transactions{};
+  unsigned transactions = 0;
 
   std::vector<lbp::Bytes> transact(std::span<const lbp::lbp16::Command> commands, Resend resend) override {
+    ++transactions;
     ++stats_.packets_sent;
     last_resend = resend;
+    received = static_cast<std::uint16_t>(received + late_copies_);  // a late copy of ours, then its reply
+    sent = static_cast<std::uint16_t>(sent + late_copies_);
+    late_copies_ = 0;
+    if (std::find(resent_transactions.begin(), resent_transactions.end(), transactions) !=
+        resent_transactions.end()) {
+      ++stats_.packets_sent;
+      ++stats_.resends;
+      ++late_copies_;
+    }
+    const bool exchange = std::find(foreign_exchange_before.begin(), foreign_exchange_before.end(),
+                                    transactions) != foreign_exchange_before.end();
+    received = static_cast<std::uint16_t>(received + exchange);
+    sent = static_cast<std::uint16_t>(sent + exchange);
     received = static_cast<std::uint16_t>(received + 1 + foreign_per_packet);  // counted on arrival
     std::vector<lbp::Bytes> out;
     for (const auto& c : commands) {
@@ -86,6 +108,7 @@ class CounterCard final : public Lbp16Transport {
 
  private:
   TransportStats stats_;
+  std::uint16_t late_copies_ = 0;
 };
 
 const SserialPort kPort{.index = 0, .registers = {.command = 0x5B00, .data = 0x5C00}};
@@ -131,6 +154,63 @@ TEST(EthRunningHost, ForeignPacketsAndABusyCommandAreNamed) {
   }
   check.take_over = true;
   EXPECT_TRUE(host_is_running(require_no_running_host(bus, std::span(&kPort, 1), check, "stop"), check));
+}
+
+// A read resent after a late reply (a loaded host) leaves a copy of ours that reaches the
+// card after the copy whose counters were taken. It is ours: an idle card is not "in use"
+// (the first read), and it hides none of another host's packets (the last read).
+TEST(EthRunningHost, OurOwnResentReadIsNeitherForeignNorHidesAForeignPacket) {
+  RunningHostCheck check;
+  check.window = 4ms;
+  {
+    CounterCard idle;
+    idle.resent_transactions = {1};  // the window's first counter read
+    const HostActivity seen = observe_host_activity(idle, std::span(&kPort, 1), check);
+    EXPECT_EQ(seen.foreign_packets(), 0u) << seen.describe();
+  }
+  {
+    CounterCard idle;  // the opening's watch, its first read in the survey
+    idle.resent_transactions = {1};
+    const auto counters = udp_counters_read();
+    CounterSample first;
+    const auto resends = idle.stats().resends;
+    first.reply = idle.transact_counted(std::span(&counters, 1), Resend::IfReadOnly, first.sent).front();
+    first.at = std::chrono::steady_clock::now();
+    first.sent_once = idle.stats().resends == resends;
+    ASSERT_FALSE(first.sent_once);
+    const HostActivity seen = require_no_running_host(idle, std::span(&kPort, 1), check, "stop", first);
+    EXPECT_EQ(seen.foreign_packets(), 0u) << seen.describe();
+  }
+  CounterCard busy;
+  busy.foreign_per_packet = 3;     // 3 of another host's packets before each of ours
+  busy.resent_transactions = {5};  // the last counter read (1 + 3 COMMAND samples + 1)
+  const HostActivity seen = observe_host_activity(busy, std::span(&kPort, 1), check);
+  // Every transaction after the first brought 3 foreign packets with it; none is hidden.
+  EXPECT_EQ(seen.foreign_received, 3u * (busy.transactions - 1)) << seen.describe();
+  EXPECT_EQ(seen.foreign_sent, 3u * (busy.transactions - 1)) << seen.describe();
+}
+
+// A host slower than the window (a 20 ms DOIT period, or a 10 ms one running late on a
+// loaded PC) shows one exchange in it, as a stray query does: the watch goes on until
+// the two differ. An idle card costs no extra window.
+TEST(EthRunningHost, OneForeignExchangeInTheWindowIsWatchedLonger) {
+  RunningHostCheck check;
+  check.window = 4ms;
+  {
+    CounterCard stray;
+    stray.foreign_exchange_before = {3};  // one query from another PC, in the first window
+    const HostActivity seen = observe_host_activity(stray, std::span(&kPort, 1), check);
+    EXPECT_EQ(seen.foreign_packets(), 2u) << seen.describe();
+    EXPECT_FALSE(host_is_running(seen, check)) << seen.describe();
+    EXPECT_EQ(stray.transactions, 5u + check.extra_windows) << "every extra window was watched";
+    EXPECT_GE(seen.window, check.window * (1 + check.extra_windows)) << seen.describe();
+  }
+  CounterCard slow;
+  slow.foreign_exchange_before = {3, 7};  // the first window (5 requests) and the second extra one
+  EXPECT_TRUE(host_is_running(observe_host_activity(slow, std::span(&kPort, 1), check), check));
+  CounterCard idle;
+  EXPECT_FALSE(host_is_running(observe_host_activity(idle, std::span(&kPort, 1), check), check));
+  EXPECT_EQ(idle.transactions, 5u) << "an idle card is watched for one window";
 }
 
 // Issue 18 item 5: the passthrough opening's watch costs two requests after the survey (its
