@@ -198,6 +198,7 @@ std::vector<PassthroughPort::Outcome> PassthroughPort::execute(std::span<const B
                        describe());
     seen |= bit(b.channel);
   }
+  refuse_if_another_host_took_the_port();
   if (needs_resync_) resync();
 
   std::vector<Channel> work;

@@ -164,6 +164,19 @@ bool PassthroughPort::another_host_runs_the_port() {
   return host_is_running(now, options_.running_host);
 }
 
+// A host that showed itself during the session (its stop, its start, its DOITs) owns the
+// port from then on: any command of ours could land while its start runs, and SSLBP ignores a
+// command written while it is busy, so its start could be lost and its machine left in our
+// setup mode. Read-only: it watches the card, and refuses everything after (Refused: the
+// use case does not resend it). A foreign packet that was a repeated datagram of ours shows
+// no host, and the session goes on.
+void PassthroughPort::refuse_if_another_host_took_the_port() {
+  if (!other_host_seen_ || options_.running_host.take_over) return;
+  require_no_running_host(*bus_, std::span(&sslbp_->port(), 1), options_.running_host,
+                          "send more commands to SSERIAL port " + std::to_string(sserial_port_) +
+                              " (another host started on it during this session)");
+}
+
 void PassthroughPort::start_setup() {
   const auto channels = channels_of(mask_);
   const auto& registers = sslbp_->port().registers;

@@ -217,6 +217,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   void read_nv_modes();
   bool another_host_runs_the_port();
   void resync();
+  void refuse_if_another_host_took_the_port();
   // `received`: RXUDPCount read in our latest packet; `sent`: our packets by then.
   void require_no_foreign_packets(std::uint16_t received, std::uint64_t sent);
   // ForeignHostError when the transport's ledger counted foreign arrivals since `before`.

@@ -285,6 +285,39 @@ TEST(EthRunningHost, PassthroughOpenIsRefusedBesideARunningMachineAndTheMachineR
       << *card.server().host_status();
 }
 
+// LinuxCNC started while the tool held the port in setup mode: from its first packet it owns
+// the port. Every command after that is refused, read-only, so none of ours can land while
+// its start runs (SSLBP ignores a command written while busy: its start would be lost and
+// its machine left in our setup mode), and closing leaves its port alone.
+TEST(EthRunningHost, AHostThatStartsDuringTheSessionOwnsThePortFromThen) {
+  test::RunningCard card;
+  {
+    const auto link = SslbpPassthroughLink::open(card.target(0));
+    ASSERT_EQ(lbp::read_le(link->execute_one(lbp::read(2344, lbp::DataSize::Four))), 0x00012345u);
+    card.server().start_host(ethsim::HostOptions{});
+    let_host_run(card);
+    bool refused = false;
+    for (int i = 0; i < 5 && !refused; ++i) {
+      try {
+        link->execute_one(lbp::read(2344, lbp::DataSize::Four));
+      } catch (const RunningHostError& e) {
+        refused = true;
+        EXPECT_NE(std::string(e.what()).find("another host started on it during this session"),
+                  std::string::npos)
+            << e.what();
+      } catch (const ForeignHostError&) {
+        // the exchange that first saw the host: its results were discarded
+      }
+    }
+    EXPECT_TRUE(refused) << "commands went on beside the host that started";
+  }
+  EXPECT_EQ(mode_of(card), ethsim::ChannelMode::Normal) << "closing left the host's port alone";
+  const auto doits = host_doits(card);
+  EXPECT_TRUE(test::eventually([&] { return host_doits(card) >= doits + 20; }, 30s)) << "the host runs on";
+  EXPECT_NE(card.server().host_status()->find("(0 failed)"), std::string::npos)
+      << *card.server().host_status();
+}
+
 TEST(EthRunningHost, TakeOverStopsTheMachineAsItSays) {
   test::RunningCard card(with_running_host());
   let_host_run(card);
