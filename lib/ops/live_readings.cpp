@@ -29,7 +29,10 @@ std::string bit_label(const F::ReportLine& line) {
 
 std::string bit_names(F::Register reg, std::uint16_t value) {
   std::string out;
-  for (const auto& b : F::decode(reg, value).bits) out += (out.empty() ? "" : " ") + b.label();
+  for (const auto& b : F::decode(reg, value).bits) {
+    if (!out.empty()) out += ' ';
+    out += b.label();  // appended: GCC 12's -O3 takes `"" + std::string&&` for an overlapping copy
+  }
   return out;
 }
 
