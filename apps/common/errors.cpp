@@ -13,18 +13,18 @@ std::string advice_text(ops::Advice advice) {
   return {};
 }
 
+void print_line(const char* program, const ops::ReportLine& line, const std::string& suffix) {
+  std::cerr << program << ": " << line.label << ": " << line.message << suffix << "\n";
+}
+
 int print_failure(const char* program, const ops::FailureReport& report, const std::string& hint) {
-  for (std::size_t i = 0; i < report.lines.size(); ++i) {
-    const auto& line = report.lines[i];
-    std::cerr << program << ": " << line.label << ": " << line.message
-              << (i == 0 ? advice_text(report.advice) + hint : "") << "\n";
-  }
+  for (std::size_t i = 0; i < report.lines.size(); ++i)
+    print_line(program, report.lines[i], i == 0 ? advice_text(report.advice) + hint : "");
   return ops::exit_code(report.outcome);
 }
 
 int report_current_exception(const char* program) {
-  const auto failure = ops::failure_of_current_exception();
-  return print_failure(program, {failure.outcome, {failure.line}, failure.advice});
+  return print_failure(program, ops::failure_report_of_current_exception());
 }
 
 }  // namespace i20::app

@@ -15,6 +15,9 @@ namespace i20::app {
 // first line): " (--take-over)" beside a running host; empty for none.
 std::string advice_text(ops::Advice advice);
 
+// "PROGRAM: LABEL: MESSAGE[SUFFIX]" on stderr: every line the apps print from lib/ops.
+void print_line(const char* program, const ops::ReportLine& line, const std::string& suffix = {});
+
 // Prints the report's lines and returns its exit code. The first line gets advice_text and
 // then `hint` (what only this app offers, e.g. i20's --passive).
 int print_failure(const char* program, const ops::FailureReport& report, const std::string& hint = {});

@@ -28,17 +28,12 @@ int Context::exit_code() const {
 void Context::settle() {
   if (!session_) return;
   const auto settled = session_->settle();
-  if (settled.note) std::cerr << "i20: " << settled.note->label << ": " << settled.note->message << "\n";
+  if (settled.note) app::print_line("i20", *settled.note);
   record(settled.outcome);
 }
 
 int Context::report_failure() {
-  if (!session_) {
-    const auto failure = ops::failure_of_current_exception();
-    const auto hint = failure.advice == ops::Advice::RunningHost ? passive_hint(*this) : std::string();
-    return app::print_failure("i20", {failure.outcome, {failure.line}, failure.advice}, hint);
-  }
-  const auto report = session_->fail();
+  const auto report = session_ ? session_->fail() : ops::failure_report_of_current_exception();
   return app::print_failure("i20", report,
                             report.advice == ops::Advice::RunningHost ? passive_hint(*this) : "");
 }

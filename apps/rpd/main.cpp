@@ -55,7 +55,7 @@ static int run(int argc, char** argv) {
       if (const auto settled = session.settle(); settled.outcome != ops::Outcome::Done)
         return ops::exit_code(settled.outcome);
       else if (settled.note)
-        std::cerr << "rpd: " << settled.note->label << ": " << settled.note->message << "\n";
+        app::print_line("rpd", *settled.note);
       if (!reading.raw) {
         std::cerr << "rpd: refused: " << reading.param->name << " is " << ops::unknown_text(reading)
                   << "; run `i20 " << card.endpoint().flags() << " discover`, or pass --allow-unverified\n";

@@ -67,7 +67,7 @@ int report(const ops::TargetRun& run, const params::ParamDb& db) {
 // card did not confirm (which the command's own report already said).
 int settled(ops::Session& session, int code) {
   const auto s = session.settle();
-  if (s.note) std::cerr << "wpd: " << s.note->label << ": " << s.note->message << "\n";
+  if (s.note) app::print_line("wpd", *s.note);
   return s.outcome == ops::Outcome::Done || code != ops::exit_code(ops::Outcome::Done)
              ? code
              : ops::exit_code(s.outcome);

@@ -135,9 +135,13 @@ Settled Session::settle() {
   return settled;
 }
 
-FailureReport Session::fail() {
+FailureReport failure_report_of_current_exception() {
   const Failure failure = failure_of_current_exception();
-  FailureReport report{failure.outcome, {failure.line}, failure.advice};
+  return {failure.outcome, {failure.line}, failure.advice};
+}
+
+FailureReport Session::fail() {
+  FailureReport report = failure_report_of_current_exception();
   // A CardStateError is the settle's own verdict (or a mode already named): not again.
   if (!card_ || handling_card_state_error()) return report;
   try {

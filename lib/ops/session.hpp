@@ -60,6 +60,9 @@ struct FailureReport {
   std::vector<ReportLine> lines;
   Advice advice = Advice::None;
 };
+// The exception being handled as a report of its one line (no card to settle). Call from a
+// catch block.
+FailureReport failure_report_of_current_exception();
 
 class Session {
  public:
