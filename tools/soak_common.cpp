@@ -275,6 +275,19 @@ Wanted cells_written(const Scenario& s, const params::ParamDb& db) {
   return out;
 }
 
+namespace {
+
+// Why a run ended as it did, for --verbose: the error that kept the card from being
+// reached, or the transaction's reason and the mode it may have left on.
+std::string why(const ops::TargetRun& run) {
+  std::string text = run.error;
+  if (run.result && !run.result->reason.empty()) text.append(text.empty() ? "" : "; ").append(run.result->reason);
+  if (!run.mode_left_on.empty() && text.find(run.mode_left_on) == std::string::npos) text.append(text.empty() ? "" : "; ").append(run.mode_left_on);
+  return text.empty() ? std::string() : std::string(" (").append(text).append(")");
+}
+
+}  // namespace
+
 void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun& run, const Judged& j,
             bool verbose, std::optional<bool> healed) {
   ++t.outcomes[verdict(run.outcome)];
@@ -315,8 +328,7 @@ void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun
   }
   if (verbose)
     std::cerr << "#" << index << " " << path_name(s.path) << " " << s.values.size() << " cells, " << label
-              << " -> " << ops::to_string(run.outcome) << (run.error.empty() ? "" : " (" + run.error + ")")
-              << (all.empty() ? "" : "  FINDING") << "\n";
+              << " -> " << ops::to_string(run.outcome) << why(run) << (all.empty() ? "" : "  FINDING") << "\n";
 }
 
 ops::ApplyJob job_for(const profile::Profile& p, const params::ParamDb& db, const ops::Cancel& cancel,

@@ -667,6 +667,7 @@ void PassthroughPort::describe_failures(std::vector<Channel>& channels) {
     const std::uint32_t cs = regs[channels_before].cs;
     const sslbp::ChannelStatus status{cs};
     message += " (SSLBP CS " + lbp::hex_value(cs, 8) + ": " + status.describe() + ")";
+    if (status.not_ready()) port_left_setup_ = needs_resync_ = true;
     if (status.timed_out())
       c.error = std::make_exception_ptr(link::TimeoutError(message, step));
     else if (status.crc_error())

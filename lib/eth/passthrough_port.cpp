@@ -260,8 +260,12 @@ void PassthroughPort::read_nv_modes() {
   }
 }
 
+// After a failed exchange: SSLBP still busy (a DOIT that never finished), or a channel no
+// longer in setup mode (the card reset and its ports came back stopped), is started again.
+// A restart that finds no 8I20 answering is a silent card (TimeoutError), which the use
+// case may wait for, not a wrong target.
 void PassthroughPort::resync() {
-  if (!sslbp_->wait_idle()) {
+  if (!sslbp_->wait_idle() || port_left_setup_) {
     // Restarting is a start: the running-host rule applies again.
     ++stats_.restarts;
     HostActivity seen;
@@ -276,7 +280,13 @@ void PassthroughPort::resync() {
     last_received_ = seen.last_received;
     sent_at_last_ = seen.sent_at_last;
     missing_ours_ = 0;
-    start_setup();
+    try {
+      start_setup();
+    } catch (const DiscoveryError& e) {
+      throw link::TimeoutError(std::string("restarting SSERIAL port ") + std::to_string(sserial_port_) +
+                               " in setup mode: " + e.what());
+    }
+    port_left_setup_ = false;
     read_nv_modes();
   }
   needs_resync_ = false;

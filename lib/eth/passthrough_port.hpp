@@ -265,6 +265,9 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
       std::vector<std::optional<std::uint8_t>>(kMaxChannels);
   std::vector<std::string> notes_{};
   bool needs_resync_ = false;
+  // A DOIT found a channel not ready (the port left setup mode: the card reset): the next
+  // resync starts the port again.
+  bool port_left_setup_ = false;
   std::chrono::microseconds slack_{0};  // learnt from late DOITs, added to every WaituS
   // RXUDPCount at our last look and our packets by then: any difference at the next look
   // is another host's (require_no_foreign_packets).

@@ -220,6 +220,9 @@ struct ChannelStatus {
   bool ok() const { return status() == 0 && errors() == 0; }
   bool timed_out() const { return (errors() & kTimeoutError) != 0; }
   bool crc_error() const { return (errors() & kCrcError) != 0; }
+  // The channel is not communicating (stopped, e.g. by a reset of the card): a DOIT cannot
+  // run on it until it is started again.
+  bool not_ready() const { return (status() & kNotReady) != 0; }
   // "communication not ready, timeout" or "ok".
   std::string describe() const;
 

@@ -1,10 +1,14 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "ops/card.hpp"
 
+#include <algorithm>
 #include <csignal>
+#include <thread>
+#include <utility>
 
 #include "device/discover.hpp"
 #include "device/errors.hpp"
+#include "eth/errors.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/link_options.hpp"
 
@@ -124,19 +128,58 @@ std::vector<params::ParamDb::Evidence> Card::read_rpc_evidence(const params::Par
   return rpc_evidence(decoded, identity_.rpc_note);
 }
 
+void Card::answered() {
+  if (silent_since_ && probes_ > 0) ++silences_survived_;
+  silent_since_.reset();
+}
+
+void Card::unanswered(const link::LinkError&) {
+  if (!silent_since_) silent_since_ = std::chrono::steady_clock::now();
+}
+
+// Line faults and a silent card heal; a host that took the port or a command the transport
+// cannot carry do not, so they are not waited for.
+bool Card::wait_for_answer(const link::LinkError& e) {
+  if (dynamic_cast<const eth::ForeignHostError*>(&e) || dynamic_cast<const link::UnsupportedCommand*>(&e))
+    return false;
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = silent_since_.value_or(Clock::now()) + retry_.silence_window;
+  if (Clock::now() >= deadline) return false;
+  const auto until = std::min(deadline, Clock::now() + retry_.probe_interval);
+  // In short slices, so that a stop request is obeyed at once where the card may be stopped.
+  while (Clock::now() < until) {
+    if (!uninterruptible_) cancel_.check("waiting for the card to answer again");
+    std::this_thread::sleep_for(
+        std::min<Clock::duration>(until - Clock::now(), std::chrono::milliseconds(10)));
+  }
+  ++probes_;
+  return true;
+}
+
 std::string Card::settle() {
   const std::string mode = amp_->unsettled_mode();
   unsettled_said_ = false;
   if (mode.empty()) return {};
-  for (unsigned attempt = 1; attempt <= retry_.attempts; ++attempt) {
-    cancel_.acknowledge("leaving " + mode);  // a stop request does not end this: it is the way out
+  // A stop request does not end this (it is the way out), so the card is uninterruptible
+  // meanwhile, silence window included.
+  const bool was_uninterruptible = std::exchange(uninterruptible_, true);
+  for (unsigned attempt = 1;; ++attempt) {
+    cancel_.acknowledge("leaving " + mode);
     try {
       amp_->leave_modes();
+      answered();
+      uninterruptible_ = was_uninterruptible;
       return mode;
+    } catch (const link::LinkError& e) {
+      unanswered(e);
+      ++retries_;
+      if (attempt >= retry_.attempts && !wait_for_answer(e)) break;
     } catch (const Error&) {
       ++retries_;
+      if (attempt >= retry_.attempts) break;
     }
   }
+  uninterruptible_ = was_uninterruptible;
   unsettled_said_ = true;
   throw device::CardStateError(
       "the 8I20 on " + endpoint_.text + " stopped answering while in " + mode +

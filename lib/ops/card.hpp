@@ -9,7 +9,9 @@
 // every address a command uses comes from that resolved map, which is a value the card owns.
 #pragma once
 
+#include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -76,21 +78,29 @@ class Card {
   };
 
   // Runs `step` again on a link error, `retry().attempts` times in all: the one loop over
-  // a lost exchange, since the links under a Card send each exchange once (retry.hpp).
+  // a lost exchange, since the links under a Card send each exchange once (retry.hpp). A
+  // card still silent after that is asked again within the silence window (retry.hpp).
   // `step` must be harmless to run twice: reads, or the writes that switch a mode off.
   template <class F>
   auto with_retries(F&& step) {
     for (unsigned attempt = 1;; ++attempt) {
       if (!uninterruptible_) cancel_.check("reading");
       try {
-        return step();
-      } catch (const link::LinkError&) {
-        if (attempt >= retry_.attempts) throw;
+        auto result = step();
+        answered();
+        return result;
+      } catch (const link::LinkError& e) {
+        unanswered(e);
+        if (attempt >= retry_.attempts && !wait_for_answer(e)) throw;
         ++retries_;
       }
     }
   }
   std::size_t retries() const { return retries_; }
+  // Times a silent card was asked again within the silence window, and how many of those
+  // silences ended with an answer (for the link statistics in verbose output).
+  std::size_t probes() const { return probes_; }
+  std::size_t silences_survived() const { return silences_survived_; }
 
   // When the line died while the card was in NV access or RPC memory mode and leaving it
   // failed, asks the card again to leave (per the retry policy, Ctrl-C or not). Returns the
@@ -105,6 +115,13 @@ class Card {
  private:
   Card(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retry, Cancel cancel);
   void identify(const params::ParamDb& loaded);
+  // The silence bookkeeping of with_retries() and settle().
+  void answered();
+  void unanswered(const link::LinkError& e);
+  // Sleeps until the next probe when the error is one a card recovers from and the silence
+  // window is still open; false (at once) otherwise. A stop request ends the wait unless
+  // the card is uninterruptible.
+  bool wait_for_answer(const link::LinkError& e);
   std::vector<params::ParamDb::Evidence> read_rpc_evidence(const params::ParamDb& resolved);
 
   std::unique_ptr<link::Link> link_;
@@ -115,6 +132,10 @@ class Card {
   std::unique_ptr<params::ParamDb> db_;
   std::unique_ptr<device::Amp8i20> amp_;
   std::size_t retries_ = 0;
+  std::size_t probes_ = 0;
+  std::size_t silences_survived_ = 0;
+  // When the card's first unanswered exchange of the current silence failed.
+  std::optional<std::chrono::steady_clock::time_point> silent_since_;
   bool unsettled_said_ = false;
   bool uninterruptible_ = false;
 };

@@ -18,13 +18,29 @@
 // the value yet (ops::DeviceCardAccess), within the same budget; a read-back that gets no
 // answer either ends it with the error. Only the writes that switch NV access or RPC memory
 // off are repeated as they are (Card::with_retries, Card::settle): twice is harmless.
+//
+// A card that stops answering for a while (a burst of line noise, a cable knocked, an
+// 8I20 that reset itself and is back a few milliseconds later) is not given up on at once:
+// when an exchange has spent its budget, ops asks the same harmless exchange again once per
+// `probe_interval` until `silence_window` has passed since the card's first unanswered
+// exchange, so that a transaction can learn what the card holds and finish (verified, or
+// rolled back and verified) instead of ending uncertain. The window is per silence, not per
+// exchange: once it has passed, later exchanges get only their budget until the card
+// answers again. A write is never among the exchanges asked again (see above).
 #pragma once
+
+#include <chrono>
 
 namespace i20::ops {
 
 struct RetryPolicy {
   // Sends of one logical exchange in all, the first included (at least 1).
   unsigned attempts = 3;
+  // How long a card that stopped answering is waited for, from its first unanswered
+  // exchange; zero: an exchange gets its budget and no more.
+  std::chrono::milliseconds silence_window{2000};
+  // How often a silent card is asked again within that window.
+  std::chrono::milliseconds probe_interval{100};
   // Resends a layer that owns the loop may add to the first send.
   unsigned resends() const { return attempts > 0 ? attempts - 1 : 0; }
 };

@@ -6,11 +6,17 @@
 // Ethernet, and ends with an error that says so; a write whose replies are lost is sent
 // once and never again without a read-back showing it missing. Every count is taken where
 // the requests land: the simulated 8I20's own command counter, or the packets on the way.
+// The budget is asserted alone (no silence window); the window's own tests follow it: a card
+// that answers again within it is read, and the change finishes, instead of ending uncertain.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <csignal>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "device/errors.hpp"
@@ -20,6 +26,7 @@
 #include "ethsim/faulty_network.hpp"
 #include "fixtures.hpp"
 #include "lbp/header.hpp"
+#include "ops/cancel.hpp"
 #include "ops/card.hpp"
 #include "ops/device_access.hpp"
 #include "ops/link_options.hpp"
@@ -31,6 +38,13 @@ using namespace i20;
 using namespace std::chrono_literals;
 
 namespace {
+
+// The budget alone: a silent card is not waited for.
+ops::RetryPolicy budget_only() {
+  ops::RetryPolicy retry;
+  retry.silence_window = 0ms;
+  return retry;
+}
 
 // One batch of three reads: over Ethernet three DOITs in one packet.
 const std::vector<std::string> kRead{"BUSV", "FAULT", "STATUS"};
@@ -76,8 +90,7 @@ struct SerialRig {
   CountingLink* counting = nullptr;
   std::unique_ptr<ops::Card> card;
 
-  SerialRig() {
-    const ops::RetryPolicy retry;
+  explicit SerialRig(const ops::RetryPolicy& retry = budget_only()) {
     ops::LinkSettings settings;
     settings.timeout_ms = 20;
     sim::SimOptions sim;
@@ -197,7 +210,7 @@ class EthLoss : public ::testing::TestWithParam<LosingDoits::Lose> {};
 
 TEST_P(EthLoss, AReadWhoseDoitPacketsAreAllLostIsSentAtMostThreeTimes) {
   test::RunningCard card;
-  const ops::RetryPolicy retry;
+  const ops::RetryPolicy retry = budget_only();
   const auto options = eth_options(retry);
   auto losing = std::make_unique<LosingDoits>(
       std::make_unique<eth::UdpClient>(card.address().ip, card.address().port, options.udp));
@@ -234,7 +247,7 @@ TEST(RetryBudget, EthReadWithEveryReplyOnTheNetworkLostIsSentAtMostThreeTimes) {
   test::RunningCard card;
   ethsim::FaultyNetwork network(card.address(), ethsim::NetworkFaults{});
   const eth::HostPort proxy = eth::parse_host_port(network.address());
-  const ops::RetryPolicy retry;
+  const ops::RetryPolicy retry = budget_only();
   const auto options = eth_options(retry);
   auto losing =
       std::make_unique<LosingDoits>(std::make_unique<eth::UdpClient>(proxy.ip, proxy.port, options.udp));
@@ -258,6 +271,122 @@ TEST(RetryBudget, EthReadWithEveryReplyOnTheNetworkLostIsSentAtMostThreeTimes) {
   EXPECT_GE(arrived, 1u);
   EXPECT_NE(error.find("no reply"), std::string::npos) << error;
   RecordProperty("udp_packets", std::to_string(counter->stats().packets_sent - sent_before));
+}
+
+// ---------------------------------------------------------------- the silence window
+
+using Clock = std::chrono::steady_clock;
+
+// Ends the card's silence after `after` from another thread, as a cable put back would.
+class Heal {
+ public:
+  Heal(std::chrono::milliseconds after, std::function<void()> heal)
+      : thread_([after, heal = std::move(heal)] {
+          std::this_thread::sleep_for(after);
+          heal();
+        }) {}
+  ~Heal() { thread_.join(); }
+
+ private:
+  std::thread thread_;
+};
+
+// A card silent for 300 ms (every reply dropped): the read is asked again within the window
+// and answers; without the window it fails after its three sends.
+TEST(SilenceWindow, ASerialCardThatAnswersAgainWithinTheWindowIsRead) {
+  SerialRig rig{ops::RetryPolicy{}};
+  rig.stream->control("drop 1");
+  const auto start = Clock::now();
+  std::string error;
+  {
+    Heal heal(300ms, [&rig] { rig.stream->control("drop 0"); });
+    error = read_or_error(*rig.card);
+  }
+  EXPECT_EQ(error, "") << "the card answered again 300 ms later, within the 2 s window";
+  EXPECT_GE(Clock::now() - start, 300ms);
+  EXPECT_GT(rig.card->probes(), 0u);
+  EXPECT_EQ(rig.card->silences_survived(), 1u);
+}
+
+// A card that stays silent is given the window once per silence: the first read fails after
+// about the window, the next one at once (after its budget), until the card answers again.
+TEST(SilenceWindow, ACardThatStaysSilentGetsTheWindowOncePerSilence) {
+  ops::RetryPolicy retry;
+  retry.silence_window = 400ms;
+  SerialRig rig{retry};
+  rig.stream->control("drop 1");
+  auto start = Clock::now();
+  EXPECT_NE(read_or_error(*rig.card), "");
+  const auto first = Clock::now() - start;
+  EXPECT_GE(first, 400ms);
+  EXPECT_LT(first, 400ms + 1500ms);
+  start = Clock::now();
+  EXPECT_NE(read_or_error(*rig.card), "");
+  EXPECT_LT(Clock::now() - start, 350ms) << "the window is per silence, not per exchange";
+  rig.stream->control("drop 0");
+  EXPECT_EQ(read_or_error(*rig.card), "");
+  // A new silence gets a new window.
+  rig.stream->control("drop 1");
+  start = Clock::now();
+  EXPECT_NE(read_or_error(*rig.card), "");
+  EXPECT_GE(Clock::now() - start, 400ms);
+}
+
+// Ctrl-C while the tool waits for a silent card ends the wait (a read changes nothing).
+TEST(SilenceWindow, AStopRequestEndsTheWait) {
+  ops::StopRequest stop;
+  ops::RetryPolicy retry;
+  retry.silence_window = 5000ms;
+  SerialRig rig{retry};
+  rig.card = nullptr;  // reopened with the stop request below
+  {
+    sim::SimOptions sim;
+    sim.device.map = sim::register_map_from(params::ParamDb::builtin());
+    auto s = std::make_unique<sim::SimStream>(std::move(sim));
+    rig.stream = s.get();
+    ops::LinkSettings settings;
+    settings.timeout_ms = 20;
+    rig.card = ops::Card::attach(
+        std::make_unique<link::PipelinedLink>(std::move(s), ops::serial_link_options(settings, retry)),
+        ops::parse_endpoint("sim"), params::ParamDb::builtin(), retry, ops::Cancel(stop, {}));
+  }
+  rig.stream->control("drop 1");
+  const auto start = Clock::now();
+  Heal signal(200ms, [&stop] { stop.request(SIGINT); });
+  EXPECT_THROW(ops::read_values(*rig.card, kRead, ops::Unconfirmed::Read), device::Cancelled);
+  EXPECT_LT(Clock::now() - start, 2000ms);
+}
+
+// A write whose reply is lost while the card goes silent for 300 ms: the read-back waits for
+// the card, finds the value (or writes it again), and the write is verified, not uncertain.
+TEST(SilenceWindow, AWriteDuringAShortSilenceEndsVerified) {
+  SerialRig rig{ops::RetryPolicy{}};
+  ops::DeviceCardAccess access(*rig.card, device::WriteOptions{});
+  const std::int64_t kqp = ops::read_values(*rig.card, std::vector<std::string>{"KQP"}).front().raw.value();
+  access.check_write("KQP", kqp + 1);
+  rig.stream->control("drop 1");
+  {
+    Heal heal(300ms, [&rig] { rig.stream->control("drop 0"); });
+    EXPECT_NO_THROW(access.write("KQP", kqp + 1));
+  }
+  EXPECT_EQ(ops::read_values(*rig.card, std::vector<std::string>{"KQP"}).front().raw, kqp + 1);
+}
+
+// The Ethernet card resets mid-session (its SSERIAL ports come back stopped): the next
+// exchange finds the channel not ready, the port is set up again (the running-host watch
+// first), and the read answers instead of failing.
+TEST(SilenceWindow, AnEthernetCardThatResetsIsSetUpAgainAndRead) {
+  test::RunningCard card;
+  const ops::RetryPolicy retry;
+  const auto options = eth_options(retry);
+  auto port = eth::PassthroughPort::open(card.address(), 0, std::uint8_t{1}, options);
+  auto opened = ops::Card::attach(port->link(0), ops::parse_endpoint(card.target().url()),
+                                  params::ParamDb::builtin(), retry);
+  ASSERT_EQ(read_or_error(*opened), "");
+  card.server().go_dark(5ms, /*power_loss=*/false);
+  std::this_thread::sleep_for(20ms);
+  EXPECT_EQ(read_or_error(*opened), "");
+  EXPECT_GE(port->stats().restarts, 1u);
 }
 
 }  // namespace
