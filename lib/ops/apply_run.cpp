@@ -57,6 +57,37 @@ void check_card_reset(Card& c, std::optional<std::int64_t> before, TargetRun& ru
                    "): its working values were reloaded from the EEPROM as it was at that moment";
 }
 
+// A card that went silent during the change and answered again may have been power cycled,
+// which leaves no new STATUS bit (EXTR is set from the first power-up on). Its working
+// values then changed by themselves: a working twin of an EEPROM cell the profile writes
+// that no longer holds what it held before the first write, and that the profile did not
+// write itself, can only have been reloaded from the EEPROM.
+void check_silent_reset(Card& c, const ApplyJob& job, std::size_t silences_before, TargetRun& run) {
+  if (!run.card_reset.empty() || c.silences_ended() == silences_before) return;
+  // A reset the tool did (apply --reset) or already told (events) explains the change.
+  if (run.result->reset_done || !run.result->events.empty()) return;
+  std::vector<std::string> written;
+  for (const auto& w : profile::cell_writes(*job.profile, c.db())) written.push_back(w.cell);
+  std::vector<std::string> names;
+  for (const auto& [name, raw] : run.result->working_before)
+    if (std::ranges::find(written, name) == written.end()) names.push_back(name);
+  if (names.empty()) return;
+  std::string changed;
+  try {
+    for (const auto& r : read_values(c, names))
+      if (r.raw && *r.raw != run.result->working_before.at(r.param->name))
+        changed.append(changed.empty() ? "" : ", ").append(r.param->name);
+  } catch (const std::exception&) {
+    return;  // the card is silent again: settle() says what that means
+  }
+  if (changed.empty()) return;
+  run.card_reset =
+      "the card reset itself during the change (it stopped answering for a while, and its working " +
+      changed +
+      " changed meanwhile; a power cycle sets no new STATUS bit): its working values were "
+      "reloaded from the EEPROM as it was at that moment";
+}
+
 // The card reset itself mid-change, so its working values came from the EEPROM half
 // written; the EEPROM has been restored since. One more reset makes the working values the
 // restored ones again, instead of a mix nobody asked for.
@@ -114,6 +145,7 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
   run.target = card.endpoint();
   const auto start = std::chrono::steady_clock::now();
   const auto status_before = sticky_status(card);
+  const std::size_t silences_before = card.silences_ended();
   auto options = job.transaction;
   options.force = options.force || job.write.force;  // one --force: guards and the measured-bus rules
   if (options.backup_label.empty())
@@ -130,6 +162,7 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
     if (activity) activity("checking");
     check_live(card, job, run);
     check_card_reset(card, status_before, run);  // last: a reset during the checks is seen too
+    check_silent_reset(card, job, silences_before, run);
     if (!run.card_reset.empty() && run.outcome == Outcome::RolledBack) reload_restored_values(card, run);
   }
   settle(card, run);

@@ -129,7 +129,7 @@ std::vector<params::ParamDb::Evidence> Card::read_rpc_evidence(const params::Par
 }
 
 void Card::answered() {
-  if (silent_since_ && probes_ > 0) ++silences_survived_;
+  if (silent_since_) ++silences_ended_;
   silent_since_.reset();
 }
 

@@ -97,10 +97,15 @@ class Card {
     }
   }
   std::size_t retries() const { return retries_; }
-  // Times a silent card was asked again within the silence window, and how many of those
-  // silences ended with an answer (for the link statistics in verbose output).
+  // Times a silent card was asked again within the silence window.
   std::size_t probes() const { return probes_; }
-  std::size_t silences_survived() const { return silences_survived_; }
+  // How often the card failed an exchange and answered a later one: the card may have
+  // reset in between (a power cycle leaves no new STATUS bit).
+  std::size_t silences_ended() const { return silences_ended_; }
+  // The silence bookkeeping of with_retries() and settle(), for exchanges outside them too
+  // (a write, which is never repeated as it is).
+  void answered();
+  void unanswered(const link::LinkError& e);
 
   // When the line died while the card was in NV access or RPC memory mode and leaving it
   // failed, asks the card again to leave (per the retry policy, Ctrl-C or not). Returns the
@@ -115,9 +120,6 @@ class Card {
  private:
   Card(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retry, Cancel cancel);
   void identify(const params::ParamDb& loaded);
-  // The silence bookkeeping of with_retries() and settle().
-  void answered();
-  void unanswered(const link::LinkError& e);
   // Sleeps until the next probe when the error is one a card recovers from and the silence
   // window is still open; false (at once) otherwise. A stop request ends the wait unless
   // the card is uninterruptible.
@@ -133,7 +135,7 @@ class Card {
   std::unique_ptr<device::Amp8i20> amp_;
   std::size_t retries_ = 0;
   std::size_t probes_ = 0;
-  std::size_t silences_survived_ = 0;
+  std::size_t silences_ended_ = 0;
   // When the card's first unanswered exchange of the current silence failed.
   std::optional<std::chrono::steady_clock::time_point> silent_since_;
   bool unsettled_said_ = false;

@@ -84,7 +84,8 @@ void DeviceCardAccess::write_once(const std::string& name, std::int64_t raw) {
       const auto held = holds(name, raw);
       if (held == true) return;
       if (!held || attempt >= attempts) throw;
-    } catch (const link::LinkError&) {
+    } catch (const link::LinkError& e) {
+      card_.unanswered(e);
       const auto held = holds(name, raw);
       if (held == true) return;
       if (!held || attempt >= attempts) throw;

@@ -86,8 +86,16 @@ class Transaction {
   bool read_card() {
     std::vector<std::string> names;
     for (const auto& w : writes_) names.push_back(w.cell);
+    // In the same read: the working twins of the EEPROM cells (working_before).
+    std::vector<std::string> with_twins = names;
+    for (const auto& w : writes_)
+      if (const params::Param& p = db_.get(w.cell); p.is_nv() && !p.twin.empty() && db_.find(p.twin))
+        with_twins.push_back(p.twin);
     try {
-      snapshot_ = card_.read(names);
+      snapshot_ = card_.read(with_twins);
+      for (const auto& name : with_twins)
+        if (const params::Param& p = db_.get(name); !p.is_nv() && snapshot_.contains(name))
+          result_.working_before[name] = snapshot_.at(name);
     } catch (const std::exception& e) {
       stop(Outcome::Failed,
            std::string("cannot read the card's current values, so nothing was written: ") + e.what());

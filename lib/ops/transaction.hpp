@@ -93,6 +93,10 @@ struct TransactionResult {
   std::vector<WriteRecord> rollback;    // restoring writes, in order
   std::vector<CellState> cells;         // every cell written or attempted, after the transaction
   std::vector<std::string> events;      // what the card did meanwhile (resets), for the user
+  // The working twins of the EEPROM cells the profile writes, as read with the card's
+  // current values before the first write (where their addresses are facts): what tells a
+  // reset that left no STATUS bit (a power cycle) from none, should the card go silent.
+  RawValues working_before;
   bool interrupted = false;             // Ctrl-C stopped it (the outcome says how it ended)
   bool reset_needed = false;            // EEPROM values changed and take effect at the next reset
   bool reset_done = false;

@@ -54,6 +54,13 @@ bool reloaded_by_reset(const RegisterMap& map, const Register& r, const GroundTr
   return r.default_value && value_in(after, r) == static_cast<std::uint64_t>(*r.default_value);
 }
 
+// The reset came between the writes: the NV twin held its value from before them.
+bool reloaded_by_reset(const RegisterMap& map, const Register& r, const GroundTruth& before,
+                       const GroundTruth& after) {
+  const Register* nv = r.twin.empty() ? nullptr : map.find(r.twin);
+  return nv && nv->space == Space::Eeprom && value_in(after, r) == value_in(before, *nv);
+}
+
 std::vector<std::string> unexplained_changes(const RegisterMap& map, const GroundTruth& before,
                                              const GroundTruth& after,
                                              const std::vector<std::string>& named) {
@@ -74,6 +81,7 @@ std::vector<std::string> unexplained_changes(const RegisterMap& map, const Groun
     }
     if (contains(named, r->name) || volatile_register(r->name)) continue;
     if (reset && reloaded_by_reset(map, *r, after)) continue;
+    if (reset && reloaded_by_reset(map, *r, before, after)) continue;
     out.push_back("RAM byte " + std::to_string(a) + " (" + r->name + ")");
   }
   return out;

@@ -38,7 +38,9 @@ bool reloaded_by_reset(const RegisterMap& map, const Register& r, const GroundTr
 // Every byte that changed from `before` to `after` that nothing explains: not a cell in
 // `named`, not a register the card changes itself (FAULT, STATUS, BUSV, TEMPERATURE,
 // CLEARFAULT), and, when the card reset in between, not a working register reloaded from its
-// NV twin or its power-up default. Empty: no stray write. Each entry names the byte.
+// NV twin (as the EEPROM held it before or after: a reset between the writes loads either)
+// or its power-up default: a reload is the card's doing, never a write of the tool's. Empty:
+// no stray write. Each entry names the byte.
 std::vector<std::string> unexplained_changes(const RegisterMap& map, const GroundTruth& before,
                                              const GroundTruth& after, const std::vector<std::string>& named);
 

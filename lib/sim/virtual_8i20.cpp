@@ -249,6 +249,10 @@ void Virtual8i20::power_cycle(Clock::time_point now) {
   now_ = std::max(now_, now);
   power_off();
   powered_ = true;
+  // A power-up is a processor start like any reset (the ground truth counts it: the working
+  // values it reloads are the card's doing).
+  ++stats_.resets;
+  stats_.bytes_received_at_reset = stats_.bytes_received;
   amplifier_.power_up(now_);
   start_lbp(now_);
   trace("power on");

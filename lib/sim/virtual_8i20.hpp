@@ -84,7 +84,7 @@ struct DeviceStats {
   std::uint64_t commands_ignored = 0;  // while muted (answer limit)
   std::uint64_t bytes_ignored = 0;     // while rebooting or powered off
   std::uint64_t eeprom_writes = 0;
-  std::uint64_t resets = 0;
+  std::uint64_t resets = 0;  // processor starts after the first: resets and power cycles
   std::uint64_t bytes_received = 0;           // every byte the host sent, heard or not
   std::uint64_t bytes_received_at_reset = 0;  // bytes_received when the card last reset
 };

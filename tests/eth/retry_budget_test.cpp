@@ -305,7 +305,7 @@ TEST(SilenceWindow, ASerialCardThatAnswersAgainWithinTheWindowIsRead) {
   EXPECT_EQ(error, "") << "the card answered again 300 ms later, within the 2 s window";
   EXPECT_GE(Clock::now() - start, 300ms);
   EXPECT_GT(rig.card->probes(), 0u);
-  EXPECT_EQ(rig.card->silences_survived(), 1u);
+  EXPECT_EQ(rig.card->silences_ended(), 1u);
 }
 
 // A card that stays silent is given the window once per silence: the first read fails after

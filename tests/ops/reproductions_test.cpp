@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
+#include <thread>
 
 #include "device/errors.hpp"
 #include "ops/apply_run.hpp"
@@ -12,6 +14,7 @@
 #include "ops/discover.hpp"
 #include "ops/faults.hpp"
 #include "ops/read.hpp"
+#include "lbp/header.hpp"
 #include "sim_rig.hpp"
 
 using namespace i20;
@@ -327,4 +330,37 @@ TEST(OpsCancel, CtrlCBeforeTheFirstWriteWritesNothing) {
   EXPECT_EQ(r.run.outcome, Outcome::Interrupted);
   EXPECT_EQ(exit_code(r.run.outcome), 130);
   EXPECT_EQ(rig.truth().eeprom, before.eeprom);
+}
+
+// ---------------------------------------------------------------- a card that comes back
+// Issue 18: the 8I20 loses its logic power at the first write of a change and is back 200 ms
+// later. The tool waits for it (the silence window), finds the write missing, writes it again
+// and verifies it. A power cycle sets no new STATUS bit (EXTR is set from the first power-up
+// on), so the tool tells it by a working twin of a cell it writes that changed meanwhile:
+// KQP, reloaded from NVKQP, and says the card reset.
+TEST(OpsSilence, APowerCycleInTheMiddleOfAChangeIsWaitedForAndReported) {
+  SimRig rig;
+  auto card = rig.open();
+  rig.control("set KQP " + std::to_string(rig.value("NVKQP") + 7));  // a working value not from the EEPROM
+  const auto kqp_before = rig.value("KQP");
+  std::thread heal;
+  rig.before_each_batch([&rig, &heal, fired = false](std::span<const lbp::Command> batch) mutable {
+    const bool writes = std::ranges::any_of(batch, [](const lbp::Command& c) {
+      return lbp::kind_of(c.bytes.front()) == lbp::CommandKind::Data &&
+             lbp::DataHeader::decode(c.bytes.front()).write;
+    });
+    if (fired || !writes) return;
+    fired = true;
+    rig.control("power off");
+    heal = std::thread([&rig] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      rig.control("power on");
+    });
+  });
+  const auto r = set(*card, {"NVKQP=" + std::to_string(rig.value("NVKQP") + 1)}, ValueSyntax::Raw);
+  heal.join();
+  EXPECT_EQ(r.run.outcome, Outcome::Done) << reason(r);
+  EXPECT_NE(rig.value("KQP"), kqp_before) << "the power cycle reloaded KQP from the EEPROM";
+  EXPECT_NE(r.run.card_reset.find("KQP"), std::string::npos) << "the reset went unreported: " << r.run.card_reset;
+  EXPECT_GE(card->silences_ended(), 1u);
 }

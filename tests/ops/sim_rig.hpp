@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -56,7 +58,12 @@ class SimRig {
 
   // Opens (identifies) the card over the rig's link; the rig keeps the simulator for the truth.
   std::unique_ptr<Card> open(Cancel cancel = {}) {
-    return Card::attach(std::make_unique<Forward>(*link_), parse_endpoint("sim"), loaded_, RetryPolicy{}, cancel);
+    return Card::attach(std::make_unique<Forward>(*link_, before_), parse_endpoint("sim"), loaded_,
+                        RetryPolicy{}, cancel);
+  }
+  // Runs before every batch the opened cards send (an injection at the right moment).
+  void before_each_batch(std::function<void(std::span<const lbp::Command>)> hook) {
+    *before_ = std::move(hook);
   }
 
   std::string control(const std::string& line) { return stream_->control(line); }
@@ -84,18 +91,24 @@ class SimRig {
   // A Link that forwards to the rig's, so a Card can own "its" link while the rig keeps it.
   class Forward final : public link::Link {
    public:
-    explicit Forward(link::Link& to) : to_(to) {}
-    std::vector<lbp::Bytes> execute(std::span<const lbp::Command> batch) override { return to_.execute(batch); }
+    using Hook = std::function<void(std::span<const lbp::Command>)>;
+    Forward(link::Link& to, std::shared_ptr<Hook> before) : to_(to), before_(std::move(before)) {}
+    std::vector<lbp::Bytes> execute(std::span<const lbp::Command> batch) override {
+      if (*before_) (*before_)(batch);
+      return to_.execute(batch);
+    }
     std::string describe() const override { return to_.describe(); }
 
    private:
     link::Link& to_;
+    std::shared_ptr<Hook> before_;
   };
 
   RigOptions options_;
   params::ParamDb loaded_ = params::ParamDb::builtin();
   sim::SimStream* stream_ = nullptr;
   std::unique_ptr<link::PipelinedLink> link_;
+  std::shared_ptr<Forward::Hook> before_ = std::make_shared<Forward::Hook>();
 };
 
 }  // namespace i20::ops::testing
