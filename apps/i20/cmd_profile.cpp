@@ -166,14 +166,15 @@ std::string why_refused(std::string reason) {
 // "valid (no findings, checked against CARD)" or why apply would not go ahead.
 std::string verdict(const ops::TargetRun& run) {
   const std::string card = run.result ? ", checked against " + run.result->card : std::string();
-  if (!run.result) return "NOT CHECKED (" + run.target.text + " not reached: " + run.error + ")";
+  if (!run.result)
+    return "NOT CHECKED (" + run.target.text + " not reached: " + render::error_text(run) + ")";
   const auto& r = *run.result;
   if (run.outcome == ops::Outcome::DryRun)
     return "valid (" + render::findings_summary(r.findings) + card + ")";
   if (run.outcome == ops::Outcome::Failed)
-    return "NOT CHECKED (" + render::findings_summary(r.findings) + card + "): " + r.reason;
+    return "NOT CHECKED (" + render::findings_summary(r.findings) + card + "): " + render::reason_text(r);
   return "INVALID (" + render::findings_summary(r.findings) + card +
-         "): apply would be refused: " + why_refused(r.reason);
+         "): apply would be refused: " + app::with_advice(why_refused(r.reason), r.reason_advice);
 }
 
 app::Json validation_json(const ops::TargetRun& run) {
@@ -181,7 +182,7 @@ app::Json validation_json(const ops::TargetRun& run) {
   j.set("target", run.target.text).set("valid", run.outcome == ops::Outcome::DryRun);
   j.set("outcome", run.outcome == ops::Outcome::DryRun ? "valid" : ops::to_string(run.outcome));
   j.set("exit_code", run.exit_code()).set("card", run.result ? app::Json(run.result->card) : app::Json());
-  j.set("reason", run.result ? run.result->reason : run.error);
+  j.set("reason", run.result ? render::reason_text(*run.result) : render::error_text(run));
   return j.set("findings", run.result ? render::findings_json(run.result->findings) : app::Json::array());
 }
 
@@ -193,10 +194,14 @@ app::Json refused_offline(Context& ctx, const Profile& profile, const params::Pa
   if (!ctx.options.json) {
     render::print_findings(std::cout, findings, file);
     std::cout << file << ": INVALID (" << render::findings_summary(findings)
-              << "): apply would be refused before the card is asked: " << e.what() << "\n";
+              << "): apply would be refused before the card is asked: "
+              << app::with_advice(e.what(), e.advice()) << "\n";
   }
   auto j = app::Json::object();
-  j.set("file", file).set("valid", false).set("outcome", "refused").set("reason", e.what());
+  j.set("file", file)
+      .set("valid", false)
+      .set("outcome", "refused")
+      .set("reason", app::with_advice(e.what(), e.advice()));
   return j.set("findings", render::findings_json(findings));
 }
 
@@ -222,7 +227,7 @@ app::Json validate_on_cards(Context& ctx, const params::ParamDb& db,
   if (targets.size() == 1) {  // the one card's verdict on the file's own entry, as without a card
     const auto& run = runs.front();
     j.set("outcome", run.outcome == ops::Outcome::DryRun ? "valid" : ops::to_string(run.outcome));
-    j.set("reason", run.result ? run.result->reason : run.error);
+    j.set("reason", run.result ? render::reason_text(*run.result) : render::error_text(run));
     j.set("findings", run.result ? render::findings_json(run.result->findings) : app::Json::array());
   }
   auto per_target = app::Json::array();
@@ -301,7 +306,7 @@ TargetDiff diff_one(const Profile& profile, const std::vector<std::string>& name
       if (r.fact()) values[r.param->name] = *r.raw;
     d.rows = profile::diff(profile, card->db(), values);
   } catch (const Error& e) {
-    d.error = e.what();
+    d.error = app::with_advice(e.what(), e.advice());
     d.interrupted = e.kind() == ErrorKind::Cancelled;
   } catch (const std::exception& e) {
     d.error = e.what();

@@ -5,7 +5,6 @@
 #include <exception>
 
 #include "ops/reset.hpp"
-
 #include "params/value.hpp"
 #include "profile/backup.hpp"
 #include "profile/error.hpp"
@@ -97,8 +96,8 @@ class Transaction {
       if (!snapshot_.contains(name)) {
         stop(Outcome::Refused,
              "the card cannot read " + name +
-                 " as a fact (its address is not confirmed for this card's firmware: run `i20 "
-                 "discover`, or pass --allow-unverified if you know better)");
+                 " as a fact: its address is not confirmed for this card's firmware; run `i20 discover`",
+             Advice::AllowUnverified);
         return false;
       }
     return read_context();
@@ -145,7 +144,7 @@ class Transaction {
     if (options_.reset) reset_conflicts();
     if (options_.reset) add_reset_findings(result_.findings, db_, card_, options_.force, profile_);
     if (profile::has_errors(result_.findings)) {
-      stop(Outcome::Refused, first_error() + "; nothing was written");
+      stop(Outcome::Refused, first_error() + "; nothing was written", first_error_advice());
       return false;
     }
     return true;
@@ -166,6 +165,18 @@ class Transaction {
       text += ")";
     }
     return text;
+  }
+
+  // What overrides the refusal: what overrides every error (forcing lifts the guarded and
+  // measured-bus rules, but not the manual's order), else nothing.
+  Advice first_error_advice() const {
+    std::optional<Advice> common;
+    for (const auto& f : result_.findings) {
+      if (f.severity != Severity::Error) continue;
+      if (common && *common != f.advice) return Advice::None;
+      common = f.advice;
+    }
+    return common.value_or(Advice::None);
   }
 
   // Belt and braces over the plan's ordering: every intermediate state must keep the
@@ -218,8 +229,11 @@ class Transaction {
       try {
         card_.check_write(step.cell, step.profile_raw);
       } catch (const std::exception& e) {
-        stop(Outcome::Refused, "the card would refuse " + step.cell + " = " + step.profile_text + ": " +
-                                   e.what() + "; nothing was written");
+        const auto* error = dynamic_cast<const Error*>(&e);
+        stop(Outcome::Refused,
+             "the card would refuse " + step.cell + " = " + step.profile_text + ": " + e.what() +
+                 "; nothing was written",
+             error ? error->advice() : Advice::None);
         return false;
       }
     }
@@ -394,9 +408,10 @@ class Transaction {
 
   void copy_events() { result_.events = card_.events(); }
 
-  void stop(Outcome outcome, const std::string& reason) {
+  void stop(Outcome outcome, const std::string& reason, Advice advice = Advice::None) {
     result_.outcome = outcome;
     result_.reason = reason;
+    result_.reason_advice = advice;
     copy_events();
   }
   void finish(Outcome outcome) { result_.outcome = outcome; }
