@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <set>
 
 #include "ops/reset.hpp"
 #include "params/value.hpp"
@@ -86,6 +87,7 @@ class Transaction {
     std::vector<std::string> names;
     for (const auto& w : writes_) names.push_back(w.cell);
     try {
+      asked_.insert(names.begin(), names.end());
       snapshot_ = card_.read(names);
     } catch (const std::exception& e) {
       stop(Outcome::Failed,
@@ -116,6 +118,7 @@ class Transaction {
         if (!cell.empty() && db_.find(cell) && !snapshot_.contains(cell)) names.push_back(cell);
     }
     if (db_.find("BUSV")) names.push_back("BUSV");
+    asked_.insert(names.begin(), names.end());  // a link failure below stops the transaction
     try {
       for (const auto& [name, raw] : card_.read(names)) context_[name] = raw;
     } catch (const std::exception&) {
@@ -142,7 +145,8 @@ class Transaction {
       context.measured_bus_v = static_cast<double>(bus->second) * db_.get("BUSV").scale;
     result_.findings = profile::validate(profile_, db_, context);
     if (options_.reset) reset_conflicts();
-    if (options_.reset) add_reset_findings(result_.findings, db_, card_, options_.force, profile_);
+    if (options_.reset)
+      add_reset_findings(result_.findings, db_, card_, options_.force, profile_, read_already());
     if (profile::has_errors(result_.findings)) {
       stop(Outcome::Refused, first_error() + "; nothing was written", first_error_advice());
       return false;
@@ -165,6 +169,15 @@ class Transaction {
       text += ")";
     }
     return text;
+  }
+
+  // What read_card() and read_context() read, for the reset's judgement: it reads only the
+  // other cells, so each is read once. Every link failure there stopped the transaction, so an
+  // asked cell without a value is no fact on this firmware, never an unanswered one.
+  ReadAlready read_already() const {
+    ReadAlready already{snapshot_, asked_};
+    if (const auto bus = context_.find("BUSV"); bus != context_.end()) already.values["BUSV"] = bus->second;
+    return already;
   }
 
   // What overrides the refusal: what overrides every error (forcing lifts the guarded and
@@ -423,6 +436,7 @@ class Transaction {
   TransactionResult& result_;
   std::vector<profile::CellWrite> writes_;
   RawValues snapshot_;
+  std::set<std::string> asked_;  // every cell read_card() and read_context() asked the card for
   RawValues context_;
 };
 

@@ -460,6 +460,35 @@ TEST_F(ResetJudging, TransactionResetJudgesEveryPendingValueBeforeTheFirstWrite)
       Outcome::Done);
 }
 
+// The transaction reads the cells its rules compare (and BUSV) once; the reset's judgement
+// takes them from it and reads only the other NV cells and their twins.
+TEST_F(ResetJudging, TheTransactionsResetJudgementReadsEachRuleCellOnce) {
+  options_.reset = true;
+  options_.dry_run = true;
+  card_.values["NVBRAKEONV"] = card_.values["BRAKEONV"] = 37000;
+  card_.values["NVBRAKEOFFV"] = card_.values["BRAKEOFFV"] = 35000;
+  const auto r = run(with_params("  NVKQP: {value: 60, target: both}\n"));
+  EXPECT_EQ(r.outcome, Outcome::DryRun) << r.reason;
+  std::vector<std::string> rule_cells{"BUSV"};
+  for (const auto& base : rule_parameters()) rule_cells.insert(rule_cells.end(), {base, "NV" + base});
+  for (const auto& cell : rule_cells) EXPECT_EQ(card_.reads_of[cell], 1) << cell;
+  // The judgement still read what only it needs.
+  for (const auto& [cell, count] : card_.reads_of) EXPECT_EQ(count, 1) << cell;
+  EXPECT_GT(card_.reads_of.size(), rule_cells.size());
+}
+
+// A cell the transaction asked for and the card did not answer stops it before any judgement;
+// one that is no fact on this firmware is judged as absent, as judge_reset alone would.
+TEST_F(ResetJudging, AnUnansweredRuleCellStillStopsTheTransactionAndItsReset) {
+  options_.reset = true;
+  card_.fail_reads_of = {"NVBUSUNDERV"};
+  const auto r = run(with_params("  NVKQP: {value: 60, target: both}\n"));
+  EXPECT_EQ(r.outcome, Outcome::Failed) << r.reason;
+  EXPECT_NE(r.reason.find("cannot read NVBUSUNDERV"), std::string::npos) << r.reason;
+  EXPECT_EQ(card_.write_calls, 0);
+  EXPECT_EQ(card_.resets, 0);
+}
+
 TEST_F(ResetJudging, TheProfilesOwnPlannedValuesAreJudgedAsInTheEeprom) {
   // The profile fixes the pending brake pair; the reset then makes safe values live.
   options_.reset = true;
