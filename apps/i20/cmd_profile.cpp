@@ -18,6 +18,7 @@
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
 #include "ops/fleet.hpp"
+#include "ops/profile_diff.hpp"
 #include "ops/read.hpp"
 #include "ops/signals.hpp"
 #include "output_file.hpp"
@@ -271,26 +272,11 @@ struct DiffOptions {
   std::vector<std::string> targets;
 };
 
-struct TargetDiff {
+// The comparison and its answer are lib/ops's (ops::ProfileDiff); this adds what is printed.
+struct TargetDiff : ops::ProfileDiff {
   ops::Endpoint target;
   std::string card;   // describe(), when reached
   std::string flags;  // the target's flags, for the advice
-  std::vector<profile::DiffRow> rows;
-  std::string error;  // why it was not read
-  bool interrupted = false;
-
-  long differ() const {
-    return std::ranges::count_if(rows, [](const auto& r) { return !r.equal && r.card_raw; });
-  }
-  long unknown() const {
-    return std::ranges::count_if(rows, [](const auto& r) { return !r.card_raw; });
-  }
-  // As diff(1) answers (ops::Comparison): a value that is not a fact on the card is trouble.
-  ops::Comparison comparison() const {
-    if (interrupted) return ops::Comparison::Interrupted;
-    if (!error.empty() || unknown() > 0) return ops::Comparison::Trouble;
-    return differ() > 0 ? ops::Comparison::Differs : ops::Comparison::Same;
-  }
 };
 
 TargetDiff diff_one(const Profile& profile, const std::vector<std::string>& names,
