@@ -169,11 +169,23 @@ void Table::print(std::ostream& out, const std::string& indent) const {
   }
 }
 
+std::string finding_text(const profile::Finding& finding) {
+  return with_advice(finding.message, finding.advice);
+}
+
+std::string reason_text(const ops::TransactionResult& result) {
+  return with_advice(result.reason, result.reason_advice);
+}
+
+std::string error_text(const TargetRun& run) {
+  return with_advice(run.error, run.error_advice);
+}
+
 void print_findings(std::ostream& out, const std::vector<profile::Finding>& findings,
                     const std::string& file) {
   for (const auto& f : findings)
     out << (f.where.empty() ? file : f.where) << ": " << profile::to_string(f.severity) << ": " << f.key
-        << ": " << f.message << " [" << f.rule << "]\n";
+        << ": " << finding_text(f) << " [" << f.rule << "]\n";
 }
 
 void print_load_error(std::ostream& out, const profile::ProfileError& e, const std::string& file) {
@@ -194,7 +206,7 @@ app::Json findings_json(const std::vector<profile::Finding>& findings) {
   for (const auto& f : findings) {
     auto j = app::Json::object();
     j.set("severity", profile::to_string(f.severity)).set("key", f.key).set("rule", f.rule);
-    j.set("message", f.message).set("where", f.where);
+    j.set("message", finding_text(f)).set("where", f.where);
     arr.push(std::move(j));
   }
   return arr;
@@ -263,7 +275,7 @@ std::string outcome_line(const TargetRun& run) {
     return std::string(refused                               ? "REFUSED: "
                        : run.outcome == Outcome::Interrupted ? "INTERRUPTED: "
                                                              : "NOT REACHED: ") +
-           run.error + "; nothing was written";
+           error_text(run) + "; nothing was written";
   }
   const auto& r = *run.result;
   const std::size_t steps = r.plan.steps.size();
@@ -283,27 +295,27 @@ std::string outcome_line(const TargetRun& run) {
     case Outcome::RolledBack:
       return "ROLLED BACK AND VERIFIED after " + failure_of(run) + ": the card holds its previous values";
     case Outcome::Interrupted:
-      return r.writes.empty() ? "INTERRUPTED: " + r.reason + nothing
+      return r.writes.empty() ? "INTERRUPTED: " + reason_text(r) + nothing
                               : "INTERRUPTED AND ROLLED BACK: every value written was restored and read back";
     case Outcome::Uncertain:
       if (!r.reset_error.empty()) return "APPLIED AND VERIFIED, BUT THE RESET FAILED: " + r.reset_error;
-      return r.rollback.empty() ? "CARD STATE UNCERTAIN: " + r.reason
+      return r.rollback.empty() ? "CARD STATE UNCERTAIN: " + reason_text(r)
                                 : "ROLLBACK FAILED after " + failure_of(run) + ": card state below";
     case Outcome::Refused:
     case Outcome::BadInput:
       if (profile::has_errors(r.findings))
         return "REFUSED by the rule" + std::string(r.findings.size() > 1 ? "s" : "") +
                " above; nothing was written";
-      return "REFUSED: " + r.reason + nothing;
-    case Outcome::Failed: return "NOT DONE: " + r.reason + nothing;
+      return "REFUSED: " + reason_text(r) + nothing;
+    case Outcome::Failed: return "NOT DONE: " + reason_text(r) + nothing;
     case Outcome::FaultsRemain: break;
   }
-  return r.reason;
+  return reason_text(r);
 }
 
 std::string error_line(const TargetRun& run) {
   const bool refused = run.outcome == Outcome::Refused || run.outcome == Outcome::BadInput;
-  if (refused && run.result) return "refused: " + run.result->reason;
+  if (refused && run.result) return "refused: " + reason_text(*run.result);
   // The cell table goes to stdout; a mode left on must be on the one line too.
   std::string line = outcome_line(run);
   if (!run.mode_left_on.empty() && line.find(run.mode_left_on) == std::string::npos)
@@ -329,7 +341,7 @@ void print_run(std::ostream& out, const TargetRun& run, const params::ParamDb& d
   }
   out << outcome_line(run) << "\n";
   if (rolled) {
-    out << "  why: " << r.reason << "\n";
+    out << "  why: " << reason_text(r) << "\n";
     print_cells(out, run, db);
   }
   for (const auto& event : r.events) out << "NOTE: " << event << "\n";
@@ -341,10 +353,10 @@ void print_run(std::ostream& out, const TargetRun& run, const params::ParamDb& d
 app::Json run_json(const TargetRun& run) {
   auto j = app::Json::object();
   j.set("target", run.target.text).set("outcome", outcome_name(run)).set("ok", run.ok());
-  j.set("exit_code", run.exit_code()).set("summary", outcome_line(run)).set("error", run.error);
+  j.set("exit_code", run.exit_code()).set("summary", outcome_line(run)).set("error", error_text(run));
   if (run.result) {
     const auto& r = *run.result;
-    j.set("card", r.card).set("reason", r.reason).set("findings", findings_json(r.findings));
+    j.set("card", r.card).set("reason", reason_text(r)).set("findings", findings_json(r.findings));
     j.set("plan", plan_json(r.plan))
         .set("backup", r.backup.empty() ? app::Json() : app::Json(r.backup.string()));
     j.set("writes", writes_json(r.writes)).set("rollback", writes_json(r.rollback));
@@ -384,16 +396,16 @@ std::vector<std::string> fleet_row(const TargetRun& run, const FleetRequest& req
     const bool planned = r && run.outcome == Outcome::DryRun;
     row.push_back(planned ? std::to_string(r->plan.steps.size()) : "-");
     if (request.reset) row.push_back(reset_state(run));
-    row.push_back(!r ? run.error : planned ? cell_names(r->plan) : r->reason);
+    row.push_back(!r ? error_text(run) : planned ? cell_names(r->plan) : reason_text(*r));
     return row;
   }
   row.push_back(r ? std::to_string(std::ranges::count_if(r->writes, [](const auto& w) { return w.ok; }))
                   : "-");
   if (request.reset) row.push_back(reset_state(run));
-  std::string note = !r ? run.error : !r->backup.empty() ? r->backup.string() : r->reason;
+  std::string note = !r ? error_text(run) : !r->backup.empty() ? r->backup.string() : reason_text(*r);
   if (r && run.ok() && !request.reset && (r->reset_needed || !run.not_live.empty()))
     note += " (reset needed)";
-  if (r && !run.ok() && !r->backup.empty()) note = r->reason + "; backup " + r->backup.string();
+  if (r && !run.ok() && !r->backup.empty()) note = reason_text(*r) + "; backup " + r->backup.string();
   row.push_back(note);
   return row;
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "errors.hpp"
 #include "json.hpp"
 #include "ops/apply_run.hpp"
 #include "params/param_db.hpp"
@@ -32,6 +33,12 @@ class Table {
  private:
   std::vector<std::vector<std::string>> rows_;
 };
+
+// lib's messages with the option that overrides them, where this program has one
+// (app::with_advice): a finding's message, a transaction's reason, why a target was not reached.
+std::string finding_text(const profile::Finding& finding);
+std::string reason_text(const ops::TransactionResult& result);
+std::string error_text(const TargetRun& run);
 
 // "profiles/x.yaml:12: error: NVBRAKEOFFV: must be below BRAKEONV ... [brake-order]";
 // findings without a line name `file`.

@@ -5,12 +5,37 @@
 
 namespace i20::app {
 
+namespace {
+Overrides& program_overrides() {
+  static Overrides overrides;
+  return overrides;
+}
+}  // namespace
+
+void set_overrides(const Overrides& overrides) {
+  program_overrides() = overrides;
+}
+
+const Overrides& overrides() {
+  return program_overrides();
+}
+
 std::string advice_text(ops::Advice advice) {
+  const Overrides& has = overrides();
   switch (advice) {
     case ops::Advice::None: return {};
-    case ops::Advice::RunningHost: return " (--take-over)";  // add_target_options defines it
+    case ops::Advice::RunningHost: return has.take_over ? " (--take-over)" : "";
+    case ops::Advice::Force: return has.force ? "; pass --force to override" : "";
+    case ops::Advice::AllowUnverified:
+      return has.allow_unverified ? "; pass --allow-unverified if you know better" : "";
   }
   return {};
+}
+
+std::string with_advice(const std::string& message, ops::Advice advice) {
+  std::string text = message;
+  text.append(advice_text(advice));
+  return text;
 }
 
 void print_line(const char* program, const ops::ReportLine& line, const std::string& suffix) {

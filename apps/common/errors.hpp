@@ -11,9 +11,25 @@
 
 namespace i20::app {
 
-// The global option that changes the failure's outcome, as every app names it (added to the
-// first line): " (--take-over)" beside a running host; empty for none.
+// The options that override a refusal which this program (for i20: the command being run)
+// has. lib/ names none of them (ops::Advice says which kind overrides a refusal); the app
+// names the one it has, and says nothing for one it lacks.
+struct Overrides {
+  bool take_over = false;         // --take-over (add_target_options)
+  bool force = false;             // --force
+  bool allow_unverified = false;  // --allow-unverified
+};
+// Set once, after the arguments are parsed and before the command runs: every render site
+// (errors, transaction reasons, profile findings) then names only these. None until set.
+void set_overrides(const Overrides& overrides);
+const Overrides& overrides();
+
+// What the app adds after a message whose advice is `advice`, when the program has the
+// option: " (--take-over)" beside a running host, "; pass --force to override",
+// "; pass --allow-unverified if you know better"; empty for none or an option it lacks.
 std::string advice_text(ops::Advice advice);
+// A message from lib/ with the option that overrides it, if this program has one.
+std::string with_advice(const std::string& message, ops::Advice advice);
 
 // "PROGRAM: LABEL: MESSAGE[SUFFIX]" on stderr: every line the apps print from lib/ops.
 void print_line(const char* program, const ops::ReportLine& line, const std::string& suffix = {});

@@ -55,4 +55,19 @@ void add_database_options(CLI::App& app, GlobalOptions& o) {
   app.add_flag("--no-user-params", o.no_user_params, "Ignore $I20_PARAMS and ~/.config/i20/params.yaml");
 }
 
+Overrides overrides_of(const CLI::App& command) {
+  auto has = [&](const char* name) {
+    for (const CLI::App* app = &command; app != nullptr; app = app->get_parent())
+      if (app->get_option_no_throw(name) != nullptr) return true;
+    return false;
+  };
+  return {has("--take-over"), has("--force"), has("--allow-unverified")};
+}
+
+Overrides overrides_of_parsed(const CLI::App& app) {
+  const CLI::App* command = &app;
+  while (!command->get_subcommands().empty()) command = command->get_subcommands().front();
+  return overrides_of(*command);
+}
+
 }  // namespace i20::app

@@ -3,6 +3,7 @@
 // the session's options plus the apps' own output switches.
 #pragma once
 
+#include "errors.hpp"
 #include "ops/session.hpp"
 
 namespace CLI {
@@ -19,5 +20,11 @@ struct GlobalOptions : ops::SessionOptions {
 // Adds --port/--sim/--eth/... to an app (the i20 umbrella, wpd, rpd).
 void add_target_options(CLI::App& app, GlobalOptions& options);
 void add_database_options(CLI::App& app, GlobalOptions& options);
+
+// The override options `command` really has, by their names on it or on a parent (i20's
+// global options): what advice may name (set_overrides).
+Overrides overrides_of(const CLI::App& command);
+// The same for the command the parsed arguments chose (the deepest subcommand given).
+Overrides overrides_of_parsed(const CLI::App& app);
 
 }  // namespace i20::app

@@ -231,6 +231,8 @@ void run_dump(Context& ctx, const std::string& format, bool allow_unverified) {
 }
 
 // ------------------------------------------------------------------ reset
+// Each finding as lib/ops said it: the refusal's closing line names the override (--force)
+// once for them all.
 void print_reset_findings(const ops::ResetJudgement& j) {
   for (const auto& f : j.findings)
     std::cerr << "  " << profile::to_string(f.severity) << ": " << (f.key.empty() ? "" : f.key + ": ")
@@ -249,7 +251,7 @@ app::Json reset_json(const ops::ResetRun& run, const std::string& where) {
                       .set("severity", profile::to_string(f.severity))
                       .set("key", f.key)
                       .set("rule", f.rule)
-                      .set("message", f.message));
+                      .set("message", app::render::finding_text(f)));
   return app::Json::object()
       .set("reset", run.done)
       .set("target", where)

@@ -18,6 +18,7 @@
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
 #include "ops/fleet.hpp"
+#include "ops/profile_diff.hpp"
 #include "ops/read.hpp"
 #include "ops/signals.hpp"
 #include "output_file.hpp"
@@ -166,14 +167,15 @@ std::string why_refused(std::string reason) {
 // "valid (no findings, checked against CARD)" or why apply would not go ahead.
 std::string verdict(const ops::TargetRun& run) {
   const std::string card = run.result ? ", checked against " + run.result->card : std::string();
-  if (!run.result) return "NOT CHECKED (" + run.target.text + " not reached: " + run.error + ")";
+  if (!run.result)
+    return "NOT CHECKED (" + run.target.text + " not reached: " + render::error_text(run) + ")";
   const auto& r = *run.result;
   if (run.outcome == ops::Outcome::DryRun)
     return "valid (" + render::findings_summary(r.findings) + card + ")";
   if (run.outcome == ops::Outcome::Failed)
-    return "NOT CHECKED (" + render::findings_summary(r.findings) + card + "): " + r.reason;
+    return "NOT CHECKED (" + render::findings_summary(r.findings) + card + "): " + render::reason_text(r);
   return "INVALID (" + render::findings_summary(r.findings) + card +
-         "): apply would be refused: " + why_refused(r.reason);
+         "): apply would be refused: " + app::with_advice(why_refused(r.reason), r.reason_advice);
 }
 
 app::Json validation_json(const ops::TargetRun& run) {
@@ -181,7 +183,7 @@ app::Json validation_json(const ops::TargetRun& run) {
   j.set("target", run.target.text).set("valid", run.outcome == ops::Outcome::DryRun);
   j.set("outcome", run.outcome == ops::Outcome::DryRun ? "valid" : ops::to_string(run.outcome));
   j.set("exit_code", run.exit_code()).set("card", run.result ? app::Json(run.result->card) : app::Json());
-  j.set("reason", run.result ? run.result->reason : run.error);
+  j.set("reason", run.result ? render::reason_text(*run.result) : render::error_text(run));
   return j.set("findings", run.result ? render::findings_json(run.result->findings) : app::Json::array());
 }
 
@@ -193,10 +195,14 @@ app::Json refused_offline(Context& ctx, const Profile& profile, const params::Pa
   if (!ctx.options.json) {
     render::print_findings(std::cout, findings, file);
     std::cout << file << ": INVALID (" << render::findings_summary(findings)
-              << "): apply would be refused before the card is asked: " << e.what() << "\n";
+              << "): apply would be refused before the card is asked: "
+              << app::with_advice(e.what(), e.advice()) << "\n";
   }
   auto j = app::Json::object();
-  j.set("file", file).set("valid", false).set("outcome", "refused").set("reason", e.what());
+  j.set("file", file)
+      .set("valid", false)
+      .set("outcome", "refused")
+      .set("reason", app::with_advice(e.what(), e.advice()));
   return j.set("findings", render::findings_json(findings));
 }
 
@@ -222,7 +228,7 @@ app::Json validate_on_cards(Context& ctx, const params::ParamDb& db,
   if (targets.size() == 1) {  // the one card's verdict on the file's own entry, as without a card
     const auto& run = runs.front();
     j.set("outcome", run.outcome == ops::Outcome::DryRun ? "valid" : ops::to_string(run.outcome));
-    j.set("reason", run.result ? run.result->reason : run.error);
+    j.set("reason", run.result ? render::reason_text(*run.result) : render::error_text(run));
     j.set("findings", run.result ? render::findings_json(run.result->findings) : app::Json::array());
   }
   auto per_target = app::Json::array();
@@ -266,26 +272,11 @@ struct DiffOptions {
   std::vector<std::string> targets;
 };
 
-struct TargetDiff {
+// The comparison and its answer are lib/ops's (ops::ProfileDiff); this adds what is printed.
+struct TargetDiff : ops::ProfileDiff {
   ops::Endpoint target;
   std::string card;   // describe(), when reached
   std::string flags;  // the target's flags, for the advice
-  std::vector<profile::DiffRow> rows;
-  std::string error;  // why it was not read
-  bool interrupted = false;
-
-  long differ() const {
-    return std::ranges::count_if(rows, [](const auto& r) { return !r.equal && r.card_raw; });
-  }
-  long unknown() const {
-    return std::ranges::count_if(rows, [](const auto& r) { return !r.card_raw; });
-  }
-  // As diff(1) answers (ops::Comparison): a value that is not a fact on the card is trouble.
-  ops::Comparison comparison() const {
-    if (interrupted) return ops::Comparison::Interrupted;
-    if (!error.empty() || unknown() > 0) return ops::Comparison::Trouble;
-    return differ() > 0 ? ops::Comparison::Differs : ops::Comparison::Same;
-  }
 };
 
 TargetDiff diff_one(const Profile& profile, const std::vector<std::string>& names,
@@ -301,7 +292,7 @@ TargetDiff diff_one(const Profile& profile, const std::vector<std::string>& name
       if (r.fact()) values[r.param->name] = *r.raw;
     d.rows = profile::diff(profile, card->db(), values);
   } catch (const Error& e) {
-    d.error = e.what();
+    d.error = app::with_advice(e.what(), e.advice());
     d.interrupted = e.kind() == ErrorKind::Cancelled;
   } catch (const std::exception& e) {
     d.error = e.what();

@@ -42,6 +42,7 @@ static int run(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app::report_parse_error(cli, e, "rpd");
   }
+  app::set_overrides(app::overrides_of(cli));  // what its reports may name
   ops::install_stop_signals();  // SIGINT, SIGTERM, SIGHUP stop safely (ops::Session); SIGPIPE ignored
   options.legacy = ops::LegacyEnvironment::Required;
   try {

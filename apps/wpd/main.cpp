@@ -55,7 +55,8 @@ int report(const ops::TargetRun& run, const params::ParamDb& db) {
                           ? std::cerr
                           : std::cout;
   if (&out == &std::cerr) {
-    out << "wpd: " << (run.outcome == ops::Outcome::Failed ? "error" : "refused") << ": " << r.reason << "\n";
+    out << "wpd: " << (run.outcome == ops::Outcome::Failed ? "error" : "refused") << ": "
+        << app::render::reason_text(r) << "\n";
     return run.exit_code();
   }
   app::render::print_run(out, run, db, "command line");
@@ -106,6 +107,7 @@ static int run(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app::report_parse_error(cli, e, "wpd");
   }
+  app::set_overrides(app::overrides_of(cli));  // what its reports may name
   ops::install_stop_signals();  // SIGINT, SIGTERM, SIGHUP stop safely (ops::Session); SIGPIPE ignored
   options.legacy = ops::LegacyEnvironment::Required;
   try {

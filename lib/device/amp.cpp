@@ -203,17 +203,18 @@ void check_offline(const Param& p, std::int64_t raw, const WriteOptions& options
     throw SafetyError(std::string(e.what()) + "; nothing was written");
   }
   if (!p.guard.empty() && !options.force)
-    throw SafetyError("refusing to write " + p.name + " without --force: " + p.guard);
+    throw SafetyError("refusing to write " + p.name + ", a guarded parameter: " + p.guard, Advice::Force);
 }
 
 void Amp8i20::check_write(const Param& p, std::int64_t raw, const WriteOptions& options) {
   check_offline(p, raw, options);
   if (!options.allow_unverified && !db_.address_confirmed(p)) {
     const auto rev = db_.firmware();
-    throw SafetyError(
-        "refusing to write " + p.name + ": its address is not confirmed for this 8I20's firmware" +
-        (rev ? " (SWREVISION " + lbp::hex_value(*rev, 4) + ")" : std::string()) + " [" + p.provenance.source +
-        "]; run `i20 discover` or pass --allow-unverified if you know better");
+    throw SafetyError("refusing to write " + p.name +
+                          ": its address is not confirmed for this 8I20's firmware" +
+                          (rev ? " (SWREVISION " + lbp::hex_value(*rev, 4) + ")" : std::string()) + " [" +
+                          p.provenance.source + "]; run `i20 discover`",
+                      Advice::AllowUnverified);
   }
 }
 
@@ -335,8 +336,8 @@ ClearFaultsResult Amp8i20::clear_faults(const WriteOptions& options, std::chrono
     while (read("CLEARFAULT").raw != 0) {
       throw_if_cancelled();
       if (Clock::now() - start > deadline)
-        throw CardStateError("CLEARFAULT was written and still reads 1 after " + std::to_string(deadline.count()) +
-                             " ms on " + link_.describe() +
+        throw CardStateError("CLEARFAULT was written and still reads 1 after " +
+                             std::to_string(deadline.count()) + " ms on " + link_.describe() +
                              ": the 8I20 did not act on it (firmware busy or a wrong CLEARFAULT address?)");
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }

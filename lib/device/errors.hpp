@@ -7,10 +7,12 @@
 namespace i20::device {
 
 // A write the safety rules refuse (range, unconfirmed address, guarded parameter,
-// read-only). Raised before any byte goes on the wire.
+// read-only). Raised before any byte goes on the wire. `advice`: what overrides it, if
+// anything (the app names the option).
 class SafetyError : public Error {
  public:
-  explicit SafetyError(const std::string& message) : Error(message, ErrorKind::Refused) {}
+  explicit SafetyError(const std::string& message, Advice advice = Advice::None)
+      : Error(message, ErrorKind::Refused, advice) {}
 };
 
 // The card accepted a write but reads back something else.

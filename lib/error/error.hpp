@@ -20,15 +20,30 @@ enum class ErrorKind {
   Cancelled,     // the user interrupted, after the card was left in a known state
 };
 
+// What overrides a refusal. The library says what happened and never names a command-line
+// option: each app adds the option that changes it, and only one that program has
+// (apps/common/errors.hpp). Errors, transaction results (ops::TransactionResult) and profile
+// findings (profile::Finding) carry it.
+enum class Advice {
+  None,
+  RunningHost,      // refused beside a running host: taking the card over, or a passive read
+  Force,            // a guarded value or a measured-bus rule: forcing it writes it anyway
+  AllowUnverified,  // an address not confirmed for the card's firmware: allowing unverified ones
+};
+
 // Base of every error the toolkit raises on purpose.
 class Error : public std::runtime_error {
  public:
-  explicit Error(const std::string& message, ErrorKind kind = ErrorKind::Failure)
-      : std::runtime_error(message), kind_(kind) {}
+  explicit Error(const std::string& message, ErrorKind kind = ErrorKind::Failure,
+                 Advice advice = Advice::None)
+      : std::runtime_error(message), kind_(kind), advice_(advice) {}
   ErrorKind kind() const noexcept { return kind_; }
+  // What would override it, for the app to name (Advice::None: nothing does).
+  Advice advice() const noexcept { return advice_; }
 
  private:
   ErrorKind kind_;
+  Advice advice_;
 };
 
 // Arguments, files or values that are wrong, in any layer (a data size the protocol cannot

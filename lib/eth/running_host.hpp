@@ -85,7 +85,7 @@ struct HostActivity {
 class RunningHostError : public Error {
  public:
   RunningHostError(const std::string& message, HostActivity activity)
-      : Error(message, ErrorKind::Refused), activity_(std::move(activity)) {}
+      : Error(message, ErrorKind::Refused, Advice::RunningHost), activity_(std::move(activity)) {}
   const HostActivity& activity() const { return activity_; }
 
  private:

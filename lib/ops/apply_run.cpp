@@ -184,6 +184,7 @@ TargetRun run_apply_opened(const Endpoint& target, const ApplyJob& job, const Ca
     const auto failure = failure_of_current_exception();
     run.target = target;
     run.error = failure.line.message;
+    run.error_advice = failure.advice;
     run.outcome = failure.outcome;
   }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

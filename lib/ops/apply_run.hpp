@@ -34,6 +34,7 @@ struct TargetRun {
   Endpoint target;
   std::optional<TransactionResult> result;  // nullopt: the card was never reached
   std::string error;                        // why it was not reached
+  Advice error_advice = Advice::None;       // what overrides `error`, for the app to name
   Outcome outcome = Outcome::Failed;
   // NV cells whose working twin differs from the EEPROM after the run: values that are
   // not live until the next reset (also after a "nothing to do" run, when an earlier

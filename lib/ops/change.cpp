@@ -28,8 +28,8 @@ profile::Profile small_profile() {
 
 }  // namespace
 
-profile::Profile profile_from_assignments(const std::vector<std::string>& assignments, const params::ParamDb& db,
-                                          ValueSyntax syntax) {
+profile::Profile profile_from_assignments(const std::vector<std::string>& assignments,
+                                          const params::ParamDb& db, ValueSyntax syntax) {
   auto profile = small_profile();
   int position = 0;
   for (const auto& a : assignments) {
@@ -46,8 +46,8 @@ profile::Profile profile_from_assignments(const std::vector<std::string>& assign
   return profile;
 }
 
-profile::Profile profile_from_value(const std::string& name, const std::string& value, const params::ParamDb& db,
-                                    ValueSyntax syntax) {
+profile::Profile profile_from_value(const std::string& name, const std::string& value,
+                                    const params::ParamDb& db, ValueSyntax syntax) {
   auto profile = small_profile();
   profile.settings.push_back(setting(db.get(name), value, syntax, 1));
   return profile;
@@ -55,11 +55,13 @@ profile::Profile profile_from_value(const std::string& name, const std::string& 
 
 void precheck(const profile::Profile& profile, const params::ParamDb& db, const device::WriteOptions& write) {
   for (const auto& s : profile.settings)
-    for (const auto& cell : profile::cells_of(profile, s, db)) device::check_offline(db.get(cell), s.raw, write);
+    for (const auto& cell : profile::cells_of(profile, s, db))
+      device::check_offline(db.get(cell), s.raw, write);
   for (const auto& f : profile::validate_values(profile, db, write.force))
     if (f.severity == profile::Severity::Error)
-      throw device::SafetyError((f.key.empty() ? "" : f.key + ": ") + f.message + " [" + f.rule +
-                                "]; nothing was written");
+      throw device::SafetyError(
+          (f.key.empty() ? "" : f.key + ": ") + f.message + " [" + f.rule + "]; nothing was written",
+          f.advice);
 }
 
 profile::Profile save_profile(Card& card, const std::vector<std::string>& names,

@@ -3,17 +3,14 @@
 
 #include <yaml-cpp/exceptions.h>
 
-#include "eth/running_host.hpp"
-
 namespace i20::ops {
 
 Failure failure_of_current_exception() {
   try {
     throw;
-  } catch (const eth::RunningHostError& e) {
-    return {outcome_of(e.kind()), {error_label(e.kind()), e.what()}, Advice::RunningHost};
   } catch (const Error& e) {
-    return {outcome_of(e.kind()), {error_label(e.kind()), e.what()}};
+    // What overrides it (a running host's take-over, a guard's force, ...) travels with it.
+    return {outcome_of(e.kind()), {error_label(e.kind()), e.what()}, e.advice()};
   } catch (const YAML::Exception& e) {
     return {Outcome::BadInput, {"error", std::string("YAML: ") + e.what()}};
   } catch (const std::exception& e) {

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "error/error.hpp"
 #include "ops/outcome.hpp"
 
 namespace i20::ops {
@@ -16,12 +17,11 @@ struct ReportLine {
   std::string message;
 };
 
-// What the apps may add to a failure's message: the flag that changes it is theirs to name.
-enum class Advice {
-  None,
-  RunningHost,  // refused beside a running host: the app names its take-over option, and a
-                // passive read where it has one (reads that stop nothing)
-};
+// What the apps may add to a failure's message: the flag that changes it is theirs to name
+// (RunningHost: the take-over option, and a passive read where the app has one; Force;
+// AllowUnverified). Defined below every layer (error/error.hpp), since errors, profile
+// findings and transaction results all carry it.
+using Advice = i20::Advice;
 
 // What a failure means, for the exception being handled (call from a catch block): the
 // toolkit's own errors by their kind; YAML errors are bad input; anything else is a defect

@@ -34,6 +34,7 @@ struct EthPort {
   std::shared_ptr<eth::PassthroughPort> port;
   std::string error;
   ErrorKind kind = ErrorKind::Failure;
+  Advice advice = Advice::None;
 };
 
 std::vector<EthPort> by_port(const std::vector<Endpoint>& targets) {
@@ -65,6 +66,7 @@ void open_ports(std::vector<EthPort>& ports, const OpenOptions& open) {
     } catch (const Error& e) {
       p.error = e.what();
       p.kind = e.kind();
+      p.advice = e.advice();
     }
   }
 }
@@ -83,7 +85,7 @@ void for_each_target(const std::vector<Endpoint>& targets, const params::ParamDb
   for (const auto& p : ports)
     for (const std::size_t i : p.targets) {
       if (!p.port) {
-        task(i, [&p]() -> std::unique_ptr<Card> { throw Error(p.error, p.kind); });
+        task(i, [&p]() -> std::unique_ptr<Card> { throw Error(p.error, p.kind, p.advice); });
         continue;
       }
       const unsigned channel = eth::parse_target(targets[i].eth_url).channel;

@@ -41,16 +41,30 @@ std::string ResetJudgement::reason() const {
   std::string text;
   for (const auto& f : findings)
     if (f.severity == Severity::Error)
-      text += (text.empty() ? "" : "; ") + (f.key.empty() ? "" : f.key + ": ") + f.message + " [" + f.rule + "]";
+      text +=
+          (text.empty() ? "" : "; ") + (f.key.empty() ? "" : f.key + ": ") + f.message + " [" + f.rule + "]";
   return text;
 }
 
 ResetJudgement judge_reset(const params::ParamDb& db, CardAccess& card, bool force,
                            const profile::Profile* planned) {
+  return judge_reset(db, card, force, planned, ReadAlready{});
+}
+
+ResetJudgement judge_reset(const params::ParamDb& db, CardAccess& card, bool force,
+                           const profile::Profile* planned, const ReadAlready& already) {
   std::vector<std::string> names;
   for (const auto* p : nv_cells_with_twins(db)) names.insert(names.end(), {p->name, p->twin});
   if (db.find("BUSV")) names.push_back("BUSV");
-  RawValues values = card.read(names);  // cells that are no fact on this firmware are left out
+  std::vector<std::string> unread;
+  for (const auto& name : names)
+    if (!already.asked.contains(name)) unread.push_back(name);
+  // Cells that are no fact on this firmware are left out; one the card fails to answer for
+  // throws (the caller refuses the reset).
+  RawValues values = unread.empty() ? RawValues{} : card.read(unread);
+  for (const auto& name : names)
+    if (const auto it = already.values.find(name); already.asked.contains(name) && it != already.values.end())
+      values[name] = it->second;
   ResetJudgement j;
   if (const auto bus = values.find("BUSV"); bus != values.end()) {
     j.measured_bus_v = static_cast<double>(bus->second) * db.get("BUSV").scale;
@@ -74,11 +88,11 @@ ResetJudgement judge_reset(const params::ParamDb& db, CardAccess& card, bool for
   return j;
 }
 
-void add_reset_findings(std::vector<Finding>& findings, const params::ParamDb& db, CardAccess& card, bool force,
-                        const profile::Profile& planned) {
+void add_reset_findings(std::vector<Finding>& findings, const params::ParamDb& db, CardAccess& card,
+                        bool force, const profile::Profile& planned, const ReadAlready& already) {
   std::vector<Finding> extra;
   try {
-    extra = judge_reset(db, card, force, &planned).findings;
+    extra = judge_reset(db, card, force, &planned, already).findings;
   } catch (const std::exception& e) {
     findings.push_back({Severity::Error, "", "reset-unjudged",
                         std::string("cannot read the EEPROM values a reset would make live, so no reset is "
@@ -88,8 +102,8 @@ void add_reset_findings(std::vector<Finding>& findings, const params::ParamDb& d
     return;
   }
   for (auto& f : extra) {
-    const bool known = std::ranges::any_of(
-        findings, [&](const Finding& g) { return g.key == f.key && g.rule == f.rule; });
+    const bool known =
+        std::ranges::any_of(findings, [&](const Finding& g) { return g.key == f.key && g.rule == f.rule; });
     if (!known) findings.push_back(std::move(f));
   }
 }

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -45,11 +46,25 @@ struct ResetJudgement {
 ResetJudgement judge_reset(const params::ParamDb& db, CardAccess& card, bool force,
                            const profile::Profile* planned = nullptr);
 
+// Cells the caller read already, for the same decision (the write transaction's snapshot of
+// the cells the rules compare, and BUSV): `values` holds the card's answers, the facts among
+// `asked`; a name asked and absent is no fact on this firmware, and is not asked again.
+struct ReadAlready {
+  RawValues values;
+  std::set<std::string> asked;
+};
+// The same judgement, reading only the cells `already` does not hold: each cell is read once
+// per transaction. A cell the card fails to answer for still throws, as above; nothing is
+// judged on a guess.
+ResetJudgement judge_reset(const params::ParamDb& db, CardAccess& card, bool force,
+                           const profile::Profile* planned, const ReadAlready& already);
+
 // For the transaction's --reset: the judgement's findings that `findings` does not hold yet
 // (the profile's own values are judged by the transaction already). A card that cannot be
 // read for it adds an error: a reset nobody could judge is not sent.
+// `already`: what the transaction read for its own rules, not read again.
 void add_reset_findings(std::vector<profile::Finding>& findings, const params::ParamDb& db, CardAccess& card,
-                        bool force, const profile::Profile& planned);
+                        bool force, const profile::Profile& planned, const ReadAlready& already = {});
 
 struct ResetRun {
   ResetJudgement judgement;

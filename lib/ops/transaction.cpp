@@ -3,9 +3,9 @@
 
 #include <algorithm>
 #include <exception>
+#include <set>
 
 #include "ops/reset.hpp"
-
 #include "params/value.hpp"
 #include "profile/backup.hpp"
 #include "profile/error.hpp"
@@ -89,9 +89,11 @@ class Transaction {
     // In the same read: the working twins of the EEPROM cells (working_before).
     std::vector<std::string> with_twins = names;
     for (const auto& w : writes_)
-      if (const params::Param& p = db_.get(w.cell); p.is_nv() && !p.twin.empty() && db_.find(p.twin))
+      if (const params::Param& p = db_.get(w.cell); p.is_nv() && !p.twin.empty() && db_.find(p.twin) &&
+                                                    std::ranges::find(with_twins, p.twin) == with_twins.end())
         with_twins.push_back(p.twin);
     try {
+      asked_.insert(with_twins.begin(), with_twins.end());
       snapshot_ = card_.read(with_twins);
       for (const auto& name : with_twins)
         if (const params::Param& p = db_.get(name); !p.is_nv() && snapshot_.contains(name))
@@ -105,8 +107,8 @@ class Transaction {
       if (!snapshot_.contains(name)) {
         stop(Outcome::Refused,
              "the card cannot read " + name +
-                 " as a fact (its address is not confirmed for this card's firmware: run `i20 "
-                 "discover`, or pass --allow-unverified if you know better)");
+                 " as a fact: its address is not confirmed for this card's firmware; run `i20 discover`",
+             Advice::AllowUnverified);
         return false;
       }
     return read_context();
@@ -125,6 +127,7 @@ class Transaction {
         if (!cell.empty() && db_.find(cell) && !snapshot_.contains(cell)) names.push_back(cell);
     }
     if (db_.find("BUSV")) names.push_back("BUSV");
+    asked_.insert(names.begin(), names.end());  // a link failure below stops the transaction
     try {
       for (const auto& [name, raw] : card_.read(names)) context_[name] = raw;
     } catch (const std::exception&) {
@@ -151,9 +154,10 @@ class Transaction {
       context.measured_bus_v = static_cast<double>(bus->second) * db_.get("BUSV").scale;
     result_.findings = profile::validate(profile_, db_, context);
     if (options_.reset) reset_conflicts();
-    if (options_.reset) add_reset_findings(result_.findings, db_, card_, options_.force, profile_);
+    if (options_.reset)
+      add_reset_findings(result_.findings, db_, card_, options_.force, profile_, read_already());
     if (profile::has_errors(result_.findings)) {
-      stop(Outcome::Refused, first_error() + "; nothing was written");
+      stop(Outcome::Refused, first_error() + "; nothing was written", first_error_advice());
       return false;
     }
     return true;
@@ -174,6 +178,27 @@ class Transaction {
       text += ")";
     }
     return text;
+  }
+
+  // What read_card() and read_context() read, for the reset's judgement: it reads only the
+  // other cells, so each is read once. Every link failure there stopped the transaction, so an
+  // asked cell without a value is no fact on this firmware, never an unanswered one.
+  ReadAlready read_already() const {
+    ReadAlready already{snapshot_, asked_};
+    if (const auto bus = context_.find("BUSV"); bus != context_.end()) already.values["BUSV"] = bus->second;
+    return already;
+  }
+
+  // What overrides the refusal: what overrides every error (forcing lifts the guarded and
+  // measured-bus rules, but not the manual's order), else nothing.
+  Advice first_error_advice() const {
+    std::optional<Advice> common;
+    for (const auto& f : result_.findings) {
+      if (f.severity != Severity::Error) continue;
+      if (common && *common != f.advice) return Advice::None;
+      common = f.advice;
+    }
+    return common.value_or(Advice::None);
   }
 
   // Belt and braces over the plan's ordering: every intermediate state must keep the
@@ -226,8 +251,11 @@ class Transaction {
       try {
         card_.check_write(step.cell, step.profile_raw);
       } catch (const std::exception& e) {
-        stop(Outcome::Refused, "the card would refuse " + step.cell + " = " + step.profile_text + ": " +
-                                   e.what() + "; nothing was written");
+        const auto* error = dynamic_cast<const Error*>(&e);
+        stop(Outcome::Refused,
+             "the card would refuse " + step.cell + " = " + step.profile_text + ": " + e.what() +
+                 "; nothing was written",
+             error ? error->advice() : Advice::None);
         return false;
       }
     }
@@ -402,9 +430,10 @@ class Transaction {
 
   void copy_events() { result_.events = card_.events(); }
 
-  void stop(Outcome outcome, const std::string& reason) {
+  void stop(Outcome outcome, const std::string& reason, Advice advice = Advice::None) {
     result_.outcome = outcome;
     result_.reason = reason;
+    result_.reason_advice = advice;
     copy_events();
   }
   void finish(Outcome outcome) { result_.outcome = outcome; }
@@ -416,6 +445,7 @@ class Transaction {
   TransactionResult& result_;
   std::vector<profile::CellWrite> writes_;
   RawValues snapshot_;
+  std::set<std::string> asked_;  // every cell read_card() and read_context() asked the card for
   RawValues context_;
 };
 

@@ -84,28 +84,29 @@ struct WriteRecord {
 
 struct TransactionResult {
   Outcome outcome = Outcome::Failed;
-  std::string card;                     // CardAccess::describe()
-  std::string reason;                   // one line: why refused, or what failed; empty when done
+  std::string card;                        // CardAccess::describe()
+  std::string reason;                      // one line: why refused, or what failed; empty when done
+  Advice reason_advice = Advice::None;     // what overrides the refusal in `reason`, for the app to name
   std::vector<profile::Finding> findings;  // validation against the card's current values
-  profile::Plan plan;                   // what would change; empty if the card could not be read
-  std::filesystem::path backup;         // the backup file, if one was written
-  std::vector<WriteRecord> writes;      // forward writes, in order
-  std::vector<WriteRecord> rollback;    // restoring writes, in order
-  std::vector<CellState> cells;         // every cell written or attempted, after the transaction
-  std::vector<std::string> events;      // what the card did meanwhile (resets), for the user
+  profile::Plan plan;                      // what would change; empty if the card could not be read
+  std::filesystem::path backup;            // the backup file, if one was written
+  std::vector<WriteRecord> writes;         // forward writes, in order
+  std::vector<WriteRecord> rollback;       // restoring writes, in order
+  std::vector<CellState> cells;            // every cell written or attempted, after the transaction
+  std::vector<std::string> events;         // what the card did meanwhile (resets), for the user
   // The working twins of the EEPROM cells the profile writes, as read with the card's
   // current values before the first write (where their addresses are facts): what tells a
   // reset that left no STATUS bit (a power cycle) from none, should the card go silent.
   RawValues working_before;
-  bool interrupted = false;             // Ctrl-C stopped it (the outcome says how it ended)
-  bool reset_needed = false;            // EEPROM values changed and take effect at the next reset
+  bool interrupted = false;                // Ctrl-C stopped it (the outcome says how it ended)
+  bool reset_needed = false;               // EEPROM values changed and take effect at the next reset
   bool reset_done = false;
   std::string reset_error;  // the reset (or the check after it) failed; values stay verified
 };
 
 // Never throws for card failures: they end in one of the outcomes above.
-TransactionResult run_transaction(const profile::Profile& profile, const params::ParamDb& db, CardAccess& card,
-                                  const TransactionOptions& options = {});
+TransactionResult run_transaction(const profile::Profile& profile, const params::ParamDb& db,
+                                  CardAccess& card, const TransactionOptions& options = {});
 
 // Working names of the parameters the manual's cross-parameter rules compare.
 const std::vector<std::string>& rule_parameters();

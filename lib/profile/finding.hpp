@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "error/error.hpp"
+
 namespace i20::profile {
 
 enum class Severity { Error, Warning };
@@ -16,6 +18,9 @@ struct Finding {
   std::string rule;     // stable rule id, e.g. "brake-order"; listed in profiles/README.md
   std::string message;  // one line, says what is wrong and why it matters
   std::string where;    // "file:line" of the entry, when the finding is about one
+  // What overrides it (Advice::Force for an error that forcing turns into a warning): the
+  // message names no command-line option, the app that shows it adds its own.
+  Advice advice = Advice::None;
 };
 
 const char* to_string(Severity severity);

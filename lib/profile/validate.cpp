@@ -123,7 +123,7 @@ class Checker {
         }
         if (!p.guard.empty())
           add(context_.force ? Severity::Warning : Severity::Error, cell, "guarded",
-              p.guard + (context_.force ? " (forced)" : " (apply with force to write it)"), &s);
+              p.guard + (context_.force ? " (forced)" : ""), &s, overridden_by_force());
         try {
           params::check_range(p, s.raw);
         } catch (const params::ValueError& e) {
@@ -215,7 +215,8 @@ class Checker {
       if (verdict.acceptable) continue;
       add(context_.force ? Severity::Warning : Severity::Error, pick({kp, ki, max}), "loop-unstable",
           kp->describe() + " with " + ki->describe() + " on this motor: " + verdict.reason +
-              (context_.force ? " (forced)" : "; lower the gains (i20 tune) or apply with force"));
+              (context_.force ? " (forced)" : "; lower the gains (i20 tune)"),
+          overridden_by_force());
     }
   }
 
@@ -358,13 +359,17 @@ class Checker {
     return **values.begin();
   }
 
-  void add(Severity severity, const Effective& about, const char* rule, const std::string& message) {
-    add(severity, about.param->name, rule, message, about.setting);
+  void add(Severity severity, const Effective& about, const char* rule, const std::string& message,
+           Advice advice = Advice::None) {
+    add(severity, about.param->name, rule, message, about.setting, advice);
   }
   void add(Severity severity, const std::string& key, const char* rule, const std::string& message,
-           const Setting* setting) {
-    out_.push_back({severity, key, rule, message, setting ? profile_.where(*setting) : profile_.source});
+           const Setting* setting, Advice advice = Advice::None) {
+    out_.push_back(
+        {severity, key, rule, message, setting ? profile_.where(*setting) : profile_.source, advice});
   }
+  // An error that forcing turns into a warning says so; a forced one has nothing left to override.
+  Advice overridden_by_force() const { return context_.force ? Advice::None : Advice::Force; }
 
   const Profile& profile_;
   const params::ParamDb& db_;
@@ -409,8 +414,8 @@ std::vector<Finding> measured_bus_findings(const RawValues& cells, double measur
                         p->name + " " + params::format_engineering(*p, raw) + " is at or " +
                             (rule->unsafe_at_or_below ? "below " : "above ") + bus + ": " +
                             rule->consequence + when +
-                            (force ? " (forced)" : " (pass --force if the supply will change first)"),
-                        ""});
+                            (force ? " (forced)" : ", unless the supply will change first"),
+                        "", force ? Advice::None : Advice::Force});
   }
   return findings;
 }

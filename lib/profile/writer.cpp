@@ -91,11 +91,12 @@ void write_supply(std::ostringstream& out, const SupplyInfo& s) {
 }
 
 // "  # 2.5 MBaud; guarded: ..." after an entry whose value has a meaning in the database's
-// table, or whose parameter needs --force: a reader of the file sees both without the manual.
+// table, or whose parameter is guarded: a reader of the file sees both without the manual. The
+// file names no program's option: whichever program applies it has its own way to force it.
 std::string entry_comment(const params::Param& p, std::int64_t raw) {
   std::string comment = params::value_label(p, raw);
   if (!p.guard.empty())
-    comment += (comment.empty() ? "" : "; ") + std::string("guarded: applying it needs --force");
+    comment += (comment.empty() ? "" : "; ") + std::string("guarded: applying it must be forced");
   return comment.empty() ? "" : "  # " + comment;
 }
 

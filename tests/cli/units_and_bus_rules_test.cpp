@@ -113,6 +113,8 @@ TEST_F(BusRulesCli, BrakeOffAtOrBelowTheMeasuredBusIsRefused) {
   EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
   EXPECT_NE(r.err.find("NVBRAKEOFFV"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("[bus-measured-brake-off]"), std::string::npos) << r.err;
+  // lib/ marks the override; i20 names its own option for it.
+  EXPECT_NE(r.err.find("pass --force to override"), std::string::npos) << r.err;
   EXPECT_EQ(i20({"set", "NVBRAKEONV=200V", "NVBRAKEOFFV=180V"}).exit_code, 3) << "at the bus";
   EXPECT_EQ(i20({"set", "BRAKEONV=190V", "BRAKEOFFV=170V"}).exit_code, 3) << "the working cells";
   EXPECT_EQ(sim.writes_seen(), 0u);

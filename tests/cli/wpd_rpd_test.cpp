@@ -141,6 +141,11 @@ TEST(LegacyToolsUnconfirmed, WorkingWritesOnAnUnknownFirmwareNeedAllowUnverified
   auto r = run("wpd", {"BRAKEONV", "30000"}, env);
   EXPECT_EQ(r.exit_code, 3);
   EXPECT_NE(r.err.find("not confirmed"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("pass --allow-unverified"), std::string::npos) << "wpd has the option: " << r.err;
+  EXPECT_EQ(sim.trace().find(": 6"), std::string::npos) << "no write may reach the card:\n" << sim.trace();
+  r = run("i20", {"set", "BRAKEONV=300V"}, env);
+  EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
+  EXPECT_NE(r.err.find("pass --allow-unverified"), std::string::npos) << "i20 set has the option: " << r.err;
   EXPECT_EQ(sim.trace().find(": 6"), std::string::npos) << "no write may reach the card:\n" << sim.trace();
   // NV addresses are public: they work on any firmware at once.
   r = run("wpd", {"NVBRAKEONV", "37000"}, env);

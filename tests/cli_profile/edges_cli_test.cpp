@@ -136,10 +136,12 @@ TEST_F(Refusals, EveryOutputFileIsCheckedBeforeTheCardIsOpened) {
   refused_before_any_byte({"profile", "save", existing}, "exists");
   refused_before_any_byte({"profile", "save", nowhere}, "does not exist");
   refused_before_any_byte({"discover", "-o", nowhere, "--yes"}, "does not exist");
-  refused_before_any_byte({"profile", "export", shipped("line-120v.yaml"), "--setsserial", "-o", existing}, "exists");
+  refused_before_any_byte({"profile", "export", shipped("line-120v.yaml"), "--setsserial", "-o", existing},
+                          "exists");
   // A backup folder that cannot be one (a file is in its place) refuses the apply unsent.
   refused_before_any_byte(
-      {"profile", "apply", shipped("line-120v.yaml"), "--yes", "--backup-dir", existing + "/sub"}, "is a file");
+      {"profile", "apply", shipped("line-120v.yaml"), "--yes", "--backup-dir", existing + "/sub"},
+      "is a file");
   EXPECT_EQ(slurp_file(existing), "keep me\n");
 }
 
@@ -156,7 +158,7 @@ TEST(SaveRestores, ANonDefaultBaudRateIsSavedWithItsMeaningAndRestoredWithForce)
   auto r = i20_on(spare_source.port(), {"profile", "save", file});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const auto yaml = slurp_file(file);
-  EXPECT_TRUE(has(yaml, "NVBAUDRATE: 5  # 230400 baud; guarded: applying it needs --force")) << yaml;
+  EXPECT_TRUE(has(yaml, "NVBAUDRATE: 5  # 230400 baud; guarded: applying it must be forced")) << yaml;
   // The manual's table, from the database, in `get` too.
   EXPECT_EQ(i20_on(spare_source.port(), {"get", "NVBAUDRATE"}).out, "NVBAUDRATE = 5 (230400 baud)\n");
   // The report's parameters section holds it as well.
@@ -166,8 +168,10 @@ TEST(SaveRestores, ANonDefaultBaudRateIsSavedWithItsMeaningAndRestoredWithForce)
   SimProcess spare;
   r = i20_on(spare.port(), {"profile", "apply", file, "--yes", "--backup-dir", dir.path().string()});
   EXPECT_EQ(r.exit_code, 3) << "a guarded value needs --force: " << r.out << r.err;
+  EXPECT_TRUE(has(r.out + r.err, "pass --force to override")) << "i20 names its option: " << r.out << r.err;
   EXPECT_EQ(sim_value(spare, "NVBAUDRATE"), 9);
-  r = i20_on(spare.port(), {"profile", "apply", file, "--yes", "--force", "--backup-dir", dir.path().string()});
+  r = i20_on(spare.port(),
+             {"profile", "apply", file, "--yes", "--force", "--backup-dir", dir.path().string()});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_EQ(sim_value(spare, "NVBAUDRATE"), 5) << "the spare comes back at the same baud rate";
 }

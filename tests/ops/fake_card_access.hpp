@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "error/error.hpp"
-#include "params/param_db.hpp"
 #include "ops/card_access.hpp"
+#include "params/param_db.hpp"
 
 namespace i20::ops::testing {
 
@@ -34,6 +34,7 @@ class FakeCard : public CardAccess {
     ++read_calls;
     RawValues out;
     for (const auto& name : names) {
+      ++reads_of[name];
       if (fail_reads_of.contains(name)) throw Error("injected: no reply reading " + name);
       if (unconfirmed.contains(name)) continue;  // an honest read leaves out what is no fact
       const auto it = values.find(name);
@@ -44,7 +45,9 @@ class FakeCard : public CardAccess {
   }
 
   void check_write(const std::string& name, std::int64_t) override {
-    if (refuse_writes_to.contains(name)) throw Error(name + ": address not confirmed for this firmware");
+    if (refuse_writes_to.contains(name))
+      throw Error(name + ": address not confirmed for this firmware", ErrorKind::Refused,
+                  Advice::AllowUnverified);
   }
 
   void write(const std::string& name, std::int64_t raw) override {
@@ -81,7 +84,8 @@ class FakeCard : public CardAccess {
   bool failed_write_lands = false;                     // a failing write still changes the cell
   std::map<std::string, std::int64_t> corrupt_writes;  // next write silently stores this instead
   std::set<std::string> fail_reads_of;
-  std::set<std::string> unconfirmed;  // addresses not confirmed for this firmware: never read
+  std::map<std::string, int> reads_of;     // how often each cell was asked for
+  std::set<std::string> unconfirmed;       // addresses not confirmed for this firmware: never read
   std::set<std::string> refuse_writes_to;  // check_write() refuses these
   bool fail_reset = false;
   std::function<void(const std::string&, int)> before_write;

@@ -161,6 +161,16 @@ TEST(FailureMeaning, EveryFailureHasOneOutcomeAndOneLabel) {
       << "a defect claims nothing about the card: " << defect.line.message;
 }
 
+TEST(FailureMeaning, ARefusalCarriesWhatOverridesItForTheAppToName) {
+  auto f = meaning_of(
+      [] { throw SafetyError("refusing to write NVBAUDRATE, a guarded parameter", Advice::Force); });
+  EXPECT_EQ(f.outcome, Outcome::Refused);
+  EXPECT_EQ(f.advice, Advice::Force);
+  EXPECT_EQ(f.line.message, "refusing to write NVBAUDRATE, a guarded parameter");
+  f = meaning_of([] { throw SafetyError("its address is not confirmed", Advice::AllowUnverified); });
+  EXPECT_EQ(f.advice, Advice::AllowUnverified);
+}
+
 TEST(FailureMeaning, ARefusalBesideARunningHostAsksTheAppForItsPassiveHint) {
   const auto f = meaning_of([] { throw eth::RunningHostError("another host runs the card", {}); });
   EXPECT_EQ(f.outcome, Outcome::Refused);

@@ -50,7 +50,9 @@ class ProfileApply : public ::testing::Test {
     return out;
   }
 
-  TransactionResult run(const std::string& yaml) { return run_transaction(load(yaml), db(), card_, options_); }
+  TransactionResult run(const std::string& yaml) {
+    return run_transaction(load(yaml), db(), card_, options_);
+  }
 
   fs::path dir_;
   TransactionOptions options_;
@@ -130,7 +132,8 @@ TEST_F(ProfileApply, ContextTheCardDoesNotAnswerForStopsBeforeAnyWrite) {
   card_.fail_reads_of = {"NVBRAKEONV"};
   const auto r = run(with_params("  NVBRAKEOFFV: 170 V\n"));
   EXPECT_EQ(r.outcome, Outcome::Failed) << r.reason;  // exit 1: nothing was written
-  EXPECT_NE(r.reason.find("cannot read NVBRAKEONV, which the safety rules compare against"), std::string::npos)
+  EXPECT_NE(r.reason.find("cannot read NVBRAKEONV, which the safety rules compare against"),
+            std::string::npos)
       << r.reason;
   EXPECT_EQ(card_.write_calls, 0);
 }
@@ -205,8 +208,41 @@ TEST_F(ProfileApply, DeviceRefusalStopsBeforeAnyWrite) {
   EXPECT_EQ(r.outcome, Outcome::Refused);
   EXPECT_NE(r.reason.find("NVBUSOVERV = 195.00 V"), std::string::npos) << r.reason;
   EXPECT_NE(r.reason.find("not confirmed"), std::string::npos) << r.reason;
+  EXPECT_EQ(r.reason_advice, i20::Advice::AllowUnverified) << "the device layer's marker travels with it";
   EXPECT_EQ(card_.write_calls, 0);
   EXPECT_TRUE(backups().empty());
+}
+
+// The reason says what happened; what overrides it is a marker, for each app to name its option.
+TEST_F(ProfileApply, AnUnconfirmedCellIsRefusedWithItsOverrideAsAMarkerNotAnOption) {
+  card_.unconfirmed = {"NVBRAKEONV"};
+  const auto r = run(kLine120);
+  EXPECT_EQ(r.outcome, Outcome::Refused);
+  EXPECT_NE(r.reason.find("cannot read NVBRAKEONV as a fact"), std::string::npos) << r.reason;
+  EXPECT_NE(r.reason.find("i20 discover"), std::string::npos) << r.reason;
+  EXPECT_EQ(r.reason.find("--"), std::string::npos) << "lib/ names no option: " << r.reason;
+  EXPECT_EQ(r.reason_advice, i20::Advice::AllowUnverified);
+  EXPECT_EQ(card_.write_calls, 0);
+}
+
+TEST_F(ProfileApply, AMeasuredBusRefusalCarriesForceAsItsOverride) {
+  card_.values["BUSV"] = 32000;  // the 120 V setup on a 320 V bus
+  auto r = run(kLine120);
+  EXPECT_EQ(r.outcome, Outcome::Refused) << r.reason;
+  EXPECT_EQ(r.reason_advice, i20::Advice::Force) << r.reason;
+  EXPECT_EQ(r.reason.find("--"), std::string::npos) << "lib/ names no option: " << r.reason;
+  for (const auto& f : r.findings) {
+    EXPECT_EQ(f.message.find("--"), std::string::npos) << f.message;
+    if (f.severity == Severity::Error) {
+      EXPECT_EQ(f.advice, i20::Advice::Force) << f.rule;
+    }
+  }
+  EXPECT_EQ(card_.write_calls, 0);
+  // A refusal forcing cannot lift (the manual's order) has no override to name.
+  card_.values["BUSV"] = 17000;
+  r = run(with_params("  NVBRAKEONV: 300 V\n  NVBRAKEOFFV: 320 V\n"));
+  EXPECT_EQ(r.outcome, Outcome::Refused) << r.reason;
+  EXPECT_EQ(r.reason_advice, i20::Advice::None) << r.reason;
 }
 
 TEST_F(ProfileApply, NoBackupNoWrite) {
@@ -314,7 +350,8 @@ TEST_F(ProfileApply, CellsThatCannotBeReadAreReportedUnknown) {
 // Whatever write fails, the run ends rolled back with the card as it was.
 TEST_F(ProfileApply, EveryFailurePointEndsRolledBack) {
   const std::string yaml = with_params(
-      "  NVBRAKEONV: 190 V\n  NVBRAKEOFFV: 170 V\n  NVBUSOVERV: 195 V\n  NVBUSUNDERV: 90 V\n  NVBUSUNDERVMAX: 100 V\n"
+      "  NVBRAKEONV: 190 V\n  NVBRAKEOFFV: 170 V\n  NVBUSOVERV: 195 V\n  NVBUSUNDERV: 90 V\n  "
+      "NVBUSUNDERVMAX: 100 V\n"
       "  NVMAXCURRENT: 7.5 A\n  NVKQP: {value: 60, target: both}\n  NVKDP: {value: 60, target: both}\n");
   for (int fail_at = 1; fail_at <= 9; ++fail_at) {
     for (const bool lands : {false, true}) {
@@ -418,8 +455,38 @@ TEST_F(ResetJudging, TransactionResetJudgesEveryPendingValueBeforeTheFirstWrite)
   EXPECT_EQ(card_.resets, 0);
   // Without the reset the same profile is written: nothing becomes live.
   options_.reset = false;
-  EXPECT_EQ(run(with_params("  NVKQP: {value: 60, target: both}\n  NVKDP: {value: 60, target: both}\n")).outcome,
-            Outcome::Done);
+  EXPECT_EQ(
+      run(with_params("  NVKQP: {value: 60, target: both}\n  NVKDP: {value: 60, target: both}\n")).outcome,
+      Outcome::Done);
+}
+
+// The transaction reads the cells its rules compare (and BUSV) once; the reset's judgement
+// takes them from it and reads only the other NV cells and their twins.
+TEST_F(ResetJudging, TheTransactionsResetJudgementReadsEachRuleCellOnce) {
+  options_.reset = true;
+  options_.dry_run = true;
+  card_.values["NVBRAKEONV"] = card_.values["BRAKEONV"] = 37000;
+  card_.values["NVBRAKEOFFV"] = card_.values["BRAKEOFFV"] = 35000;
+  const auto r = run(with_params("  NVKQP: {value: 60, target: both}\n"));
+  EXPECT_EQ(r.outcome, Outcome::DryRun) << r.reason;
+  std::vector<std::string> rule_cells{"BUSV"};
+  for (const auto& base : rule_parameters()) rule_cells.insert(rule_cells.end(), {base, "NV" + base});
+  for (const auto& cell : rule_cells) EXPECT_EQ(card_.reads_of[cell], 1) << cell;
+  // The judgement still read what only it needs.
+  for (const auto& [cell, count] : card_.reads_of) EXPECT_EQ(count, 1) << cell;
+  EXPECT_GT(card_.reads_of.size(), rule_cells.size());
+}
+
+// A cell the transaction asked for and the card did not answer stops it before any judgement;
+// one that is no fact on this firmware is judged as absent, as judge_reset alone would.
+TEST_F(ResetJudging, AnUnansweredRuleCellStillStopsTheTransactionAndItsReset) {
+  options_.reset = true;
+  card_.fail_reads_of = {"NVBUSUNDERV"};
+  const auto r = run(with_params("  NVKQP: {value: 60, target: both}\n"));
+  EXPECT_EQ(r.outcome, Outcome::Failed) << r.reason;
+  EXPECT_NE(r.reason.find("cannot read NVBUSUNDERV"), std::string::npos) << r.reason;
+  EXPECT_EQ(card_.write_calls, 0);
+  EXPECT_EQ(card_.resets, 0);
 }
 
 TEST_F(ResetJudging, TheProfilesOwnPlannedValuesAreJudgedAsInTheEeprom) {

@@ -52,6 +52,22 @@ TEST(ThresholdRules, UnderVoltageAtOrAboveTheMeasuredBusIsAnError) {
       << "--force makes it a warning";
 }
 
+// The finding says what happened; forcing, which overrides it, is a marker the app names.
+TEST(ThresholdRules, AMeasuredBusFindingMarksForceAndNamesNoOption) {
+  auto f = at_bus("  BUSUNDERV: 170 V\n", 160);
+  const Finding* refused = find_rule(f, "bus-measured-undervoltage");
+  ASSERT_NE(refused, nullptr) << dump(f);
+  EXPECT_EQ(refused->advice, i20::Advice::Force);
+  EXPECT_EQ(refused->message.find("--"), std::string::npos) << refused->message;
+  EXPECT_NE(refused->message.find("unless the supply will change first"), std::string::npos)
+      << refused->message;
+  f = at_bus("  BUSUNDERV: 170 V\n", 160, nullptr, true);
+  const Finding* forced = find_rule(f, "bus-measured-undervoltage");
+  ASSERT_NE(forced, nullptr) << dump(f);
+  EXPECT_EQ(forced->advice, i20::Advice::None) << "forced: nothing left to override";
+  EXPECT_NE(forced->message.find("(forced)"), std::string::npos) << forced->message;
+}
+
 // Manual, BRAKEONV and BRAKEOFFV: the brake switches on above BRAKEONV and off below
 // BRAKEOFFV. Off at or below the supply: after one braking event it never switches off.
 TEST(ThresholdRules, BrakeOffAtOrBelowTheMeasuredBusIsAnError) {
@@ -193,7 +209,8 @@ TEST(ThresholdRules, TheWriteOrderKeepsTheUnderVoltagePair) {
 // thresholds are not judged against it, while the brake and over-voltage ones still are.
 TEST(ThresholdRules, AnOffSupplyDoesNotJudgeTheUnderVoltageThresholds) {
   for (const double bus : {0.0, 12.0, 34.9}) {
-    EXPECT_TRUE(measured_bus_findings({{"NVBUSUNDERV", 3500}, {"BUSUNDERVMAX", 4000}}, bus, db(), false).empty())
+    EXPECT_TRUE(
+        measured_bus_findings({{"NVBUSUNDERV", 3500}, {"BUSUNDERVMAX", 4000}}, bus, db(), false).empty())
         << bus << " V";
     EXPECT_FALSE(measured_bus_findings({{"NVBRAKEOFFV", 100}}, bus + 5, db(), false).empty()) << bus << " V";
   }
