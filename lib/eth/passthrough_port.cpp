@@ -101,11 +101,16 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
                             .sent = survey.sent,
                             .at = survey.replied_at,
                             .sent_once = survey.sent_once};
-  // Two COMMAND samples (halfway and at the end); the counters decide anyway
-  // (running_host.hpp). The samples cannot share a request: a card that waits between
-  // them (WaituS) serves no other host meanwhile.
+  // One COMMAND sample, with the last counter read at the end of the window: the whole
+  // command stays within issue 18's 8 requests. The counters decide (host_is_running); a
+  // busy COMMAND only names what was seen, and a sample halfway changed no decision. A host
+  // that starts after the window owns the port from its first packet
+  // (refuse_if_another_host_took_the_port); one whose start lands in the few milliseconds
+  // between the last counter read and our setup start can still lose it, with one sample
+  // or two (README, Known limits). Samples cannot share a request: a card that waits
+  // between them (WaituS) serves no other host meanwhile.
   RunningHostCheck watch = options_.running_host;
-  watch.command_samples = std::min(watch.command_samples, 2u);
+  watch.command_samples = 1;
   board_name_ = info.idrom.board_name;
   const SserialPort port = find_sserial_port(info, sserial_port_);
   sslbp_ = std::make_unique<SslbpPort>(*bus_, port, card_.has_timer_space(), options_.sslbp);
