@@ -6,9 +6,9 @@
 //
 //   1. identification, the HostMot2 cookie area and the IDROM with its tables at their
 //      usual place, and the running-host watch's first counter read   (survey_card)
-//   2. the watch's COMMAND sample halfway and 3. its last read at 30 ms  (running_host.hpp)
-//   4. stop, SSLBP's parameters                                      (read_locals)
-//   5. stop, the remotes' baud rates, the setup start, the channels' registers
+//   2. the watch's last counter read at 30 ms, with its COMMAND sample (running_host.hpp)
+//   3. stop, SSLBP's parameters                                      (read_locals)
+//   4. stop, the remotes' baud rates, the setup start, the channels' registers
 //
 // and the command itself, and the stop at the end. Each 8I20's NV access and RPC memory
 // modes are learnt from the device layer's own reads of them (its first batch), not read

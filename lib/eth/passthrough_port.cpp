@@ -101,11 +101,15 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
                             .sent = survey.sent,
                             .at = survey.replied_at,
                             .sent_once = survey.sent_once};
-  // Two COMMAND samples (halfway and at the end); the counters decide anyway
-  // (running_host.hpp). The samples cannot share a request: a card that waits between
+  // One COMMAND sample, with the last counter read at the end of the window: the whole
+  // command stays within issue 18's 8 requests. The counters decide (host_is_running); a
+  // busy COMMAND only names what was seen, and a sample halfway changed no decision. A host
+  // that starts after the window owns the port from its first packet
+  // (refuse_if_another_host_took_the_port); one that shows itself before our setup start is
+  // watched again first (below). Samples cannot share a request: a card that waits between
   // them (WaituS) serves no other host meanwhile.
   RunningHostCheck watch = options_.running_host;
-  watch.command_samples = std::min(watch.command_samples, 2u);
+  watch.command_samples = 1;
   board_name_ = info.idrom.board_name;
   const SserialPort port = find_sserial_port(info, sserial_port_);
   sslbp_ = std::make_unique<SslbpPort>(*bus_, port, card_.has_timer_space(), options_.sslbp);
@@ -115,7 +119,19 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
   last_received_ = activity_.last_received;
   missing_ours_ = 0;
   sent_at_last_ = activity_.sent_at_last;
+  const std::uint64_t foreign_at_watch = bus_->stats().foreign_arrivals;
   parameters_ = stop_and_read_parameters(*sslbp_);
+  // A host that started after the watch's last counter read (its stop, its polls) shows in
+  // the count the transport reads first in the parameters' request, for no packet more.
+  // Its start may follow at any moment, and ours would swallow it or re-mode its channel
+  // after it: watch again before the setup start. A repeated datagram of ours shows no host.
+  if (bus_->stats().foreign_arrivals != foreign_at_watch && !options_.running_host.take_over) {
+    activity_ = require_no_running_host(*bus_, std::span(&port, 1), options_.running_host,
+                                        "setup-start SSERIAL port " + std::to_string(port.index) +
+                                            " (another host talked to the card after the watch)");
+    last_received_ = activity_.last_received;
+    sent_at_last_ = activity_.sent_at_last;
+  }
   for (unsigned ch : channels_of(mask_)) {
     if (parameters_.channels > 0 && ch >= parameters_.channels)
       throw DiscoveryError(card_.card_name + " SSERIAL port " + std::to_string(port.index) + " has " +
