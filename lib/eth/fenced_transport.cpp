@@ -48,7 +48,7 @@ std::vector<lbp::Bytes> FencedTransport::transact(std::span<const lbp16::Command
 std::vector<lbp::Bytes> FencedTransport::transact_counted(std::span<const lbp16::Command> commands,
                                                           Resend resend, std::uint64_t& sent) {
   auto parts = transact(commands, resend);
-  sent = inner_->stats().packets_sent;
+  sent = inner_->stats().ours();
   return parts;
 }
 
@@ -74,7 +74,7 @@ std::vector<lbp::Bytes> FencedTransport::exchange(std::span<const lbp16::Command
 // Updates the ledger with the count read at the start of our latest answered packet.
 // `missing`: our packets the card had not received by then.
 void FencedTransport::account(std::uint16_t received, std::uint64_t sends, bool writes) {
-  const auto sent = static_cast<std::uint16_t>(inner_->stats().packets_sent);
+  const auto sent = static_cast<std::uint16_t>(inner_->stats().ours());
   if (!based_) {
     based_ = true;
     // Of our packets so far only the attempt that answered is known to have arrived. The

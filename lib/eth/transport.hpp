@@ -31,17 +31,23 @@ struct TransportStats {
   std::uint64_t timeouts = 0;         // attempts that saw no acceptable reply in time
   std::uint64_t foreign_ignored = 0;  // datagrams from another address or port
   std::uint64_t stale_ignored = 0;    // late replies to earlier packets
+  // Requests of ours that the network delivered twice: a second reply to a packet already
+  // answered (its sequence tag). The card counted each copy as a packet received and sent.
+  std::uint64_t network_repeats = 0;
   // FencedTransport (fenced_transport.hpp):
-  std::uint64_t late_arrivals = 0;    // packets of ours the card received after a later one
+  std::uint64_t late_arrivals = 0;     // packets of ours the card received after a later one
   std::uint64_t foreign_arrivals = 0;  // packets the card received that were not ours
   std::uint64_t fences = 0;            // waits for unanswered writing packets to arrive
   std::uint64_t lost_writers = 0;      // writing packets that had not arrived by a fence's bound
+  // Packets of ours that reached (or may reach) the card: every send and every copy the
+  // network made of one. What a check for another host's packets counts as ours.
+  std::uint64_t ours() const { return packets_sent + network_repeats; }
 };
 
 // What a fence found (Lbp16Transport::fence()).
 struct FenceReport {
-  bool needed = false;       // a writing packet of ours might still have been on its way
-  bool all_arrived = true;   // the card's count shows every packet of ours arrived
+  bool needed = false;        // a writing packet of ours might still have been on its way
+  bool all_arrived = true;    // the card's count shows every packet of ours arrived
   std::uint64_t missing = 0;  // packets of ours not arrived by the bound (taken as lost)
   std::chrono::milliseconds waited{0};
 };
@@ -67,7 +73,7 @@ class Lbp16Transport {
   virtual std::vector<lbp::Bytes> transact_counted(std::span<const lbp::lbp16::Command> commands,
                                                    Resend resend, std::uint64_t& sent) {
     auto parts = transact(commands, resend);
-    sent = stats().packets_sent;
+    sent = stats().ours();
     return parts;
   }
 
@@ -97,7 +103,7 @@ class SharedTransport final : public Lbp16Transport {
                                            std::uint64_t& sent) override {
     std::lock_guard lock(mutex_);
     auto parts = inner_->transact(commands, resend);
-    sent = inner_->stats().packets_sent;
+    sent = inner_->stats().ours();
     return parts;
   }
   FenceReport fence() override {

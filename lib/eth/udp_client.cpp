@@ -5,6 +5,7 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/address_v4.hpp>
 #include <boost/asio/ip/udp.hpp>
+#include <deque>
 #include <optional>
 
 #include "eth/errors.hpp"
@@ -58,16 +59,31 @@ struct UdpClient::Impl {
     }
   }
 
+  // Tags of the latest answered packets: a reply to one of them again is a copy of our
+  // request that the network delivered twice.
+  std::deque<std::uint16_t> answered;
+  void remember_answered(std::uint16_t tag) {
+    answered.push_back(tag);
+    if (answered.size() > 256) answered.pop_front();
+  }
+  bool was_answered(lbp::ByteView reply) const {
+    if (reply.size() < 2) return false;
+    const auto tag = static_cast<std::uint16_t>(lbp::read_le(reply.subspan(0, 2)));
+    return std::find(answered.begin(), answered.end(), tag) != answered.end();
+  }
+
   // Drops whatever arrived since the last transaction: late replies to packets that were
-  // already given up on.
-  std::uint64_t drain() {
-    std::uint64_t dropped = 0;
+  // already given up on (stale), or second replies to repeated copies of ours (repeats).
+  void drain(bool tagged, TransportStats& stats) {
     for (;;) {
       boost::system::error_code ec;
       udp::endpoint sender;
-      socket.receive_from(asio::buffer(buffer), sender, 0, ec);
-      if (ec) return dropped;
-      ++dropped;
+      const std::size_t size = socket.receive_from(asio::buffer(buffer), sender, 0, ec);
+      if (ec) return;
+      if (tagged && sender == card && was_answered(lbp::ByteView(buffer.data(), size)))
+        ++stats.network_repeats;
+      else
+        ++stats.stale_ignored;
     }
   }
 
@@ -183,14 +199,15 @@ std::vector<lbp::Bytes> UdpClient::transact(std::span<const lbp16::Command> comm
   std::vector<std::uint16_t> tags;         // of this transaction's attempts: any of them is a valid reply
   std::vector<Clock::time_point> sent_at;  // of each attempt, for the round trip of its reply
   const auto foreign_before = stats_.foreign_ignored;
-  const auto stale_before = stats_.stale_ignored;
+  // Replies to earlier packets: late ones, and second replies to copies of ours.
+  const auto stale_before = stats_.stale_ignored + stats_.network_repeats;
   const auto held_back = requested_waits(commands);
   std::chrono::microseconds waited{0};
   for (unsigned attempt = 0; attempt < attempts; ++attempt) {
     if (attempt > 0) ++stats_.resends;
     // Late replies to earlier transactions go. Between attempts of this one, a tagged reply
     // to an earlier attempt is still the answer (the tag says so): keep it.
-    if (attempt == 0 || !options_.sequence_tags) stats_.stale_ignored += impl_->drain();
+    if (attempt == 0 || !options_.sequence_tags) impl_->drain(options_.sequence_tags, stats_);
 
     const std::uint16_t tag = impl_->next_tag++;
     tags.push_back(tag);
@@ -222,7 +239,8 @@ std::vector<lbp::Bytes> UdpClient::transact(std::span<const lbp16::Command> comm
         const auto echoed = static_cast<std::uint16_t>(lbp::read_le(reply.subspan(0, 2)));
         const auto it = std::find(tags.begin(), tags.end(), echoed);
         if (it == tags.end()) {
-          ++stats_.stale_ignored;  // answers a packet we already gave up on
+          // Answers a packet we already gave up on, or a copy of one already answered.
+          ++(impl_->was_answered(reply) ? stats_.network_repeats : stats_.stale_ignored);
           continue;
         }
         answers = static_cast<std::size_t>(it - tags.begin());
@@ -231,6 +249,7 @@ std::vector<lbp::Bytes> UdpClient::transact(std::span<const lbp16::Command> comm
         throw BadReplyError(impl_->name + " answered with " + std::to_string(reply.size()) + " bytes where " +
                             std::to_string(expected) + " were expected; reply ignored");
       ++stats_.replies;
+      if (options_.sequence_tags) impl_->remember_answered(tags[answers.value_or(0)]);
       if (answers)
         reply_timeout_.measured(
             std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - sent_at[*answers]) -
@@ -249,7 +268,7 @@ std::vector<lbp::Bytes> UdpClient::transact(std::span<const lbp16::Command> comm
   if (const auto n = stats_.foreign_ignored - foreign_before; n > 0)
     message += "; ignored " + std::to_string(n) + " datagram" + (n == 1 ? "" : "s") +
                " from another address or port";
-  if (const auto n = stats_.stale_ignored - stale_before; n > 0)
+  if (const auto n = stats_.stale_ignored + stats_.network_repeats - stale_before; n > 0)
     message +=
         "; ignored " + std::to_string(n) + " stale repl" + (n == 1 ? "y" : "ies") + " to earlier packets";
   if (writes && !may_resend)

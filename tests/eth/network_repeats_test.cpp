@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// A network that delivers our requests twice (a switch or a Wi-Fi bridge repeating frames):
+// the card counts each copy as a packet received and answered, just as it counts another
+// host's. The UDP client tells the copies by their sequence tag (a second reply to a packet
+// already answered) and counts them as ours, so the running-host watch does not take our own
+// repeated datagrams for LinuxCNC starting (the Ethernet soak's seed 2026 found sessions that
+// then refused their own rollback and left the brake thresholds crossed).
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <span>
+
+#include "eth/running_host.hpp"
+#include "eth/udp_client.hpp"
+#include "ethsim/faulty_network.hpp"
+#include "fixtures.hpp"
+
+using namespace i20;
+using namespace i20::eth;
+using namespace std::chrono_literals;
+
+namespace {
+
+const SserialPort kPort{.index = 0, .registers = {.command = 0x5B00, .data = 0x5C00}};
+
+}  // namespace
+
+TEST(EthNetworkRepeats, OurRepeatedRequestsAreCountedAsOursAndShowNoHost) {
+  test::RunningCard card;
+  ethsim::NetworkFaults faults;
+  faults.duplicate_share = 1.0;  // every request twice, the copy within 2 ms
+  faults.max_delay = 2ms;
+  faults.replies = false;
+  ethsim::FaultyNetwork network(card.address(), faults);
+  const HostPort proxy = parse_host_port(network.address());
+  UdpClient bus(proxy.ip, proxy.port, UdpOptions{});
+
+  RunningHostCheck check;
+  const HostActivity seen = observe_host_activity(bus, std::span(&kPort, 1), check);
+  EXPECT_GT(bus.stats().network_repeats, 0u) << "the copies' replies were not told apart";
+  EXPECT_EQ(bus.stats().ours(), bus.stats().packets_sent + bus.stats().network_repeats);
+  EXPECT_FALSE(host_is_running(seen, check)) << seen.describe();
+  EXPECT_LE(seen.foreign_packets(), check.foreign_packet_limit) << seen.describe();
+}
+
+// The same watch beside a host that really runs still sees it: the copies of ours are
+// discounted, another host's packets are not.
+TEST(EthNetworkRepeats, AHostThatRunsIsStillSeenThroughARepeatingNetwork) {
+  test::RunningCard card;
+  card.server().start_host(ethsim::HostOptions{});
+  ethsim::NetworkFaults faults;
+  faults.duplicate_share = 1.0;
+  faults.max_delay = 2ms;
+  faults.replies = false;
+  ethsim::FaultyNetwork network(card.address(), faults);
+  const HostPort proxy = parse_host_port(network.address());
+  UdpClient bus(proxy.ip, proxy.port, UdpOptions{});
+
+  RunningHostCheck check;
+  const HostActivity seen = observe_host_activity(bus, std::span(&kPort, 1), check);
+  EXPECT_TRUE(host_is_running(seen, check)) << seen.describe();
+}
