@@ -23,24 +23,36 @@ namespace {
 
 const SserialPort kPort{.index = 0, .registers = {.command = 0x5B00, .data = 0x5C00}};
 
+// The running-host watch over a network that delivers every request twice, the copy within
+// 2 ms, to `card`; the client it used, for its counts.
+struct RepeatingNetworkWatch {
+  explicit RepeatingNetworkWatch(test::RunningCard& card)
+      : network(card.address(), faults()),
+        bus(parse_host_port(network.address()).ip, parse_host_port(network.address()).port, UdpOptions{}),
+        seen(observe_host_activity(bus, std::span(&kPort, 1), check)) {}
+  static ethsim::NetworkFaults faults() {
+    ethsim::NetworkFaults f;
+    f.duplicate_share = 1.0;
+    f.max_delay = 2ms;
+    f.replies = false;
+    return f;
+  }
+  ethsim::FaultyNetwork network;
+  UdpClient bus;
+  RunningHostCheck check;
+  HostActivity seen;
+};
+
 }  // namespace
 
 TEST(EthNetworkRepeats, OurRepeatedRequestsAreCountedAsOursAndShowNoHost) {
   test::RunningCard card;
-  ethsim::NetworkFaults faults;
-  faults.duplicate_share = 1.0;  // every request twice, the copy within 2 ms
-  faults.max_delay = 2ms;
-  faults.replies = false;
-  ethsim::FaultyNetwork network(card.address(), faults);
-  const HostPort proxy = parse_host_port(network.address());
-  UdpClient bus(proxy.ip, proxy.port, UdpOptions{});
-
-  RunningHostCheck check;
-  const HostActivity seen = observe_host_activity(bus, std::span(&kPort, 1), check);
-  EXPECT_GT(bus.stats().network_repeats, 0u) << "the copies' replies were not told apart";
-  EXPECT_EQ(bus.stats().ours(), bus.stats().packets_sent + bus.stats().network_repeats);
-  EXPECT_FALSE(host_is_running(seen, check)) << seen.describe();
-  EXPECT_LE(seen.foreign_packets(), check.foreign_packet_limit) << seen.describe();
+  const RepeatingNetworkWatch watch(card);
+  const TransportStats stats = watch.bus.stats();
+  EXPECT_GT(stats.network_repeats, 0u) << "the copies' replies were not told apart";
+  EXPECT_EQ(stats.ours(), stats.packets_sent + stats.network_repeats);
+  EXPECT_FALSE(host_is_running(watch.seen, watch.check)) << watch.seen.describe();
+  EXPECT_LE(watch.seen.foreign_packets(), watch.check.foreign_packet_limit) << watch.seen.describe();
 }
 
 // The same watch beside a host that really runs still sees it: the copies of ours are
@@ -48,15 +60,6 @@ TEST(EthNetworkRepeats, OurRepeatedRequestsAreCountedAsOursAndShowNoHost) {
 TEST(EthNetworkRepeats, AHostThatRunsIsStillSeenThroughARepeatingNetwork) {
   test::RunningCard card;
   card.server().start_host(ethsim::HostOptions{});
-  ethsim::NetworkFaults faults;
-  faults.duplicate_share = 1.0;
-  faults.max_delay = 2ms;
-  faults.replies = false;
-  ethsim::FaultyNetwork network(card.address(), faults);
-  const HostPort proxy = parse_host_port(network.address());
-  UdpClient bus(proxy.ip, proxy.port, UdpOptions{});
-
-  RunningHostCheck check;
-  const HostActivity seen = observe_host_activity(bus, std::span(&kPort, 1), check);
-  EXPECT_TRUE(host_is_running(seen, check)) << seen.describe();
+  const RepeatingNetworkWatch watch(card);
+  EXPECT_TRUE(host_is_running(watch.seen, watch.check)) << watch.seen.describe();
 }
