@@ -169,7 +169,8 @@ Verdict verdict(ops::Outcome o) {
     case ops::Outcome::DryRun: return Verdict::Applied;
     case ops::Outcome::Refused:
     case ops::Outcome::BadInput: return Verdict::Refused;
-    case ops::Outcome::Failed: return Verdict::NotReached;
+    case ops::Outcome::Failed:
+    case ops::Outcome::OutputLost: return Verdict::NotReached;  // the soak takes no backup: nothing written
     case ops::Outcome::RolledBack:
     case ops::Outcome::Interrupted: return Verdict::RolledBack;
     case ops::Outcome::Uncertain:
@@ -281,8 +282,10 @@ namespace {
 // reached, or the transaction's reason and the mode it may have left on.
 std::string why(const ops::TargetRun& run) {
   std::string text = run.error;
-  if (run.result && !run.result->reason.empty()) text.append(text.empty() ? "" : "; ").append(run.result->reason);
-  if (!run.mode_left_on.empty() && text.find(run.mode_left_on) == std::string::npos) text.append(text.empty() ? "" : "; ").append(run.mode_left_on);
+  if (run.result && !run.result->reason.empty())
+    text.append(text.empty() ? "" : "; ").append(run.result->reason);
+  if (!run.mode_left_on.empty() && text.find(run.mode_left_on) == std::string::npos)
+    text.append(text.empty() ? "" : "; ").append(run.mode_left_on);
   return text.empty() ? std::string() : std::string(" (").append(text).append(")");
 }
 
@@ -328,7 +331,8 @@ void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun
   }
   if (verbose)
     std::cerr << "#" << index << " " << path_name(s.path) << " " << s.values.size() << " cells, " << label
-              << " -> " << ops::to_string(run.outcome) << why(run) << (all.empty() ? "" : "  FINDING") << "\n";
+              << " -> " << ops::to_string(run.outcome) << why(run) << (all.empty() ? "" : "  FINDING")
+              << "\n";
 }
 
 ops::ApplyJob job_for(const profile::Profile& p, const params::ParamDb& db, const ops::Cancel& cancel,

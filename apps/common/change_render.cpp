@@ -306,8 +306,11 @@ std::string outcome_line(const TargetRun& run) {
       if (profile::has_errors(r.findings))
         return "REFUSED by the rule" + std::string(r.findings.size() > 1 ? "s" : "") +
                " above; nothing was written";
-      return "REFUSED: " + reason_text(r) + nothing;
-    case Outcome::Failed: return "NOT DONE: " + reason_text(r) + nothing;
+      // Exit 3 is a refusal; exit 2 is input that could not be used, and says so.
+      return std::string(r.outcome == Outcome::Refused ? "REFUSED: " : "BAD INPUT: ") + reason_text(r) +
+             nothing;
+    case Outcome::Failed:
+    case Outcome::OutputLost: return "NOT DONE: " + reason_text(r) + nothing;
     case Outcome::FaultsRemain: break;
   }
   return reason_text(r);

@@ -15,6 +15,7 @@
 
 #include "change_render.hpp"
 #include "context.hpp"
+#include "files/atomic_file.hpp"
 #include "output_file.hpp"
 #include "profile/export.hpp"
 #include "profile/loader.hpp"
@@ -56,10 +57,7 @@ std::optional<profile::Profile> valid_profile(Context& ctx, const params::ParamD
 void write_file(const std::string& path, const std::string& text, bool overwrite) {
   if (!overwrite && std::filesystem::exists(path))
     throw Error(path + " exists; pass --overwrite to replace it", ErrorKind::BadInput);
-  std::ofstream out(path, std::ios::trunc);
-  out << text;
-  out.close();
-  if (!out) throw Error("cannot write " + path);
+  files::write_file(path, text, overwrite ? files::Existing::Replace : files::Existing::Refuse);
 }
 
 app::Json values_json(const profile::Hostmot2Values& values, const ExportCliOptions& o) {

@@ -9,10 +9,11 @@
 #include <sstream>
 
 #include "context.hpp"
-#include "output_file.hpp"
 #include "faults/report.hpp"
+#include "files/atomic_file.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/report.hpp"
+#include "output_file.hpp"
 #include "params/value.hpp"
 #include "profile/timestamp.hpp"
 #include "profile/writer.hpp"
@@ -42,7 +43,8 @@ std::string names(const std::vector<std::string>& items) {
 
 std::vector<std::string> bit_list(const F::Report& report) {
   std::vector<std::string> out;
-  for (const auto& line : report.lines) out.push_back(line.reserved ? "bit" + std::to_string(line.bit) : line.name);
+  for (const auto& line : report.lines)
+    out.push_back(line.reserved ? "bit" + std::to_string(line.bit) : line.name);
   return out;
 }
 
@@ -114,8 +116,11 @@ app::Json report_json(const ops::ServiceReport& r) {
   j.set("target", r.target);
   auto card = app::Json::object();
   card.set("name", info.card_name).set("unit_number", info.unit_number.value_or(0));
-  card.set("swrevision", info.swrevision.value_or(0)).set("working_map_confirmed", info.working_map_confirmed);
-  card.set("lbp_status", info.lbp_status).set("crc_errors", info.crc_errors).set("rpc_table", r.identity.rpc_note);
+  card.set("swrevision", info.swrevision.value_or(0))
+      .set("working_map_confirmed", info.working_map_confirmed);
+  card.set("lbp_status", info.lbp_status)
+      .set("crc_errors", info.crc_errors)
+      .set("rpc_table", r.identity.rpc_note);
   j.set("card", std::move(card));
   if (r.faults) {
     auto f = app::Json::object();
@@ -130,7 +135,9 @@ app::Json report_json(const ops::ServiceReport& r) {
   auto values = app::Json::array();
   for (const auto& v : r.values) {
     auto e = app::Json::object();
-    e.set("name", v.param->name).set("raw", v.raw ? app::Json(*v.raw) : app::Json()).set("text", value_text(v));
+    e.set("name", v.param->name)
+        .set("raw", v.raw ? app::Json(*v.raw) : app::Json())
+        .set("text", value_text(v));
     e.set("fact", v.fact()).set("space", params::to_string(v.param->space));
     values.push(std::move(e));
   }
@@ -166,10 +173,7 @@ void run_report(Context& ctx, const ReportOptions& o) {
     std::cout << text;
     return;
   }
-  std::ofstream file(o.out, std::ios::trunc);
-  file << text;
-  file.close();
-  if (!file) throw Error("cannot write " + o.out);
+  files::write_file(o.out, text, o.overwrite ? files::Existing::Replace : files::Existing::Refuse);
   std::cerr << "i20: report of " << card.describe() << " written to " << o.out << "\n";
 }
 

@@ -12,6 +12,7 @@
 
 #include "change_render.hpp"
 #include "context.hpp"
+#include "files/atomic_file.hpp"
 #include "output_file.hpp"
 #include "profile/error.hpp"
 #include "profile/loader.hpp"
@@ -158,11 +159,9 @@ Tuned compute(const profile::TuneRequest& request, const Basis& basis, const par
   }
 }
 
+// --overwrite was checked before (check_output_file): replacing here is what was asked.
 void write_text_file(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::trunc);
-  out << text;
-  out.close();
-  if (!out) throw Error("cannot write " + path);
+  files::write_file(path, text, files::Existing::Replace);
 }
 
 // The tuning profile, written and then loaded back and validated like any other profile.

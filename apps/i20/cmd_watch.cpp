@@ -17,13 +17,16 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 #include "context.hpp"
+#include "csv_log.hpp"
 #include "faults/fault_mask.hpp"
 #include "faults_render.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/monitor.hpp"
 #include "passive.hpp"
+#include "terminal.hpp"
 
 namespace i20::cli {
 namespace {
@@ -79,50 +82,41 @@ std::string seconds_text(double s) {
 }
 
 // ------------------------------------------------------------------ CSV time series
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-
 std::string joined(const std::vector<Event>& events) {
   std::string out;
   for (const auto& e : events) out += (out.empty() ? "" : " | ") + e.text;
   return out;
 }
 
-class CsvLog {
+class WatchCsv {
  public:
-  explicit CsvLog(const std::string& path) : out_(path, std::ios::out | std::ios::trunc) {
-    if (!out_) throw UsageError("cannot write the log file " + path + ": check the directory exists");
-    out_ << "time,elapsed_s,busv_v,temperature_c,brake_on,status,fault,faultmask,fault_output_on,"
-            "fault_bits,status_bits,events\n";
-    out_.flush();
-  }
+  explicit WatchCsv(const std::string& path)
+      : log_(path,
+             "time,elapsed_s,busv_v,temperature_c,brake_on,status,fault,faultmask,fault_output_on,"
+             "fault_bits,status_bits,events\n") {}
 
   void sample(const Sample& s, const std::vector<Event>& events) {
     const auto& r = s.r;
     char elapsed[32];
     std::snprintf(elapsed, sizeof elapsed, "%.3f", s.elapsed_s);
-    out_ << clock_text(s.when, true) << "," << elapsed << "," << fixed(r.busv_v, "") << ","
-         << fixed(r.temperature_c, "") << "," << (brake_on(r) ? 1 : 0) << "," << lbp::hex_value(r.status, 4)
-         << "," << lbp::hex_value(r.fault, 4) << "," << (r.faultmask ? lbp::hex_value(*r.faultmask, 4) : "")
-         << "," << (output_on(r) ? 1 : 0) << "," << csv_field(bit_names(F::Register::Fault, r.fault)) << ","
-         << csv_field(bit_names(F::Register::Status, r.status)) << "," << csv_field(joined(events)) << "\n";
-    out_.flush();  // a watch ends with Ctrl-C or a crash: keep every row written so far
+    std::ostringstream row;
+    row << clock_text(s.when, true) << "," << elapsed << "," << fixed(r.busv_v, "") << ","
+        << fixed(r.temperature_c, "") << "," << (brake_on(r) ? 1 : 0) << "," << lbp::hex_value(r.status, 4)
+        << "," << lbp::hex_value(r.fault, 4) << "," << (r.faultmask ? lbp::hex_value(*r.faultmask, 4) : "")
+        << "," << (output_on(r) ? 1 : 0) << "," << csv_field(bit_names(F::Register::Fault, r.fault)) << ","
+        << csv_field(bit_names(F::Register::Status, r.status)) << "," << csv_field(joined(events)) << "\n";
+    log_.write(row.str());
   }
 
   // A row without readings: the card could not be read (a gap in the series).
   void gap(const Event& e, double elapsed_s) {
     char elapsed[32];
     std::snprintf(elapsed, sizeof elapsed, "%.3f", elapsed_s);
-    out_ << clock_text(e.when, true) << "," << elapsed << ",,,,,,,,,," << csv_field(e.text) << "\n";
-    out_.flush();
+    log_.write(clock_text(e.when, true) + "," + elapsed + ",,,,,,,,,," + csv_field(e.text) + "\n");
   }
 
  private:
-  std::ofstream out_;
+  CsvLog log_;
 };
 
 // ------------------------------------------------------------------ views
@@ -377,21 +371,31 @@ void AnsiView::draw() const {
 // The chosen view, and the CSV series beside it when --log asks for one.
 class WatchSink final : public ops::MonitorSink {
  public:
-  WatchSink(View& view, CsvLog* log, const WatchOptions& o) : view_(view), log_(log), o_(o) {}
-  void start(const std::string& target, const ops::MonitorOptions&) override { view_.start(target, o_); }
+  WatchSink(View& view, WatchCsv* log, const WatchOptions& o) : view_(view), log_(log), o_(o) {}
+  // Each call ends by checking stdout: a watch whose reader went away (`| head -1`) stops,
+  // exit 6, instead of polling the card for nobody while holding its port.
+  void start(const std::string& target, const ops::MonitorOptions&) override {
+    view_.start(target, o_);
+    app::require_stdout();
+  }
   void sample(const Sample& s, const Readings* previous, const std::vector<Event>& events) override {
     view_.sample(s, previous, events);
     if (log_) log_->sample(s, events);
+    app::require_stdout();
   }
   void event(const Event& e) override {
     view_.event(e);
     if (log_) log_->gap(e, e.elapsed_s);
+    app::require_stdout();
   }
-  void finish(const Summary& summary) override { view_.finish(summary); }
+  void finish(const Summary& summary) override {
+    view_.finish(summary);
+    app::require_stdout();
+  }
 
  private:
   View& view_;
-  CsvLog* log_;
+  WatchCsv* log_;
   const WatchOptions& o_;
 };
 
@@ -417,8 +421,8 @@ void run_watch(Context& ctx, const WatchOptions& o) {
                                                .log = o.log});
     return;
   }
-  std::unique_ptr<CsvLog> log;
-  if (!o.log.empty()) log = std::make_unique<CsvLog>(o.log);  // a bad path fails before the link opens
+  std::unique_ptr<WatchCsv> log;
+  if (!o.log.empty()) log = std::make_unique<WatchCsv>(o.log);  // a bad path fails before the link opens
   auto view = make_view(ctx, o);
   WatchSink sink(*view, log.get(), o);
   const ops::MonitorOptions monitor{.interval = std::chrono::milliseconds(o.interval_ms),

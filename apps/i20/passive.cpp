@@ -8,8 +8,10 @@
 #include <functional>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <thread>
 
+#include "csv_log.hpp"
 #include "faults/decode.hpp"
 #include "faults_render.hpp"
 #include "lbp/bytes.hpp"
@@ -17,6 +19,7 @@
 #include "ops/passive_monitor.hpp"
 #include "ops/scan.hpp"
 #include "ops/signals.hpp"
+#include "terminal.hpp"
 
 namespace i20::cli {
 namespace {
@@ -117,39 +120,31 @@ app::Json change_json(const PassiveChange& c) {
   return j;
 }
 
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-
 // One row per 8I20 per sample; the row carries the changes of that channel.
 class PassiveCsv {
  public:
-  explicit PassiveCsv(const std::string& path) : out_(path, std::ios::out | std::ios::trunc) {
-    if (!out_) throw UsageError("cannot write the log file " + path + ": check the directory exists");
-    out_ << "time,elapsed_s,port,channel,live,busv_v,temperature_c,status,fault,fault_bits,status_bits,"
-            "events\n";
-    out_.flush();
-  }
+  explicit PassiveCsv(const std::string& path)
+      : log_(path,
+             "time,elapsed_s,port,channel,live,busv_v,temperature_c,status,fault,fault_bits,status_bits,"
+             "events\n") {}
   void sample(const PassiveSample& s) {
+    std::ostringstream rows;
     for (const auto& a : s.amplifiers) {
       const auto& d = a.data;
       std::string events;
       for (const auto& c : s.changes)
         if (c.port == d.port && c.channel == d.channel) events += (events.empty() ? "" : " | ") + c.text;
-      out_ << clock_text(s.when, true) << "," << fixed(s.elapsed_s, "%.3f") << "," << d.port << ","
+      rows << clock_text(s.when, true) << "," << fixed(s.elapsed_s, "%.3f") << "," << d.port << ","
            << d.channel << "," << (d.live() ? 1 : 0) << "," << fixed(d.busv_v()) << "," << d.temperature_c()
            << "," << lbp::hex_value(d.status(), 4) << "," << lbp::hex_value(d.fault(), 4) << ","
            << csv_field(bit_names(F::Register::Fault, d.fault())) << ","
            << csv_field(bit_names(F::Register::Status, d.status())) << "," << csv_field(events) << "\n";
     }
-    out_.flush();
+    log_.write(rows.str());
   }
 
  private:
-  std::ofstream out_;
+  CsvLog log_;
 };
 
 bool sleep_until(Clock::time_point t, const std::function<bool()>& done) {
@@ -289,6 +284,7 @@ void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
       std::cout << std::flush;
     }
     if (log) log->sample(s);
+    app::require_stdout();  // its reader gone (`| head -1`): stop, exit 6, instead of polling for nobody
   }
   const double seconds = elapsed();
   const auto requests = monitor.reader().requests_sent();

@@ -24,7 +24,7 @@ static int run(int argc, char** argv) {
       "Prints the raw value in decimal, or in hexadecimal when H follows the name.\n"
       "The port comes from COMPORT (and BAUDRATE, PROTOCOL=LBP) like RPD, or --port.\n"
       "Exit status: 0 read, 1 card not reached, 2 bad input, 3 not read: the address is not\n"
-      "confirmed for this card's firmware (run `i20 discover`), 130 Ctrl-C.\n"
+      "confirmed for this card's firmware (run `i20 discover`), 6 output not written, 130 Ctrl-C.\n"
       "Examples:\n  COMPORT=/dev/ttyUSB0 rpd BUSV\n  rpd --sim FAULT H"};
   cli.set_version_flag("--version", "rpd " + std::string(build::kVersion), "Print the version and exit");
   app::GlobalOptions options;
@@ -83,7 +83,6 @@ static int run(int argc, char** argv) {
 }
 
 int main(int argc, char** argv) {
-  const int code = run(argc, argv);
-  app::output_failed("rpd");  // after the card is settled: a closed stdout changes nothing on it
-  return code;
+  // After the card is settled: a lost stdout changes nothing on it, but is not a success.
+  return app::finish_output("rpd", run(argc, argv));
 }

@@ -85,7 +85,8 @@ static int run(int argc, char** argv) {
       "card's other values before anything is written, then verified by read-back.\n"
       "The port comes from COMPORT (and BAUDRATE, PROTOCOL=LBP) like WPD, or --port.\n"
       "Exit status: 0 written and verified, 1 card not reached, 2 bad input, 3 refused,\n"
-      "4 card state uncertain or rolled back, 5 faults remain (WPD FAULT 0), 130 Ctrl-C.\n"
+      "4 card state uncertain or rolled back, 5 faults remain (WPD FAULT 0), 6 output not written, 130 "
+      "Ctrl-C.\n"
       "Examples:\n  wpd NVMAXCURRENT 2500     (25 A)\n  wpd NVBRAKEONV 19000      (190 V)\n"
       "  wpd --sim BRAKEONV 30000  (300 V, live)"};
   cli.set_version_flag("--version", "wpd " + std::string(build::kVersion), "Print the version and exit");
@@ -140,7 +141,6 @@ static int run(int argc, char** argv) {
 }
 
 int main(int argc, char** argv) {
-  const int code = run(argc, argv);
-  app::output_failed("wpd");  // after the card is settled: a closed stdout changes nothing on it
-  return code;
+  // After the card is settled: a lost stdout changes nothing on it, but is not a success.
+  return app::finish_output("wpd", run(argc, argv));
 }

@@ -18,6 +18,7 @@ enum class ErrorKind {
   Uncertain,     // the card's state may differ from what was asked: the message names the cells
   FaultsRemain,  // faults stay latched after clearing
   Cancelled,     // the user interrupted, after the card was left in a known state
+  OutputLost,    // what the command writes (stdout, a file, a backup, a log) did not land in full
 };
 
 // What overrides a refusal. The library says what happened and never names a command-line
@@ -51,6 +52,13 @@ class Error : public std::runtime_error {
 class UsageError : public Error {
  public:
   explicit UsageError(const std::string& message) : Error(message, ErrorKind::BadInput) {}
+};
+
+// What the command was to write did not land in full (a full disk, a closed pipe, a
+// folder gone): no partial file is left, and the card is as the rest of the output says.
+class OutputError : public Error {
+ public:
+  explicit OutputError(const std::string& message) : Error(message, ErrorKind::OutputLost) {}
 };
 
 }  // namespace i20

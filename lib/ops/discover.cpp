@@ -3,8 +3,9 @@
 
 #include <fstream>
 
-#include "lbp/bytes.hpp"
 #include "error/error.hpp"
+#include "files/atomic_file.hpp"
+#include "lbp/bytes.hpp"
 
 namespace i20::ops {
 namespace {
@@ -33,12 +34,8 @@ DiscoverResult discover(Card& card, const params::ParamDb& loaded, const Discove
   result.report = device::discover(card.amp(), options.scan);
   const std::string yaml = result.report.overlay_yaml(options.generated_at);
   prove_loads(loaded, yaml, file, result.report.swrevision);
-  {
-    std::ofstream out(result.written, std::ios::trunc);
-    out << yaml;
-    out.close();
-    if (!out) throw Error("cannot write " + file);
-  }
+  files::write_file(result.written, yaml,
+                    options.overwrite ? files::Existing::Replace : files::Existing::Refuse);
   auto again = loaded;
   again.apply_overlay_file(result.written);
   (void)again.for_firmware(result.report.swrevision);

@@ -192,8 +192,9 @@ void Monitor::lose(const std::string& why) {
 
 void Monitor::sample_once() {
   std::vector<MonitorEvent> events;
+  std::optional<FaultReadings> r;
   try {
-    const FaultReadings r = read();
+    r = read();
     if (lost_at_) {
       const double away = std::chrono::duration<double>(Clock::now() - *lost_at_).count();
       events.push_back({WallClock::now(),
@@ -205,7 +206,6 @@ void Monitor::sample_once() {
       lost_at_.reset();
       summary_.connected = true;
     }
-    record(r, std::move(events));
   } catch (const Cancelled&) {
     return;  // a stop signal during a read: done() ends the loop
   } catch (const UsageError&) {
@@ -216,7 +216,11 @@ void Monitor::sample_once() {
       return;
     }
     lose(e.what());
+    return;
   }
+  // Outside the try: the sink's own failure (its reader gone, a full disk) is not the card's,
+  // and ends the monitor instead of reading as lost contact.
+  record(*r, std::move(events));
 }
 
 // SSLBP's normal start clears faults and enables the current loop (manual, 8I20 DEVICE

@@ -15,6 +15,7 @@ int exit_code(Outcome outcome) {
     case Outcome::Uncertain: return kExitUncertain;
     case Outcome::FaultsRemain: return kExitFaultsRemain;
     case Outcome::Interrupted: return kExitInterrupted;
+    case Outcome::OutputLost: return kExitOutputLost;
   }
   return kExitUncertain;
 }
@@ -27,6 +28,7 @@ Outcome outcome_of(ErrorKind kind) {
     case ErrorKind::Uncertain: return Outcome::Uncertain;
     case ErrorKind::FaultsRemain: return Outcome::FaultsRemain;
     case ErrorKind::Cancelled: return Outcome::Interrupted;
+    case ErrorKind::OutputLost: return Outcome::OutputLost;
   }
   return Outcome::Uncertain;
 }
@@ -47,6 +49,7 @@ const char* to_string(Outcome outcome) {
     case Outcome::Uncertain: return "uncertain";
     case Outcome::FaultsRemain: return "faults-remain";
     case Outcome::Interrupted: return "interrupted";
+    case Outcome::OutputLost: return "output-lost";
   }
   return "?";
 }
@@ -54,7 +57,8 @@ const char* to_string(Outcome outcome) {
 const char* error_label(ErrorKind kind) {
   switch (kind) {
     case ErrorKind::Failure:
-    case ErrorKind::BadInput: return "error";
+    case ErrorKind::BadInput:
+    case ErrorKind::OutputLost: return "error";
     case ErrorKind::Refused: return "refused";
     case ErrorKind::Uncertain: return "card state";
     case ErrorKind::FaultsRemain: return "faults remain";
@@ -87,11 +91,12 @@ int rank(Outcome o) {
     case Outcome::Interrupted: return 2;
     case Outcome::FaultsRemain: return 3;
     case Outcome::Failed: return 4;
-    case Outcome::Refused: return 5;
-    case Outcome::BadInput: return 6;
-    case Outcome::Done: return 7;
-    case Outcome::DryRun: return 8;
-    case Outcome::NothingToDo: return 9;
+    case Outcome::OutputLost: return 5;
+    case Outcome::Refused: return 6;
+    case Outcome::BadInput: return 7;
+    case Outcome::Done: return 8;
+    case Outcome::DryRun: return 9;
+    case Outcome::NothingToDo: return 10;
   }
   return 0;
 }

@@ -8,6 +8,7 @@
 //   4   the card's state is uncertain, or a failed change was rolled back: the report names
 //       every cell that may differ
 //   5   faults remain latched
+//   6   the output (stdout, a file, a backup, a log) was not written in full
 //   130 interrupted, after the card was left in a known state
 #pragma once
 
@@ -26,6 +27,7 @@ enum class Outcome {
   Uncertain,     // some cell may differ from both the old and the new value
   FaultsRemain,  // faults stay latched after clearing
   Interrupted,   // Ctrl-C; the card was left in a known state
+  OutputLost,    // stdout, a file, a backup or a log was not written in full; no partial file left
 };
 
 inline constexpr int kExitOk = 0;
@@ -34,13 +36,14 @@ inline constexpr int kExitBadInput = 2;
 inline constexpr int kExitRefused = 3;
 inline constexpr int kExitUncertain = 4;
 inline constexpr int kExitFaultsRemain = 5;
+inline constexpr int kExitOutputLost = 6;
 inline constexpr int kExitInterrupted = 130;
 
 int exit_code(Outcome outcome);
 int exit_code(ErrorKind kind);
 Outcome outcome_of(ErrorKind kind);
 // "done", "nothing-to-do", "dry-run", "failed", "bad-input", "refused", "rolled-back",
-// "uncertain", "faults-remain", "interrupted".
+// "uncertain", "faults-remain", "interrupted", "output-lost".
 const char* to_string(Outcome outcome);
 // The label printed before an error message on stderr: "error", "refused", "card state",
 // "interrupted", ...

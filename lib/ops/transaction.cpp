@@ -271,12 +271,13 @@ class Transaction {
     save.notes =
         "The card's values before applying " + profile_.source + ". Apply this file to restore them.";
     save.when = options_.when;
+    save.origin = options_.backup_origin;
     try {
       const auto before = profile::profile_from_values(snapshot_, names, db_, result_.card, save);
       const std::string label = options_.backup_label.empty() ? profile_.name : options_.backup_label;
       result_.backup = profile::write_backup(before, db_, *options_.backup_dir, label, options_.when);
     } catch (const std::exception& e) {
-      stop(Outcome::Failed, std::string("cannot write the backup, so nothing was written: ") + e.what());
+      stop(Outcome::OutputLost, std::string("cannot write the backup, so nothing was written: ") + e.what());
       return false;
     }
     return true;

@@ -1,16 +1,18 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "profile/backup.hpp"
 
-#include <cstdlib>
-
-#include <unistd.h>
-
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <string_view>
+#include <tuple>
 
+#include "files/atomic_file.hpp"
+#include "lbp/bytes.hpp"
 #include "profile/error.hpp"
 #include "profile/loader.hpp"
 #include "profile/timestamp.hpp"
@@ -18,11 +20,6 @@
 
 namespace i20::profile {
 namespace {
-
-struct FileCloser {
-  void operator()(std::FILE* f) const { std::fclose(f); }
-};
-using File = std::unique_ptr<std::FILE, FileCloser>;
 
 // Letters, digits, '-', '_' and '.' only, so a profile name cannot escape the directory.
 std::string slug(const std::string& label) {
@@ -33,30 +30,6 @@ std::string slug(const std::string& label) {
   }
   while (!out.empty() && out.front() == '.') out.erase(out.begin());
   return out.empty() ? "profile" : out.substr(0, 64);
-}
-
-// Opens a file that did not exist before ("x": O_EXCL), trying numbered names on a clash.
-std::pair<File, std::filesystem::path> create_unique(const std::filesystem::path& dir,
-                                                     const std::string& stem) {
-  for (int n = 1; n < 1000; ++n) {
-    std::string name = stem;  // appended apart: GCC 12's -O3 -Wrestrict misfires on `"-" + std::to_string(n)`
-    if (n > 1) {
-      name += '-';
-      name += std::to_string(n);
-    }
-    const auto path = dir / (name + ".yaml");
-    File f(std::fopen(path.c_str(), "wx"));
-    if (f) return {std::move(f), path};
-    if (errno != EEXIST)
-      throw BackupError("cannot create backup " + path.string() + ": " + std::strerror(errno));
-  }
-  throw BackupError("cannot find a free backup name in " + dir.string());
-}
-
-void write_all(std::FILE* f, const std::string& text, const std::filesystem::path& path) {
-  if (std::fwrite(text.data(), 1, text.size(), f) != text.size() || std::fflush(f) != 0 ||
-      ::fsync(fileno(f)) != 0)
-    throw BackupError("cannot write backup " + path.string() + ": " + std::strerror(errno));
 }
 
 void check_reloads(const Profile& backup, const params::ParamDb& db, const std::filesystem::path& path) {
@@ -77,16 +50,87 @@ void check_reloads(const Profile& backup, const params::ParamDb& db, const std::
 std::filesystem::path write_backup(const Profile& backup, const params::ParamDb& db,
                                    const std::filesystem::path& dir, const std::string& label,
                                    std::chrono::system_clock::time_point when) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw BackupError("cannot create backup directory " + dir.string() + ": " + ec.message());
   const std::string text = to_yaml(backup, db);
-  auto [file, path] = create_unique(dir, "i20-backup-" + compact_utc(when) + "-" + slug(label));
-  write_all(file.get(), text, path);
-  if (std::fclose(file.release()) != 0)
-    throw BackupError("cannot close backup " + path.string() + ": " + std::strerror(errno));
-  check_reloads(backup, db, path);
+  std::filesystem::path path;
+  try {
+    path = files::write_new_file(dir, "i20-backup-" + compact_utc(when) + "-" + slug(label), ".yaml", text);
+  } catch (const OutputError& e) {
+    throw BackupError(std::string("backup not written: ") + e.what());
+  }
+  try {
+    check_reloads(backup, db, path);
+  } catch (const BackupError&) {
+    std::error_code ignored;
+    std::filesystem::remove(path, ignored);  // a backup that does not restore is not left to be trusted
+    throw;
+  }
   return path;
+}
+
+namespace {
+
+constexpr std::string_view kPrefix = "i20-backup-";
+constexpr std::string_view kUnitTag = "-unit";
+
+std::string unit_tag(std::uint32_t unit) {
+  return std::string(kUnitTag) + lbp::hex_value(unit, 8).substr(2);
+}
+
+// "i20-backup-20261204-053407-<label>[-N].yaml": the time stamp (15 characters) and the
+// suffix N (1 when none), which order backups of the same unit.
+struct BackupName {
+  std::string stamp;
+  int suffix = 1;
+};
+
+std::optional<BackupName> parse_name(const std::string& name) {
+  if (!name.starts_with(kPrefix) || !name.ends_with(".yaml")) return std::nullopt;
+  BackupName parsed;
+  parsed.stamp = name.substr(kPrefix.size(), 15);
+  std::string stem = name.substr(0, name.size() - 5);
+  const auto dash = stem.find_last_of('-');
+  if (dash != std::string::npos && dash + 1 < stem.size() &&
+      stem.find_first_not_of("0123456789", dash + 1) == std::string::npos && stem.size() - dash <= 4)
+    parsed.suffix = std::stoi(stem.substr(dash + 1));
+  return parsed;
+}
+
+}  // namespace
+
+std::string backup_label(const std::string& profile_name, std::optional<std::uint32_t> unit) {
+  return unit ? profile_name + unit_tag(*unit) : profile_name;
+}
+
+std::optional<std::uint32_t> unit_in_backup_name(const std::filesystem::path& file) {
+  const std::string name = file.filename().string();
+  if (!parse_name(name)) return std::nullopt;
+  const auto at = name.rfind(kUnitTag);
+  if (at == std::string::npos) return std::nullopt;
+  const std::string digits = name.substr(at + kUnitTag.size(), 8);
+  if (digits.size() != 8 || digits.find_first_not_of("0123456789ABCDEFabcdef") != std::string::npos)
+    return std::nullopt;
+  return static_cast<std::uint32_t>(std::stoul(digits, nullptr, 16));
+}
+
+std::vector<std::filesystem::path> backups_of_unit(const std::filesystem::path& dir, std::uint32_t unit,
+                                                   std::string& problem) {
+  struct Found {
+    std::filesystem::path path;
+    BackupName name;
+  };
+  std::vector<Found> found;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const auto name = parse_name(entry.path().filename().string());
+    if (name && unit_in_backup_name(entry.path()) == unit) found.push_back({entry.path(), *name});
+  }
+  if (ec) problem = ec.message();
+  std::ranges::sort(found, [](const Found& a, const Found& b) {
+    return std::tie(a.name.stamp, a.name.suffix) > std::tie(b.name.stamp, b.name.suffix);
+  });
+  std::vector<std::filesystem::path> paths;
+  for (auto& f : found) paths.push_back(std::move(f.path));
+  return paths;
 }
 
 std::filesystem::path default_backup_dir() {

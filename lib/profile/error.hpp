@@ -29,7 +29,7 @@ class ProfileError : public Error {
 // The backup file could not be written or read back; nothing was written to the card.
 class BackupError : public Error {
  public:
-  using Error::Error;
+  explicit BackupError(const std::string& message) : Error(message, ErrorKind::OutputLost) {}
 };
 
 // A tuning request that makes no physical sense (zero inductance, no bus voltage, ...).

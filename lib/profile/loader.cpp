@@ -20,8 +20,8 @@ namespace {
 
 using params::trim;
 
-const std::set<std::string> kTopKeys{"schema", "name", "description", "motor", "supply", "notes", "target",
-                                     "parameters",
+const std::set<std::string> kTopKeys{"schema", "name", "description", "motor", "supply", "notes", "origin",
+                                     "target", "parameters",
                                      // `i20 report` files: the profile loader reads their parameters only
                                      "report"};
 const std::set<std::string> kMotorKeys{"make",
@@ -61,9 +61,13 @@ class Reader {
     throw ProfileError(where(at), key, rule, reason);
   }
 
-  std::string text(const YAML::Node& node, const std::string& key) const {
+  // A scalar's text. Control characters (an ESC that would clear a terminal, a CR) are
+  // refused wherever the text may be printed; `lines` lets notes keep line breaks and tabs.
+  std::string text(const YAML::Node& node, const std::string& key, bool lines = false) const {
     if (node.IsNull()) fail(node, key, "schema", "has no value");
     if (!node.IsScalar()) fail(node, key, "schema", "must be a single value, not a list or map");
+    if (const auto c = params::control_character(node.Scalar(), lines))
+      fail(node, key, "schema", "holds the control character " + params::escaped(*c) + "; remove it");
     return node.Scalar();
   }
 
@@ -162,6 +166,28 @@ void read_supply(const Reader& r, const YAML::Node& node, SupplyInfo& supply) {
     supply.bus_voltage_v = r.quantity(node["bus_voltage"], "bus_voltage", Quantity::Voltage);
 }
 
+const std::set<std::string> kOriginKeys{"unit", "firmware", "card"};
+
+// `origin: {unit: 0x00012345, firmware: 18, card: 8I20}`, as a save or a backup writes it.
+void read_origin(const Reader& r, const YAML::Node& node, CardOrigin& origin) {
+  if (!node.IsMap()) r.fail(node, "origin", "schema", "must be a map (unit, firmware, card)");
+  r.only_keys(node, kOriginKeys, "origin");
+  const auto number = [&](const char* key, std::int64_t max) -> std::optional<std::int64_t> {
+    if (!node[key]) return std::nullopt;
+    const std::string text = r.text(node[key], key);
+    const auto n = params::scan_integer(text, /*hex_suffix=*/false);
+    if (n.status != params::IntegerText::Status::Ok || n.value < 0 || n.value > max)
+      r.fail(
+          node[key], key, "origin",
+          "must be a whole number from 0 to " + std::to_string(max) + " (decimal or 0x), not '" + text + "'");
+    return n.value;
+  };
+  if (const auto unit = number("unit", 0xFFFFFFFF)) origin.unit_number = static_cast<std::uint32_t>(*unit);
+  if (const auto firmware = number("firmware", 0xFFFF))
+    origin.firmware = static_cast<std::uint16_t>(*firmware);
+  if (node["card"]) origin.card = trim(r.text(node["card"], "card"));
+}
+
 Memory read_target(const Reader& r, const YAML::Node& node, const std::string& key) {
   const std::string text = r.text(node, key);
   const auto target = parse_memory(text);
@@ -249,10 +275,11 @@ Profile load_profile_string(std::string_view yaml, const std::string& source, co
   profile.source = source;
   profile.name = trim(r.text(root["name"], "name"));
   if (profile.name.empty()) r.fail(root["name"], "name", "schema", "must not be empty");
-  if (root["description"]) profile.description = trim(r.text(root["description"], "description"));
-  if (root["notes"]) profile.notes = trim(r.text(root["notes"], "notes"));
+  if (root["description"]) profile.description = trim(r.text(root["description"], "description", true));
+  if (root["notes"]) profile.notes = trim(r.text(root["notes"], "notes", true));
   if (root["motor"]) read_motor(r, root["motor"], profile.motor);
   if (root["supply"]) read_supply(r, root["supply"], profile.supply);
+  if (root["origin"]) read_origin(r, root["origin"], profile.origin);
   if (root["target"]) profile.target = read_target(r, root["target"], "target");
   read_parameters(r, root["parameters"], db, profile);
   (void)cell_writes(profile, db);  // targets resolvable, no cell written twice

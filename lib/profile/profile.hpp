@@ -43,6 +43,16 @@ struct SupplyInfo {
   bool empty() const { return description.empty() && !bus_voltage_v; }
 };
 
+// The 8I20 a saved profile or backup was read from (`origin:`): `profile undo` restores a
+// backup only onto that card unless forced. Profiles written by hand have none.
+struct CardOrigin {
+  std::optional<std::uint32_t> unit_number;  // UNITNUMBER
+  std::optional<std::uint16_t> firmware;     // SWREVISION
+  std::string card;                          // the card's name, "8I20"
+
+  bool empty() const { return !unit_number && !firmware && card.empty(); }
+};
+
 // One `parameters:` entry.
 struct Setting {
   std::string name;  // the database's spelling of the key, e.g. "NVMAXCURRENT"
@@ -58,6 +68,7 @@ struct Profile {
   MotorInfo motor;
   SupplyInfo supply;
   std::string notes;
+  CardOrigin origin;
   std::optional<Memory> target;  // profile-wide target; entries may override it
   std::vector<Setting> settings;
   std::vector<std::string> comments;  // written as '#' lines on top (provenance); not read back

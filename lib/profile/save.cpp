@@ -8,7 +8,8 @@
 
 namespace i20::profile {
 
-std::vector<std::string> canonical_save_names(const std::vector<std::string>& names, const params::ParamDb& db) {
+std::vector<std::string> canonical_save_names(const std::vector<std::string>& names,
+                                              const params::ParamDb& db) {
   std::vector<std::string> out;
   std::set<std::string> seen;
   for (const auto& name : names) {
@@ -53,6 +54,7 @@ Profile profile_from_values(const RawValues& values, const std::vector<std::stri
   profile.source = "saved from " + card;
   profile.name = options.name;
   profile.notes = options.notes;
+  profile.origin = options.origin;
   profile.comments = {"Read from " + card, "on " + iso8601_utc(options.when) + ".",
                       "Values are in engineering units; applying this file writes them back."};
   for (const auto& name : canonical_save_names(names, db)) {
@@ -62,6 +64,5 @@ Profile profile_from_values(const RawValues& values, const std::vector<std::stri
   }
   return profile;
 }
-
 
 }  // namespace i20::profile

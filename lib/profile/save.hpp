@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "params/param_db.hpp"
-#include "profile/raw_values.hpp"
 #include "profile/profile.hpp"
+#include "profile/raw_values.hpp"
 
 namespace i20::profile {
 
@@ -16,6 +16,7 @@ struct SaveOptions {
   std::string name = "saved";  // the profile's name
   std::string notes;
   std::chrono::system_clock::time_point when = std::chrono::system_clock::now();
+  CardOrigin origin;  // the card read: written as `origin:` so an undo can check it is this card
 };
 
 // What `save` reads when no names are given: the writable EEPROM parameters whose
@@ -34,7 +35,8 @@ std::vector<std::string> save_candidates(const params::ParamDb& db);
 std::vector<std::string> names_to_save(const params::ParamDb& db, const RawValues& values);
 
 // Database spelling, read-only names refused (ProfileError), duplicates dropped, order kept.
-std::vector<std::string> canonical_save_names(const std::vector<std::string>& names, const params::ParamDb& db);
+std::vector<std::string> canonical_save_names(const std::vector<std::string>& names,
+                                              const params::ParamDb& db);
 
 // A profile holding `values` for `names` (each in its own space: NV names -> nv), with
 // provenance comments naming `card` and the time. Throws ProfileError for a read-only or

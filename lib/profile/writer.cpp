@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "lbp/bytes.hpp"
 #include "params/value.hpp"
 #include "profile/quantity.hpp"
 
@@ -90,6 +91,13 @@ void write_supply(std::ostringstream& out, const SupplyInfo& s) {
     out << "  bus_voltage: " << format_quantity(Quantity::Voltage, *s.bus_voltage_v) << "\n";
 }
 
+void write_origin(std::ostringstream& out, const CardOrigin& o) {
+  out << "origin:  # the 8I20 these values were read from\n";
+  if (o.unit_number) out << "  unit: " << lbp::hex_value(*o.unit_number, 8) << "\n";
+  if (o.firmware) out << "  firmware: " << *o.firmware << "  # SWREVISION\n";
+  if (!o.card.empty()) out << "  card: " << quoted(o.card) << "\n";
+}
+
 // "  # 2.5 MBaud; guarded: ..." after an entry whose value has a meaning in the database's
 // table, or whose parameter is guarded: a reader of the file sees both without the manual. The
 // file names no program's option: whichever program applies it has its own way to force it.
@@ -130,6 +138,7 @@ std::string to_yaml(const Profile& profile, const params::ParamDb& db) {
   if (!profile.motor.empty()) write_motor(out, profile.motor);
   if (!profile.supply.empty()) write_supply(out, profile.supply);
   if (!profile.notes.empty()) write_text(out, "notes", profile.notes, "");
+  if (!profile.origin.empty()) write_origin(out, profile.origin);
   if (profile.target) out << "target: " << to_string(*profile.target) << "\n";
   out << "parameters:\n";
   for (const auto& s : profile.settings) write_setting(out, s, db);
