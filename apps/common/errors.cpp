@@ -2,6 +2,10 @@
 #include "errors.hpp"
 
 #include <iostream>
+#include <string_view>
+
+#include "json.hpp"
+#include "params/text.hpp"
 
 namespace i20::app {
 
@@ -39,13 +43,33 @@ std::string with_advice(const std::string& message, ops::Advice advice) {
 }
 
 void print_line(const char* program, const ops::ReportLine& line, const std::string& suffix) {
-  std::cerr << program << ": " << line.label << ": " << line.message << suffix << "\n";
+  // Messages echo what the user typed or a file held: never a raw control character.
+  std::cerr << program << ": " << line.label << ": " << params::printable(line.message + suffix) << "\n";
 }
 
 int print_failure(const char* program, const ops::FailureReport& report, const std::string& hint) {
   for (std::size_t i = 0; i < report.lines.size(); ++i)
     print_line(program, report.lines[i], i == 0 ? advice_text(report.advice) + hint : "");
   return ops::exit_code(report.outcome);
+}
+
+void print_failure_json(const ops::FailureReport& report) {
+  auto lines = Json::array();
+  for (const auto& l : report.lines)
+    lines.push(Json::object().set("label", l.label).set("message", params::printable(l.message)));
+  auto j = Json::object();
+  j.set("type", "error")
+      .set("outcome", ops::to_string(report.outcome))
+      .set("exit_code", ops::exit_code(report.outcome))
+      .set("error", report.lines.empty() ? Json() : Json(params::printable(report.lines.front().message)))
+      .set("lines", std::move(lines));
+  std::cout << j.dump(0) << "\n" << std::flush;
+}
+
+bool json_requested(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (std::string_view(argv[i]) == "--json") return true;
+  return false;
 }
 
 int report_current_exception(const char* program) {

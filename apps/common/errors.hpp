@@ -37,6 +37,12 @@ void print_line(const char* program, const ops::ReportLine& line, const std::str
 // Prints the report's lines and returns its exit code. The first line gets advice_text and
 // then `hint` (what only this app offers, e.g. i20's --passive).
 int print_failure(const char* program, const ops::FailureReport& report, const std::string& hint = {});
+// The same failure as one JSON object on stdout ({"type": "error", "outcome", "exit_code",
+// "error", "lines"}), for --json callers (the Ansible modules): an error before or during a
+// command is JSON too, not only text on stderr.
+void print_failure_json(const ops::FailureReport& report);
+// True when the command line asks for --json (for errors raised before it is parsed).
+bool json_requested(int argc, char** argv);
 
 // From a catch block when no session is open: prints the one line and returns the exit code.
 int report_current_exception(const char* program);

@@ -5,12 +5,14 @@
 #include <iostream>
 
 #include "ops/outcome.hpp"
+#include "params/text.hpp"
 
 namespace i20::app {
 
 int report_parse_error(const CLI::App& app, const CLI::ParseError& e, const char* program) {
   if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-  std::cerr << program << ": error: " << e.what() << " (`" << program << " --help` explains the options)\n";
+  std::cerr << program << ": error: " << params::printable(e.what()) << " (`" << program
+            << " --help` explains the options)\n";
   return ops::kExitBadInput;
 }
 

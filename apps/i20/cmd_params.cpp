@@ -9,6 +9,7 @@
 
 #include "change_render.hpp"
 #include "context.hpp"
+#include "csv_log.hpp"
 #include "lbp/bytes.hpp"
 #include "lbp/local.hpp"
 #include "ops/apply_run.hpp"
@@ -194,14 +195,6 @@ void print_dump_yaml(const std::vector<ops::Reading>& values) {
   }
 }
 
-// RFC 4180: fields with commas or quotes are quoted, quotes doubled.
-std::string csv_field(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
-
 void print_dump_csv(const std::vector<ops::Reading>& values) {
   std::cout << "name,raw,value,unit,space,address,address_confirmed,note\n";
   for (const auto& v : values) {
@@ -355,7 +348,8 @@ void register_param_commands(CLI::App& app, Context& ctx) {
                          "effect after a reset");
   set->footer(
       "Exit 0 written and verified (or nothing to do), 1 card not reached, 2 bad input, 3 refused by a "
-      "rule (nothing written), 4 rolled back or state uncertain (cells named), 130 Ctrl-C.");
+      "rule (nothing written), 4 rolled back or state uncertain (cells named), 6 output not written, 130 "
+      "Ctrl-C.");
   set->add_option("ASSIGNMENT", set_options->assignments, "NAME=VALUE pairs")->required();
   set->add_flag("--allow-unverified", set_options->write.allow_unverified,
                 "Write working (RAM) addresses the database does not confirm for this firmware");

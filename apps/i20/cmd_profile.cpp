@@ -13,6 +13,7 @@
 #include "cmd_profile_export.hpp"
 #include "cmd_tune.hpp"
 #include "context.hpp"
+#include "files/atomic_file.hpp"
 #include "fleet_progress.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/apply_run.hpp"
@@ -21,6 +22,7 @@
 #include "ops/profile_diff.hpp"
 #include "ops/read.hpp"
 #include "ops/signals.hpp"
+#include "ops/undo.hpp"
 #include "output_file.hpp"
 #include "profile/backup.hpp"
 #include "profile/diff.hpp"
@@ -507,35 +509,10 @@ struct UndoOptions {
   bool last = false;
 };
 
-// The unit part apply gives its backups' names ("...-unit00012345.yaml", lib/ops/apply_run).
-std::string unit_tag(std::uint32_t unit) {
-  return "-unit" + lbp::hex_value(unit, 8).substr(2);
-}
-
-// The newest backup apply wrote of this unit in `dir` (names sort by their UTC time stamp;
-// "-2", "-3" for the same second sort after the first).
-std::filesystem::path newest_backup(const std::filesystem::path& dir, std::uint32_t unit) {
-  std::vector<std::filesystem::path> found;
-  std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
-    const std::string name = entry.path().filename().string();
-    if (name.rfind("i20-backup-", 0) == 0 && name.ends_with(".yaml") &&
-        name.find(unit_tag(unit)) != std::string::npos)
-      found.push_back(entry.path());
-  }
-  if (found.empty())
-    throw UsageError("no backup of unit " + lbp::hex_value(unit, 8) + " in " + dir.string() +
-                     (ec ? " (" + ec.message() + ")" : std::string()) +
-                     ": name the backup file, or give --backup-dir");
-  return *std::ranges::max_element(found, [&](const auto& a, const auto& b) {
-    return std::pair(a.filename().string().substr(0, 26), std::filesystem::last_write_time(a, ec)) <
-           std::pair(b.filename().string().substr(0, 26), std::filesystem::last_write_time(b, ec));
-  });
-}
-
 // The backup back onto the card through apply's own transaction: validated against the
 // card (the measured bus included), the card's current values backed up first, the plan
-// (the card against the backup) shown before any write, verified, restored on failure.
+// (the card against the backup) shown before any write, verified, restored on failure. The
+// backup must be this card's (lib/ops/undo): its origin is checked before the plan.
 void run_undo(Context& ctx, const UndoOptions& o) {
   if (o.last == !o.apply.file.empty())
     throw UsageError(o.last ? "give either a BACKUP file or --last, not both"
@@ -547,21 +524,28 @@ void run_undo(Context& ctx, const UndoOptions& o) {
   if (!reset_confirmed(ctx, o.apply, targets)) return;
   const auto dir =
       o.apply.backup_dir.empty() ? profile::default_backup_dir() : std::filesystem::path(o.apply.backup_dir);
-  std::unique_ptr<ops::Card> card;
-  std::string file = o.apply.file;
-  if (o.last) {  // the card names its unit; nothing but its identity is read before the backup is found
-    card = ctx.session().open(target, db);
-    file = newest_backup(dir, card->identity().info.unit_number.value_or(0)).string();
+  if (!o.last && !load(ctx, db, o.apply.file)) return;  // a bad file is bad input before the link opens
+  // The card names its unit; nothing but its identity is read before the backup is judged.
+  auto card = ctx.session().open(target, db);
+  ops::BackupChoice choice;
+  try {
+    choice = o.last ? ops::newest_valid_backup(dir, *card) : ops::backup_file(o.apply.file, db);
+  } catch (const profile::ProfileError& e) {
+    return report_invalid(ctx, o.apply.file, e);
   }
-  auto backup = load(ctx, db, file);
-  if (!backup) return;
-  backup->name = "undo";  // names the backup this change takes in turn: "...-undo-unit00012345.yaml"
-  auto job = apply_job(ctx, *backup, db, o.apply.force, o.apply.allow_unverified);
-  ops::precheck(*backup, db, job.write);
+  const auto forced = ops::check_backup_origin(choice, *card, o.apply.force);
+  const std::string file = choice.file.string();
+  auto backup = choice.backup;
+  backup.name = "undo";  // names the backup this change takes in turn: "...-undo-unit00012345.yaml"
+  auto job = apply_job(ctx, backup, db, o.apply.force, o.apply.allow_unverified);
+  ops::precheck(backup, db, job.write);
   set_change_options(job, o.apply);
-  if (!ctx.options.json) std::cout << "Undo: restoring the values saved in " << file << "\n";
-  apply_single(ctx, *backup, file, job, target.text, [&](const ops::ApplyJob& j, const ops::Activity& a) {
-    if (!card) return ops::run_apply(target, j, a);
+  if (!ctx.options.json) {
+    for (const auto& s : choice.skipped) std::cerr << "i20: note: passed over " << s << "\n";
+    for (const auto& f : forced) std::cerr << "i20: warning: restoring anyway (--force): " << f << "\n";
+    std::cout << "Undo: restoring the values saved in " << file << "\n";
+  }
+  apply_single(ctx, backup, file, job, target.text, [&](const ops::ApplyJob& j, const ops::Activity& a) {
     if (a) a("connecting");
     return ops::run_apply_on(*card, j, a);
   });
@@ -576,13 +560,11 @@ struct SaveCliOptions {
   bool overwrite = false;
 };
 
+// Whole or not at all (lib/files): a full disk leaves no 0-byte file that looks like a setup.
 void write_new_file(const std::string& file, const std::string& text, bool overwrite) {
   if (!overwrite && std::filesystem::exists(file))
     throw UsageError(file + " exists; pass --overwrite to replace it (or choose another name)");
-  std::ofstream out(file, std::ios::trunc);
-  out << text;
-  out.close();
-  if (!out) throw Error("cannot write " + file);
+  files::write_file(file, text, overwrite ? files::Existing::Replace : files::Existing::Refuse);
 }
 
 // The YAML of a saved card, proved to load back to exactly the values read before anyone
@@ -705,7 +687,7 @@ void register_apply(CLI::App& profile, Context& ctx) {
       "nothing "
       "to do, 1 card not reached, 2 profile cannot be read, 3 refused by a rule (nothing written), 4 rolled "
       "back "
-      "or state uncertain (cells named), 130 interrupted");
+      "or state uncertain (cells named), 6 output (a backup, stdout) not written, 130 interrupted");
   cmd->add_option("FILE", o->file, "Profile file (YAML), or the name of a shipped profile")
       ->required()
       ->transform(profile_file());

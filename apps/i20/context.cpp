@@ -34,6 +34,7 @@ void Context::settle() {
 
 int Context::report_failure() {
   const auto report = session_ ? session_->fail() : ops::failure_report_of_current_exception();
+  if (options.json) app::print_failure_json(report);
   return app::print_failure("i20", report,
                             report.advice == ops::Advice::RunningHost ? passive_hint(*this) : "");
 }

@@ -72,6 +72,9 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
     ctx.settle();
   } catch (const CLI::ParseError& e) {
+    // --json callers get JSON for errors before the command starts too.
+    if (e.get_exit_code() != 0 && app::json_requested(argc, argv))
+      app::print_failure_json({.outcome = ops::Outcome::BadInput, .lines = {{"error", e.what()}}});
     if (const auto hint = unknown_command(app, e); !hint.empty()) {
       std::cerr << "i20: error: " << hint << "\n";
       return ops::exit_code(ops::Outcome::BadInput);
@@ -80,10 +83,8 @@ int main(int argc, char** argv) {
   } catch (...) {
     ctx.print_notes();
     const int code = ctx.report_failure();
-    app::output_failed("i20");  // said after the card is settled
-    return code;
+    return app::finish_output("i20", code);  // said after the card is settled
   }
   ctx.print_notes();
-  app::output_failed("i20");  // a closed stdout does not change what the card holds
-  return ctx.exit_code();
+  return app::finish_output("i20", ctx.exit_code());  // a report that did not land is not a success
 }

@@ -12,6 +12,8 @@
 #include "ops/pending.hpp"
 #include "ops/read.hpp"
 #include "ops/reset.hpp"
+#include "ops/undo.hpp"
+#include "profile/backup.hpp"
 
 namespace i20::ops {
 namespace {
@@ -149,8 +151,8 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
   auto options = job.transaction;
   options.force = options.force || job.write.force;  // one --force: guards and the measured-bus rules
   if (options.backup_label.empty())
-    options.backup_label = job.profile->name + "-unit" +
-                           lbp::hex_value(card.identity().info.unit_number.value_or(0), 8).substr(2);
+    options.backup_label = profile::backup_label(job.profile->name, card.identity().info.unit_number);
+  options.backup_origin = origin_of(card);
   {
     DeviceCardAccess access(card, job.write, activity);
     run.result = run_transaction(*job.profile, card.db(), access, options);

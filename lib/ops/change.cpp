@@ -3,6 +3,7 @@
 
 #include "device/errors.hpp"
 #include "ops/read.hpp"
+#include "ops/undo.hpp"
 #include "params/value.hpp"
 #include "profile/validate.hpp"
 
@@ -78,7 +79,9 @@ profile::Profile save_profile(Card& card, const std::vector<std::string>& names,
   // Named ones are saved as asked; by default every NV value a restore needs (guarded ones
   // that differ from the default included).
   const auto saved = names.empty() ? profile::names_to_save(card.db(), values) : wanted;
-  return profile::profile_from_values(values, saved, card.db(), card.describe(), options);
+  auto with_origin = options;
+  with_origin.origin = origin_of(card);
+  return profile::profile_from_values(values, saved, card.db(), card.describe(), with_origin);
 }
 
 }  // namespace i20::ops

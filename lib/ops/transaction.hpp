@@ -45,7 +45,8 @@ struct TransactionOptions {
   bool reset = false;
   // Where the backup of the old values goes (created if missing); none when empty.
   std::optional<std::filesystem::path> backup_dir;
-  std::string backup_label;  // file name part: the profile name, the unit number
+  std::string backup_label;           // file name part: the profile name, the unit number
+  profile::CardOrigin backup_origin;  // the card: recorded in the backup, checked by an undo
   std::chrono::system_clock::time_point when = std::chrono::system_clock::now();
   Cancel cancel;  // polled before the first write and between writes
   // Told the plan once it is made and checked, before anything is written (a single-target
@@ -98,8 +99,8 @@ struct TransactionResult {
   // current values before the first write (where their addresses are facts): what tells a
   // reset that left no STATUS bit (a power cycle) from none, should the card go silent.
   RawValues working_before;
-  bool interrupted = false;                // Ctrl-C stopped it (the outcome says how it ended)
-  bool reset_needed = false;               // EEPROM values changed and take effect at the next reset
+  bool interrupted = false;   // Ctrl-C stopped it (the outcome says how it ended)
+  bool reset_needed = false;  // EEPROM values changed and take effect at the next reset
   bool reset_done = false;
   std::string reset_error;  // the reset (or the check after it) failed; values stay verified
 };

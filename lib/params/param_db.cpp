@@ -53,6 +53,8 @@ class Reader {
     const auto parsed = scan_integer(s, /*hex_suffix=*/false);
     if (parsed.status == IntegerText::Status::OutOfRange)
       fail(node, "'" + key + "' is out of range for a 64-bit integer: '" + s + "'");
+    if (parsed.status == IntegerText::Status::LeadingZero)
+      fail(node, "'" + key + "': " + leading_zero_reason(s));
     if (parsed.status != IntegerText::Status::Ok)
       fail(node, "'" + key + "' must be an integer, not '" + s + "'");
     return parsed.value;

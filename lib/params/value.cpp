@@ -141,8 +141,28 @@ bool decimal_comma_follows(std::string_view rest) {
 
 }  // namespace
 
+std::string leading_zero_reason(std::string_view t) {
+  if (!t.empty() && (t[0] == '-' || t[0] == '+')) t.remove_prefix(1);
+  if (t.size() < 2 || t[0] != '0' || !std::isdigit(static_cast<unsigned char>(t[1]))) return {};
+  std::size_t digits = 0;
+  while (digits < t.size() && std::isdigit(static_cast<unsigned char>(t[digits]))) ++digits;
+  const std::string_view number = t.substr(0, digits);
+  const std::string plain(number.substr(std::min(number.find_first_not_of('0'), number.size() - 1)));
+  std::string reason = "a leading zero is ambiguous: '" + std::string(number) + "' reads as " + plain;
+  if (number.find_first_of("89") == std::string_view::npos && digits <= 21)
+    reason += " here but as octal " + std::to_string(std::stoull(std::string(number), nullptr, 8)) +
+              " in YAML 1.1 tools and C";
+  else
+    reason += " here, and some tools take a leading zero for octal";
+  return reason + "; write " + plain + " (or 0x... for hexadecimal)";
+}
+
 IntegerText scan_integer(std::string_view s, bool hex_suffix) {
   IntegerText result;
+  if (!leading_zero_reason(s).empty()) {
+    result.status = IntegerText::Status::LeadingZero;
+    return result;
+  }
   bool negative = false;
   if (!s.empty() && (s[0] == '-' || s[0] == '+')) {
     negative = s[0] == '-';
@@ -244,6 +264,8 @@ std::int64_t parse_raw(const Param& param, std::string_view text) {
   const auto integer = scan_integer(t);
   if (integer.status == IntegerText::Status::Ok) return integer.value;
   if (integer.status == IntegerText::Status::OutOfRange) out_of_range(param, t);
+  if (integer.status == IntegerText::Status::LeadingZero)
+    throw ValueError(param.name + ": '" + t + "': " + leading_zero_reason(t));
   throw ValueError(param.name + ": '" + t + "' is not an integer (raw values are decimal or 0x hexadecimal)");
 }
 
@@ -353,6 +375,8 @@ std::int64_t parse_raw_form(const Param& p, const std::string& typed) {
   const auto integer = scan_integer(counts);
   if (integer.status == IntegerText::Status::Ok) return integer.value;
   if (integer.status == IntegerText::Status::OutOfRange) out_of_range(p, typed);
+  if (integer.status == IntegerText::Status::LeadingZero)
+    throw ValueError(p.name, typed, leading_zero_reason(counts));
   throw ValueError(
       p.name, typed,
       "raw counts are a whole number, decimal or 0x hexadecimal (e.g. raw:" + std::to_string(p.max) + ")");
@@ -367,6 +391,7 @@ std::int64_t parse_value(const Param& param, std::string_view text) {
   if (t.size() >= kRawPrefix.size() && iequals(std::string_view(t).substr(0, kRawPrefix.size()), kRawPrefix))
     throw refuse("'" + t.substr(0, kRawPrefix.size()) + "' is not known; did you mean '" +
                  std::string(kRawPrefix) + "'?");
+  if (const auto ambiguous = leading_zero_reason(t); !ambiguous.empty()) throw refuse(ambiguous);
   const auto integer = scan_integer(t);
   if (integer.status != IntegerText::Status::NotInteger) {
     if (!param.unit.empty()) throw MissingUnit(param.name, t, missing_unit_reason(param, t, true));

@@ -9,8 +9,8 @@
 #include <string_view>
 #include <vector>
 
-#include "lbp/bytes.hpp"
 #include "error/error.hpp"
+#include "lbp/bytes.hpp"
 #include "params/param.hpp"
 
 namespace i20::params {
@@ -89,11 +89,16 @@ std::int64_t parse_value(const Param& param, std::string_view text);
 // with a trailing 'h' ("7D00h"). Nothing else: no second sign, no sign after the prefix
 // ("0x-10"), no spaces.
 struct IntegerText {
-  enum class Status { Ok, NotInteger, OutOfRange };  // OutOfRange: integer syntax, not in int64
+  // OutOfRange: integer syntax, not in int64. LeadingZero: "017", which YAML 1.1 and C read
+  // as octal (15) and a decimal parser as 17: ambiguous, so refused (leading_zero_reason).
+  enum class Status { Ok, NotInteger, OutOfRange, LeadingZero };
   Status status = Status::NotInteger;
   std::int64_t value = 0;
 };
 IntegerText scan_integer(std::string_view text, bool hex_suffix = true);
+// Why a number written with a leading zero ("017", "-007.5A") is refused, naming both
+// readings; "" when `text` does not start with one ("0", "0.5", "0x1F" are fine).
+std::string leading_zero_reason(std::string_view text);
 
 // A plain decimal number at the start of `text`: one optional sign, digits with at most
 // one '.', an optional exponent ("e-3"). Exactly: value = (-1)^negative * digits * 10^exponent,

@@ -7,8 +7,10 @@
 #include <yaml-cpp/exceptions.h>
 #include <yaml-cpp/yaml.h>
 
+#include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace i20::params {
 
@@ -23,14 +25,27 @@ inline std::string yaml_problem(const YAML::Exception& e) {
 
 // Parses `yaml` read from `source`. A syntax error goes to `fail("SOURCE:LINE", problem)`,
 // which throws the loader's own error type.
+// A file holds one document: a second one after `---` (even a broken one) is refused, not
+// silently dropped, so nothing a user wrote goes unread.
 template <class Fail>
 YAML::Node load_yaml(std::string_view yaml, const std::string& source, Fail&& fail) {
+  std::vector<YAML::Node> documents;
   try {
-    return YAML::Load(std::string(yaml));
+    documents = YAML::LoadAll(std::string(yaml));
   } catch (const YAML::Exception& e) {
     fail(source + ":" + std::to_string(e.mark.line + 1), yaml_problem(e));
     throw;  // only if `fail` did not throw
   }
+  // An empty document (a stray `---` at the end) drops nothing; any other is refused.
+  for (std::size_t i = 1; i < documents.size(); ++i) {
+    if (documents[i].IsNull()) continue;
+    const int line = documents[i].Mark().line;
+    fail(
+        source + ":" + std::to_string(line >= 0 ? line + 1 : 1),
+        "a second YAML document (after ---): a file holds one; split it into files, or remove the extra one");
+    throw std::logic_error("load_yaml: fail() returned");
+  }
+  return documents.empty() ? YAML::Node() : documents.front();
 }
 
 }  // namespace i20::params

@@ -229,6 +229,8 @@ def finding_text(f):
 def one_line(data, stderr, rc):
     # i20's own one-line reason (what it prints on stderr without --json): a refusal names
     # the rules that refused, an invalid profile what is wrong with it.
+    if data.get("type") == "error" and data.get("error"):
+        return data["error"]  # a failure i20 reported as JSON (before or outside the apply)
     errors = [finding_text(f) for f in data.get("findings") or [] if f.get("severity") == "error"]
     if data.get("outcome") == "invalid" and errors:
         return "%s: %s" % (data.get("file"), "; ".join(errors))
