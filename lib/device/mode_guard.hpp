@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "device/suspend_hold.hpp"
 #include "lbp/command.hpp"
 #include "link/link.hpp"
 
@@ -33,6 +34,7 @@ class ModeGuard {
   void leave();
 
  private:
+  SuspendHold no_suspend_;  // Ctrl-Z waits until the mode is left (suspend_hold.hpp)
   link::Link& link_;
   lbp::Command leave_;
   lbp::Command confirm_;

@@ -6,6 +6,7 @@
 #include <boost/asio/ip/udp.hpp>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <queue>
 #include <vector>
 
@@ -58,6 +59,8 @@ struct FaultyNetwork::Impl {
   std::map<udp::endpoint, std::unique_ptr<udp::socket>> backs;
   std::priority_queue<Pending, std::vector<Pending>, std::greater<>> queue;
   std::uint64_t order = 0;
+  // Per direction, the datagram held back until the next one of its direction overtakes it.
+  std::optional<Pending> overtaken[2];
   mutable std::mutex mutex;  // guards stats and the queue's size for idle()
   NetworkStats counted;
   std::size_t held = 0;
@@ -108,6 +111,12 @@ struct FaultyNetwork::Impl {
       held = queue.size();
       return;
     }
+    if (spoil && !overtaken[dir] && unit(faults.seed, dir, index, 7) < faults.reorder_share) {
+      ++counted.reordered;
+      overtaken[dir] = Pending{Clock::now() + faults.max_delay, order++, &from, to, bytes};
+      held = queue.size() + 1;
+      return;
+    }
     Clock::duration delay{0};
     if (spoil && unit(faults.seed, dir, index, 1) < faults.delay_share) {
       ++counted.delayed;
@@ -118,18 +127,29 @@ struct FaultyNetwork::Impl {
       ++counted.duplicated;
       schedule(from, to, bytes, delay + delay_between(dir, index, 4, std::chrono::milliseconds{0}));
     }
-    held = queue.size();
+    if (overtaken[dir]) {  // this one went first: the held one follows it
+      overtaken[dir]->due = Clock::now() + delay;
+      overtaken[dir]->order = order++;
+      queue.push(std::move(*overtaken[dir]));
+      overtaken[dir].reset();
+    }
+    held = queue.size() + (overtaken[0] ? 1 : 0) + (overtaken[1] ? 1 : 0);
   }
 
   void release_due() {
     std::lock_guard lock(mutex);
+    for (auto& o : overtaken)
+      if (o && o->due <= Clock::now()) {  // nothing overtook it in time
+        queue.push(std::move(*o));
+        o.reset();
+      }
     while (!queue.empty() && queue.top().due <= Clock::now()) {
       const Pending& p = queue.top();
       boost::system::error_code ec;
       p.from->send_to(asio::buffer(p.bytes), p.to, 0, ec);  // a closed client port is the client's loss
       queue.pop();
     }
-    held = queue.size();
+    held = queue.size() + (overtaken[0] ? 1 : 0) + (overtaken[1] ? 1 : 0);
   }
 
   bool idle_queue() const {

@@ -33,6 +33,9 @@ struct NetworkFaults {
   double duplicate_share = 0.0;  // sent twice, the copy after a delay in [0, max_delay]
   double drop_share = 0.0;       // never delivered
   double truncate_share = 0.0;   // delivered cut short, at a random length (at least 1 byte shorter)
+  // Held until the next datagram of the same direction has gone by, then delivered after it
+  // (a reordering switch or proxy); one that nothing follows within max_delay goes then.
+  double reorder_share = 0.0;
   std::chrono::milliseconds min_delay{80};
   std::chrono::milliseconds max_delay{400};
   bool requests = true;  // spoil tool-to-card datagrams
@@ -41,7 +44,7 @@ struct NetworkFaults {
 
 struct NetworkStats {
   std::uint64_t requests = 0, replies = 0;  // datagrams received from either side
-  std::uint64_t delayed = 0, duplicated = 0, dropped = 0, truncated = 0;
+  std::uint64_t delayed = 0, duplicated = 0, dropped = 0, truncated = 0, reordered = 0;
 };
 
 class FaultyNetwork {

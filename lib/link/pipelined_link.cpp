@@ -8,6 +8,7 @@
 #include "lbp/header.hpp"
 #include "lbp/local.hpp"
 #include "lbp/preparse.hpp"
+#include "link/ports.hpp"
 
 namespace i20::link {
 namespace {
@@ -97,6 +98,10 @@ std::vector<std::size_t> reply_sizes(std::span<const Command> batch) {
 }  // namespace
 
 // State of one attempt at one batch.
+namespace {
+constexpr std::size_t kEchoWindow = 64;  // bytes compared for an echo
+}  // namespace
+
 struct PipelinedLink::Run {
   std::span<const Command> batch;
   lbp::ReplySplitter splitter;
@@ -106,6 +111,9 @@ struct PipelinedLink::Run {
   std::size_t reply_bytes = 0;    // wire bytes of their replies still to come
   std::size_t received = 0;       // wire bytes read during this run
   bool barrier_pending = false;   // a barrier is written and not answered yet
+  // The first bytes written and read, to tell a port that echoes what it is sent (a
+  // loopback plug, TX wired to RX) from a card: an echo is no reply.
+  Bytes written, read;
 
   explicit Run(std::span<const Command> b) : batch(b), splitter(reply_sizes(b)) { replies.reserve(b.size()); }
   bool done() const { return replies.size() == batch.size(); }
@@ -227,6 +235,7 @@ void PipelinedLink::send_burst(Run& run) {
     }
   }
   if (burst.empty()) return;
+  if (run.written.size() < kEchoWindow) run.written.insert(run.written.end(), burst.begin(), burst.end());
   stream_->write(burst);
   tx_quiet_from_ = Clock::now() + wire_time(burst.size());
   ++stats_.bursts;
@@ -247,15 +256,33 @@ void PipelinedLink::await_reply(Run& run) {
     const auto n = stream_->read_some(buffer, deadline);
     if (n == 0) fail_timeout(run, timeout);
     run.splitter.push(lbp::ByteView(buffer.data(), n));
+    if (run.read.size() < kEchoWindow) run.read.insert(run.read.end(), buffer.begin(), buffer.begin() + n);
     run.received += n;
     stats_.bytes_received += n;
   }
+}
+
+// Every byte read so far is the start of what was written: the port echoes.
+bool PipelinedLink::echoes(const Run& run) const {
+  const auto n = std::min(run.read.size(), run.written.size());
+  return n >= 2 &&
+         std::equal(run.read.begin(), run.read.begin() + static_cast<std::ptrdiff_t>(n), run.written.begin());
+}
+
+[[noreturn]] void PipelinedLink::fail_echo(const Run& run) {
+  resynchronise();
+  throw TimeoutError("the port " + stream_->name() + " sends back exactly what the tool writes (" +
+                         std::to_string(std::min(run.read.size(), run.written.size())) +
+                         " bytes): a loopback plug, or TX wired to RX; no 8I20 answered. Is the cable on the "
+                         "8I20's J1, and wired TX to RX and RX to TX?",
+                     0);
 }
 
 void PipelinedLink::accept_replies(Run& run) {
   while (auto reply = run.splitter.next()) {
     const auto index = run.replies.size();
     const Command& c = run.batch[index];
+    if (!reply->crc_ok && index == 0 && echoes(run)) fail_echo(run);
     if (!reply->crc_ok) {
       ++stats_.crc_errors;
       resynchronise();
@@ -278,10 +305,19 @@ void PipelinedLink::fail_timeout(const Run& run, std::chrono::microseconds waite
   resynchronise();
   const auto completed = run.replies.size();
   const auto& port = stream_->name();
-  if (run.received == 0 && completed == 0)
+  if (completed == 0 && echoes(run)) fail_echo(run);
+  if (run.received == 0 && completed == 0) {
+    // A second program reading the port takes the replies: name it before blaming the wiring.
+    const auto others = other_programs_with(port);
+    if (!others.empty())
+      throw TimeoutError("no reply from the 8I20 on " + port + " within " + milliseconds_text(waited) + ": " +
+                             others.front() + (others.size() > 1 ? " and others" : "") +
+                             " also has the port open and may be reading the card's replies; end it first",
+                         0);
     throw TimeoutError("no reply from the 8I20 on " + port + " within " + milliseconds_text(waited) +
                            ": is jumper W6 down (setup mode), is logic power on, is the cable in J1?",
                        0);
+  }
   throw TimeoutError("the 8I20 on " + port + " answered " + std::to_string(completed) + " of " +
                          std::to_string(run.batch.size()) + " commands, then nothing for " +
                          milliseconds_text(waited) + " (waiting for the reply to " +

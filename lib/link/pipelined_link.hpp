@@ -82,6 +82,8 @@ class PipelinedLink final : public Link {
   void await_reply(Run& run);
   void accept_replies(Run& run);
   [[noreturn]] void fail_timeout(const Run& run, std::chrono::microseconds waited);
+  bool echoes(const Run& run) const;
+  [[noreturn]] void fail_echo(const Run& run);
   void resynchronise();
   std::chrono::microseconds wire_time(std::size_t bytes) const;
 

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "link/ports.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <system_error>
 
@@ -142,6 +145,66 @@ std::vector<PortInfo> list_ports(const PortScanRoots& roots) {
   std::sort(ports.begin(), ports.end(),
             [](const PortInfo& a, const PortInfo& b) { return sort_key(a.name) < sort_key(b.name); });
   return ports;
+}
+
+namespace {
+
+std::string trimmed(std::string s) {
+  const auto first = s.find_first_not_of(" \t");
+  const auto last = s.find_last_not_of(" \t\r\n");
+  return first == std::string::npos ? std::string() : s.substr(first, last - first + 1);
+}
+
+// For a pty's slave (/dev/pts/N), the process holding its master is the far end (a
+// simulator, a terminal), not a second reader: it owns a /dev/ptmx descriptor whose fdinfo
+// says tty-index N (or, on kernels that do not say, any /dev/ptmx: then it is not blamed).
+bool holds_master_of(const std::filesystem::path& process, const std::string& pty_index) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  for (const auto& fd : fs::directory_iterator(process / "fd", ec)) {
+    std::error_code link_ec;
+    const auto target = fs::read_symlink(fd.path(), link_ec).string();
+    if (target != "/dev/ptmx" && target != "/dev/pts/ptmx") continue;
+    std::ifstream info(process / "fdinfo" / fd.path().filename());
+    std::string line;
+    bool said = false;
+    while (std::getline(info, line))
+      if (line.rfind("tty-index:", 0) == 0) {
+        said = true;
+        if (trimmed(line.substr(10)) == pty_index) return true;
+      }
+    if (!said) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<std::string> other_programs_with(const std::string& device, const std::string& proc_root) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto target = fs::canonical(device, ec);
+  if (ec || !fs::is_character_file(target, ec)) return {};
+  const std::string self = std::to_string(::getpid());
+  const std::string pts = "/dev/pts/";
+  const std::string pty_index = target.string().rfind(pts, 0) == 0 ? target.string().substr(pts.size()) : "";
+  std::vector<std::string> found;
+  for (const auto& process : fs::directory_iterator(proc_root, ec)) {
+    const std::string pid = process.path().filename().string();
+    if (pid.empty() || pid.find_first_not_of("0123456789") != std::string::npos || pid == self) continue;
+    std::error_code fd_ec;
+    for (const auto& fd : fs::directory_iterator(process.path() / "fd", fd_ec)) {
+      std::error_code link_ec;
+      if (fs::read_symlink(fd.path(), link_ec) != target) continue;
+      if (!pty_index.empty() && holds_master_of(process.path(), pty_index)) break;
+      std::ifstream comm(process.path() / "comm");
+      std::string name;
+      std::getline(comm, name);
+      found.push_back((name.empty() ? std::string("a program") : name) + " (PID " + pid + ")");
+      break;
+    }
+  }
+  return found;
 }
 
 }  // namespace i20::link

@@ -38,4 +38,10 @@ struct PortScanRoots {
 // unreadable sysfs entries: what cannot be read stays empty.
 std::vector<PortInfo> list_ports(const PortScanRoots& roots = {});
 
+// Other processes that have `device` open ("cat (PID 1234)"), as far as /proc shows them
+// (another user's processes are not visible to an unprivileged user). Empty for a path that
+// is no device file.
+std::vector<std::string> other_programs_with(const std::string& device,
+                                             const std::string& proc_root = "/proc");
+
 }  // namespace i20::link

@@ -51,7 +51,11 @@ std::string Cancel::cause() const {
 }
 
 Card::Card(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retry, Cancel cancel)
-    : link_(std::move(link)), endpoint_(std::move(endpoint)), retry_(retry), cancel_(cancel) {}
+    : link_(std::move(link)),
+      endpoint_(std::move(endpoint)),
+      retry_(retry),
+      cancel_(cancel),
+      deadline_(std::chrono::steady_clock::now() + retry.operation_deadline) {}
 
 std::unique_ptr<Card> Card::open(const Endpoint& endpoint, const params::ParamDb& loaded,
                                  const OpenOptions& options, Cancel cancel) {
@@ -73,8 +77,9 @@ void Card::identify(const params::ParamDb& loaded) {
   identity_.info = with_retries([&] { return bootstrap.info(); });
   const auto& info = identity_.info;
   if (info.card_name != "8I20")
-    throw UsageError("the card on " + link_->describe() + " answers as '" + printable(info.card_name) +
-                     "', not as an 8I20: this tool only knows the 8I20's parameters");
+    // No 8I20 was reached (exit 1): another Mesa card answers there, or the port is another device's.
+    throw Error("the card on " + link_->describe() + " answers as '" + printable(info.card_name) +
+                "', not as an 8I20: check the port or channel; this tool only knows the 8I20's parameters");
   if (info.nv_access != lbp::local::NvAccess::Ram || info.rpcmem) {
     // A stop request now must not leave the card in the mode an earlier session left on.
     uninterruptible_ = true;
@@ -143,6 +148,7 @@ bool Card::wait_for_answer(const link::LinkError& e) {
   if (dynamic_cast<const eth::ForeignHostError*>(&e) || dynamic_cast<const link::UnsupportedCommand*>(&e))
     return false;
   using Clock = std::chrono::steady_clock;
+  if (past_deadline()) return false;
   const auto deadline = silent_since_.value_or(Clock::now()) + retry_.silence_window;
   if (Clock::now() >= deadline) return false;
   const auto until = std::min(deadline, Clock::now() + retry_.probe_interval);

@@ -81,6 +81,8 @@ class Card {
   // a lost exchange, since the links under a Card send each exchange once (retry.hpp). A
   // card still silent after that is asked again within the silence window (retry.hpp).
   // `step` must be harmless to run twice: reads, or the writes that switch a mode off.
+  // Past the operation's deadline (retry.hpp) an exchange is sent once, unless it is the
+  // way out of a mode (uninterruptible).
   template <class F>
   auto with_retries(F&& step) {
     for (unsigned attempt = 1;; ++attempt) {
@@ -91,11 +93,14 @@ class Card {
         return result;
       } catch (const link::LinkError& e) {
         unanswered(e);
-        if (attempt >= retry_.attempts && !wait_for_answer(e)) throw;
+        if ((attempt >= retry_.attempts || past_deadline()) && !wait_for_answer(e)) throw;
         ++retries_;
       }
     }
   }
+  // True once the operation has run longer than RetryPolicy::operation_deadline; the way
+  // out of a mode (settle, leaving a mode found on) is never past it.
+  bool past_deadline() const { return !uninterruptible_ && std::chrono::steady_clock::now() >= deadline_; }
   std::size_t retries() const { return retries_; }
   // Times a silent card was asked again within the silence window.
   std::size_t probes() const { return probes_; }
@@ -138,6 +143,7 @@ class Card {
   std::size_t silences_ended_ = 0;
   // When the card's first unanswered exchange of the current silence failed.
   std::optional<std::chrono::steady_clock::time_point> silent_since_;
+  std::chrono::steady_clock::time_point deadline_;  // the operation's (retry.hpp)
   bool unsettled_said_ = false;
   bool uninterruptible_ = false;
 };

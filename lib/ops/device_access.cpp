@@ -33,7 +33,7 @@ RawValues DeviceCardAccess::read(const std::vector<std::string>& names) {
         if (r.raw) out[r.param->name] = *r.raw;
       return out;
     } catch (const device::CardStateError&) {
-      if (attempt >= card_.retry().attempts) throw;
+      if (attempt >= card_.retry().attempts || card_.past_deadline()) throw;
       card_.count_retry();
     }
   }
@@ -83,18 +83,18 @@ void DeviceCardAccess::write_once(const std::string& name, std::int64_t raw) {
       recover_from_mode_loss(lost);
       const auto held = holds(name, raw);
       if (held == true) return;
-      if (!held || attempt >= attempts) throw;
+      if (!held || attempt >= attempts || card_.past_deadline()) throw;
     } catch (const link::LinkError& e) {
       card_.unanswered(e);
       const auto held = holds(name, raw);
       if (held == true) return;
-      if (!held || attempt >= attempts) throw;
+      if (!held || attempt >= attempts || card_.past_deadline()) throw;
     } catch (const device::CardStateError&) {
       // Leaving NV mode failed after the write. An NV read-back enters and leaves NV mode
       // again, so a successful one also proves the card is back in normal access mode.
       const auto held = holds(name, raw);
       if (held == true) return;
-      if (!held || attempt >= attempts) throw;
+      if (!held || attempt >= attempts || card_.past_deadline()) throw;
     }
     card_.count_retry();
   }
@@ -126,7 +126,7 @@ std::optional<bool> DeviceCardAccess::holds(const std::string& name, std::int64_
     } catch (const link::LinkError&) {
       return std::nullopt;
     } catch (const device::CardStateError&) {
-      if (attempt >= card_.retry().attempts) return std::nullopt;
+      if (attempt >= card_.retry().attempts || card_.past_deadline()) return std::nullopt;
       card_.count_retry();
     }
   }

@@ -27,6 +27,9 @@
 // rolled back and verified) instead of ending uncertain. The window is per silence, not per
 // exchange: once it has passed, later exchanges get only their budget until the card
 // answers again. A write is never among the exchanges asked again (see above).
+//
+// Worst cases, per exchange and per command, are in README.md ("How long a command may
+// take"); Card::with_retries and Card::wait_for_answer are where they are spent.
 #pragma once
 
 #include <chrono>
@@ -41,6 +44,13 @@ struct RetryPolicy {
   std::chrono::milliseconds silence_window{2000};
   // How often a silent card is asked again within that window.
   std::chrono::milliseconds probe_interval{100};
+  // The operation's own deadline, from the moment its card is opened: after it no silence
+  // window opens again and no exchange is sent more than once, so a network that keeps
+  // almost answering (30% of datagrams reordered) cannot stretch a command without end.
+  // What is left of a change then is finished on the shortest path (each cell's rollback
+  // sent once, read back within the budget), and leaving NV access or RPC memory mode keeps
+  // its silence window (Card::settle): the card is never left in a mode to save time.
+  std::chrono::milliseconds operation_deadline{20000};
   // Resends a layer that owns the loop may add to the first send.
   unsigned resends() const { return attempts > 0 ? attempts - 1 : 0; }
 };

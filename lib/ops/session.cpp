@@ -34,6 +34,11 @@ unsigned baud_from_environment(const std::string& baud) {
   if (used != baud.size() || baud.find_first_not_of("0123456789") != std::string::npos || rate == 0 ||
       rate > 12000000)
     throw UsageError("BAUDRATE is '" + baud + "', not a baud rate: setup mode needs BAUDRATE=115200");
+  // WPD/RPD take the rate from BAUDRATE, but the 8I20 answers in setup mode at 115200 only
+  // (manual, SETUP MODE): any other rate would read as a silent card, blamed on the cable.
+  if (rate != 115200)
+    throw UsageError("BAUDRATE is " + baud +
+                     " but the 8I20's setup mode talks at 115200 baud only: set BAUDRATE=115200 or unset it");
   return static_cast<unsigned>(rate);
 }
 

@@ -3,6 +3,8 @@
 
 #include <csignal>
 
+#include "device/suspend_hold.hpp"
+
 namespace i20::ops {
 namespace {
 
@@ -25,6 +27,7 @@ StopRequest& install_stop_signals() {
     ignore.sa_handler = SIG_IGN;
     sigemptyset(&ignore.sa_mask);
     sigaction(SIGPIPE, &ignore, nullptr);
+    device::install_suspend_handler();  // Ctrl-Z waits for the card to leave NV/RPC memory mode
     return true;
   }();
   (void)installed;

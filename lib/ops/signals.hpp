@@ -10,9 +10,13 @@
 // Only SIGKILL (kill -9) or SIGQUIT (Ctrl-\) end it at once; the next command then finds the
 // card in the mode it was left in and switches it off (ops::Card::open).
 //
+// SIGTSTP (Ctrl-Z) waits while the card is in NV access or RPC memory mode and stops the
+// process once the mode is left (device/suspend_hold.hpp).
+//
 // SIGPIPE is ignored: a closed stdout or stderr (`i20 ... | head -1`, a terminal that went
 // away) makes writes fail, which the apps notice at the end, after the card is settled,
-// instead of the process dying in the middle of a write.
+// instead of the process dying in the middle of a write; a long-running command (watch)
+// checks its output after each write and ends (exit 6) when the reader is gone.
 #pragma once
 
 #include "ops/cancel.hpp"

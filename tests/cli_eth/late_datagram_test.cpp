@@ -136,3 +136,42 @@ TEST_F(LateDatagrams, NoFalseDoneAndNoModeLeftOnUnderRepeatedDatagrams) {
 }
 
 }  // namespace
+
+namespace {
+
+// Issue 33 item 6: a network that reorders 30% of datagrams (held back 80-400 ms, so later
+// ones overtake them). Every run must end within the documented deadline, exit with a true
+// code, and leave the card as it says; a hang is the defect.
+TEST_F(LateDatagrams, ReorderingNetworkEndsWithinTheDeadline) {
+  const auto seeds = std::getenv("I20_REORDER_RUNS") ? std::stoul(std::getenv("I20_REORDER_RUNS")) : 12ul;
+  unsigned hung = 0;
+  for (unsigned seed = 1; seed <= seeds; ++seed) {
+    test::RunningCard card(two_channel_7i92t());
+    // Odd seeds: 30% overtaken by the next datagram; even seeds: 30% held 1-30 ms.
+    const bool overtaken = seed % 2 == 1;
+    ethsim::NetworkFaults faults{.seed = seed, .min_delay = 1ms, .max_delay = 30ms};
+    (overtaken ? faults.reorder_share : faults.delay_share) = 0.30;
+    if (overtaken)
+      faults.max_delay = std::chrono::milliseconds(
+          std::getenv("I20_REORDER_HOLD_MS") ? std::stoi(std::getenv("I20_REORDER_HOLD_MS")) : 2000);
+    ethsim::FaultyNetwork network(card.address(), faults);
+    const std::string at = "eth://" + network.address();
+    const std::vector<std::pair<std::string, std::vector<std::string>>> commands = {
+        {"wpd", {"--port", at + "/ch1", "NVMAXCURRENT", "950"}},
+        {"wpd", {"--port", at + "/ch0", "NVKQP", "100"}},
+        {"i20", {"--no-user-params", "--port", at + "/ch1", "set", "NVKQP=119", "NVMAXCURRENT=5.00A"}},
+        {"i20",
+         {"--no-user-params", "profile", "apply",
+          (test::source_dir() / "profiles" / "defaults.yaml").string(), "--target", at + "/ch0", "--target",
+          at + "/ch1"}}};
+    const auto& [program, args] = commands[(seed - 1) / 2 % commands.size()];
+    const auto start = std::chrono::steady_clock::now();
+    const auto r = test::run(program, args, {}, 40);
+    const auto took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::cout << "seed " << seed << ": exit " << r.exit_code << " in " << took << " s: " << r.err;
+    hung += r.exit_code == -1 || took > 30;
+  }
+  EXPECT_EQ(hung, 0u);
+}
+
+}  // namespace

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <csignal>
 #include <functional>
+#include <iostream>
 #include <memory>
 #include <span>
 #include <string>
@@ -390,3 +391,44 @@ TEST(SilenceWindow, AnEthernetCardThatResetsIsSetUpAgainAndRead) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------- the operation's deadline
+
+// Issue 33 item 6: past the operation's deadline (RetryPolicy::operation_deadline, from the
+// card's opening) no silence window opens and no exchange is sent twice, so a network that
+// keeps almost answering cannot stretch a command without end. Before it, the same lost
+// read gets its budget and the window (the figures README.md "How long a command may take"
+// states, printed here as measured).
+TEST(OperationDeadline, PastItALostReadIsSentOnceAndNotWaitedFor) {
+  ops::RetryPolicy within;  // the 2 s silence window on, a 20 s deadline
+  SerialRig before_deadline{within};
+  ASSERT_EQ(read_or_error(*before_deadline.card), "");
+  auto executed = before_deadline.executed();
+  ASSERT_EQ(read_or_error(*before_deadline.card), "");
+  const auto per_read = before_deadline.executed() - executed;
+
+  before_deadline.stream->control("drop 1");
+  executed = before_deadline.executed();
+  auto start = Clock::now();
+  EXPECT_NE(read_or_error(*before_deadline.card), "");
+  const auto waited = Clock::now() - start;
+  const auto sends = (before_deadline.executed() - executed) / per_read;
+  EXPECT_GE(waited, within.silence_window) << "within the deadline a silent card gets the window";
+  EXPECT_GE(sends, within.attempts);
+  std::cout << "serial, a lost read within the deadline: " << sends << " sends (budget " << within.attempts
+            << ", then probes every " << within.probe_interval.count() << " ms), "
+            << std::chrono::duration_cast<std::chrono::milliseconds>(waited).count() << " ms\n";
+
+  ops::RetryPolicy past = within;
+  past.operation_deadline = 0ms;
+  SerialRig after_deadline{past};
+  after_deadline.stream->control("drop 1");
+  executed = after_deadline.executed();
+  start = Clock::now();
+  EXPECT_NE(read_or_error(*after_deadline.card), "");
+  const auto waited_past = Clock::now() - start;
+  EXPECT_EQ((after_deadline.executed() - executed) / per_read, 1u) << "sent once past the deadline";
+  EXPECT_LT(waited_past, 500ms) << "no silence window past the deadline";
+  std::cout << "serial, a lost read past the deadline: 1 send, "
+            << std::chrono::duration_cast<std::chrono::milliseconds>(waited_past).count() << " ms\n";
+}

@@ -75,11 +75,11 @@ TEST(SessionEnvironment, WpdAndRpdWithoutAnyPortIsBadInputBeforeAnythingIsOpened
 }
 
 TEST(SessionEnvironment, ComportAndBaudrateNameTheCardWhenTheCommandLineDoesNot) {
-  Environment env({{"COMPORT", "COM2"}, {"BAUDRATE", "57600"}, {"PROTOCOL", "lbp"}});
+  Environment env({{"COMPORT", "COM2"}, {"BAUDRATE", "115200"}, {"PROTOCOL", "lbp"}});
   Session session(with(LegacyEnvironment::Required));
   EXPECT_EQ(session.endpoint().kind, Endpoint::Kind::Serial);
   EXPECT_EQ(session.endpoint().path, "/dev/ttyS1") << "COM2, as WPD names the second port";
-  EXPECT_EQ(session.options().link.baud, 57600u);
+  EXPECT_EQ(session.options().link.baud, 115200u);
 }
 
 TEST(SessionEnvironment, TheCommandLineOutranksComport) {
@@ -96,7 +96,8 @@ TEST(SessionEnvironment, AProtocolOtherThanLbpOrABaudRateThatIsNoNumberIsBadInpu
     Environment env({{"COMPORT", "/dev/ttyUSB0"}, {"PROTOCOL", "MODBUS"}, {"BAUDRATE", kUnset}});
     EXPECT_EQ(kind_of_construction(with(LegacyEnvironment::Required)), ErrorKind::BadInput);
   }
-  for (const char* baud : {"fast", "115200 ", "-9600", "0", "99999999"}) {
+  // 9600 and 57600 are baud rates, but not the 8I20's: setup mode is 115200 only.
+  for (const char* baud : {"fast", "115200 ", "-9600", "0", "99999999", "9600", "57600"}) {
     Environment env({{"COMPORT", "/dev/ttyUSB0"}, {"PROTOCOL", kUnset}, {"BAUDRATE", baud}});
     EXPECT_EQ(kind_of_construction(with(LegacyEnvironment::Required)), ErrorKind::BadInput) << baud;
   }

@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Issue 33 item 7: Ctrl-Z (SIGTSTP) inside the NV window waits until the mode is left, then
+// stops the process; outside it, it stops at once. Run in a child process, watched with
+// waitpid(WUNTRACED), so the test runner itself is never stopped.
+#include "device/suspend_hold.hpp"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
+
+using namespace std::chrono_literals;
+
+namespace {
+
+// Stopped within `limit`?
+bool stops(pid_t child, std::chrono::milliseconds limit) {
+  const auto until = std::chrono::steady_clock::now() + limit;
+  int status = 0;
+  while (std::chrono::steady_clock::now() < until) {
+    if (::waitpid(child, &status, WUNTRACED | WNOHANG) == child && WIFSTOPPED(status)) return true;
+    std::this_thread::sleep_for(5ms);
+  }
+  return false;
+}
+
+void end(pid_t child) {
+  ::kill(child, SIGKILL);
+  ::kill(child, SIGCONT);
+  ::waitpid(child, nullptr, 0);
+}
+
+}  // namespace
+
+TEST(SuspendHold, CtrlZInsideAHoldWaitsForItsEndThenStops) {
+  int ready[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    i20::device::install_suspend_handler();
+    {
+      i20::device::SuspendHold hold;  // the card is in NV access mode
+      [[maybe_unused]] auto n = ::write(ready[1], "h", 1);
+      std::this_thread::sleep_for(400ms);  // the EEPROM writes; SIGTSTP arrives meanwhile
+    }                                      // the mode is left: the process stops here
+    std::this_thread::sleep_for(10s);
+    ::_exit(0);
+  }
+  char c;
+  ASSERT_EQ(::read(ready[0], &c, 1), 1);
+  ::kill(child, SIGTSTP);
+  EXPECT_FALSE(stops(child, 200ms)) << "stopped while the card was in NV access mode";
+  EXPECT_TRUE(stops(child, 2000ms)) << "Ctrl-Z was lost: the process did not stop after the mode was left";
+  end(child);
+}
+
+TEST(SuspendHold, CtrlZOutsideAHoldStopsAtOnce) {
+  int ready[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    i20::device::install_suspend_handler();
+    [[maybe_unused]] auto n = ::write(ready[1], "r", 1);
+    std::this_thread::sleep_for(10s);
+    ::_exit(0);
+  }
+  char c;
+  ASSERT_EQ(::read(ready[0], &c, 1), 1);
+  ::kill(child, SIGTSTP);
+  EXPECT_TRUE(stops(child, 1000ms));
+  ::kill(child, SIGCONT);  // continued, Ctrl-Z works again
+  std::this_thread::sleep_for(50ms);
+  ::kill(child, SIGTSTP);
+  EXPECT_TRUE(stops(child, 1000ms)) << "the handler was not put back after SIGCONT";
+  end(child);
+}
