@@ -57,6 +57,7 @@ EncoderChannel& FeedbackBank::encoder(unsigned instance) {
 void FeedbackBank::connect_encoder(unsigned instance, EncoderSpec spec, ShaftSource shaft) {
   encoder(instance);  // checks the instance
   encoders_[instance] = Encoder{EncoderChannel(spec), std::move(shaft)};
+  advanced_to_.reset();  // the new encoder is placed at the next access
 }
 
 unsigned FeedbackBank::connect_halls(std::array<unsigned, 3> io_pins, HallSpec spec, ShaftSource shaft) {
@@ -84,6 +85,8 @@ unsigned FeedbackBank::connect_axis(unsigned axis, EncoderSpec encoder_spec, Hal
 }
 
 void FeedbackBank::advance(Clock::time_point now) {
+  if (advanced_to_ == now) return;  // a packet's many reads share one sample
+  advanced_to_ = now;
   for (Encoder& e : encoders_)
     if (e.shaft) e.channel.move_to(e.shaft(now), card_time(now), timestamp_);
 }

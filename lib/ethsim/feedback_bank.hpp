@@ -10,7 +10,10 @@
 //
 // The shaft is sampled whenever the card's time advances (every server tick) and at each
 // feedback register access; between samples it is taken to turn at a constant speed, so
-// encoder edges get the times they would have had (docs/virtual-feedback.md).
+// encoder edges get the times they would have had (docs/virtual-feedback.md). Under
+// CardServer the shaft is called on the server's thread while it holds the card (the lock
+// with_card() takes), so connect shafts inside with_card() and make them safe to call there.
+// A shaft may be asked several times for the same time point and must answer the same.
 #pragma once
 
 #include <array>
@@ -92,6 +95,7 @@ class FeedbackBank {
   std::optional<lbp::hm2::ModuleDescriptor> encoder_module_, ioport_module_, inm_module_;
   TimestampCounter timestamp_;
   std::uint32_t filter_rate_ = 0;
+  std::optional<Clock::time_point> advanced_to_;  // the encoders' last sample time
   std::vector<Encoder> encoders_;
   std::vector<HallGroup> hall_groups_;
   std::vector<Port> ports_;

@@ -217,8 +217,10 @@ TEST_F(FeedbackCard, GpioOutputsReadBackAndEncoderPinsShowTheirSignals) {
   namespace r = hm2::ioport_reg;
   // IO pins 27-29 are encoder 0's A, B, index: port 1, bits 10-12.
   const auto port1 = host.address(hm2::gtag::kIoPort, r::kData, 1);
+  host.at(1ms);
   angle = 2.5 / 2000;  // quadrature state 2: A and B high
   EXPECT_EQ(host.read(port1) >> 10 & 0x3u, 0x3u);
+  host.at(2ms);
   angle = 3.5 / 2000;  // state 3: B only
   EXPECT_EQ(host.read(port1) >> 10 & 0x3u, 0x2u);
   // Port 2 (the expansion connector): bit 0 an output driven high, bit 1 low, the rest pulled up.
