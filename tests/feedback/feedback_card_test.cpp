@@ -228,6 +228,8 @@ TEST_F(FeedbackCard, GpioOutputsReadBackAndEncoderPinsShowTheirSignals) {
   host.write(host.address(hm2::gtag::kIoPort, r::kDirection, 2), 0x3);
   host.write(port2, 0x1);
   EXPECT_EQ(host.read(port2) & 0x7u, 0x5u);
+  host.write(host.address(hm2::gtag::kIoPort, r::kOutputInvert, 2), 0x3);  // both outputs inverted
+  EXPECT_EQ(host.read(port2) & 0x7u, 0x6u);
   EXPECT_EQ(card.hm2_register(port2), 0x1u) << "the written value stays visible to tests";
 }
 
