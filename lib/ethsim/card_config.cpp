@@ -72,29 +72,42 @@ void sserial_pins(std::vector<hm2::PinDescriptor>& pins, std::uint8_t port, unsi
   if (txen) pins.push_back(pin(hm2::gtag::kSserial, port, static_cast<std::uint8_t>(kOutput | 0x10 | n)));
 }
 
+// The pin table of firmware 7i96s_d (LinuxCNC pncconf private_data.py): IO 0-10 the isolated
+// inputs (InM 0), 11-16 the SSR/OUTM outputs, 17-26 five step/dir pairs, 27-29 encoder 0
+// A/B/index, 30-32 the RS-422 SSERIAL channel (RX, TX, TXEN), 33 the spindle PWM, 34-50 the
+// expansion connector P1. The SSR, OUTM and PWM modules are not simulated: their pins are
+// plain GPIO here.
+void encoder_pins(std::vector<hm2::PinDescriptor>& pins, std::uint8_t unit) {
+  for (const std::uint8_t p : {hm2::encoder_pin::kA, hm2::encoder_pin::kB, hm2::encoder_pin::kIndex})
+    pins.push_back(pin(hm2::gtag::kEncoder, unit, p));
+}
+
 CardConfig preset_7i96s() {
   CardConfig c;
   c.card_name = "7I96S";
   c.idrom = base_idrom("MESA7I96", 3, 17);
   c.modules = {module(hm2::gtag::kWatchdog, 0, 1, 0x0C00, 3, 0x00, 0),
-               module(hm2::gtag::kIoPort, 0, 3, 0x1000, 5, 0x00, 0x1F),
-               module(hm2::gtag::kEncoder, 2, 1, 0x3000, 5, 0x00, 0x03),
+               module(hm2::gtag::kIoPort, 0, 3, 0x1000, hm2::ioport_reg::kCount, 0x00, 0x1F),
+               module(hm2::gtag::kEncoder, 2, 1, 0x3000, hm2::encoder_reg::kCount_, 0x00, 0x03),
                module(hm2::gtag::kStepGen, 2, 5, 0x2000, 10, 0x00, 0x1FF),
                sserial(1),
+               module(hm2::gtag::kInm, 0, 1, 0x8500, hm2::inm_reg::kCount, 0x00, 0x1F),
                module(hm2::gtag::kLed, 0, 1, 0x0200, 1, 0x00, 0)};
-  // Port 0: five step/dir pairs, encoder A/B/index, GPIO; port 1: GPIO (isolated inputs),
-  // then the RS-422 SSERIAL channel at pins 30/31 (TB2 16..19) and its internal TXEN at 32;
-  // port 2: GPIO (the 25-pin expansion connector).
+  constexpr unsigned kIsolatedInputs = 11;
+  for (unsigned input = 0; input < kIsolatedInputs; ++input)
+    c.pins.push_back(pin(hm2::gtag::kInm, 0, static_cast<std::uint8_t>(input + 1)));
+  while (c.pins.size() < 17) c.pins.push_back(gpio());
   for (std::uint8_t unit = 0; unit < 5; ++unit) {
     c.pins.push_back(pin(hm2::gtag::kStepGen, unit, kOutput | 1));
     c.pins.push_back(pin(hm2::gtag::kStepGen, unit, kOutput | 2));
   }
-  for (std::uint8_t p = 1; p <= 3; ++p) c.pins.push_back(pin(hm2::gtag::kEncoder, 0, p));
-  while (c.pins.size() < 30) c.pins.push_back(gpio());
+  encoder_pins(c.pins, 0);
   sserial_pins(c.pins, 0, 0, /*txen=*/true);
   while (c.pins.size() < c.idrom.io_width) c.pins.push_back(gpio());
   c.sserial_ports = 1;
   c.channels_per_port = 1;
+  // The 8I20 on the RS-422 port, encoder 0, Halls on isolated inputs 0-2.
+  c.axes = {AxisWiring{.encoder = 0, .sserial_port = 0, .channel = 0, .hall_pins = {0, 1, 2}}};
   return c;
 }
 
@@ -115,6 +128,37 @@ CardConfig preset_7i92t() {
   return c;
 }
 
+// Per connector (17 pins) two axes: SSERIAL channels 0 and 1 of the connector's port (RX, TX
+// each), two encoders (A, B, index each), two groups of three GPIO Hall inputs, one spare.
+CardConfig preset_7i92t_servo_config() {
+  CardConfig c = preset_7i92t();
+  constexpr unsigned kAxesPerConnector = 2;
+  constexpr unsigned kPortWidth = 17;
+  c.modules = {module(hm2::gtag::kWatchdog, 0, 1, 0x0C00, 3, 0x00, 0),
+               module(hm2::gtag::kIoPort, 0, 2, 0x1000, hm2::ioport_reg::kCount, 0x00, 0x1F),
+               module(hm2::gtag::kEncoder, 2, 4, 0x3000, hm2::encoder_reg::kCount_, 0x00, 0x03), sserial(2),
+               module(hm2::gtag::kLed, 0, 1, 0x0200, 1, 0x00, 0)};
+  c.pins.clear();
+  c.axes.clear();
+  for (std::uint8_t port = 0; port < 2; ++port) {
+    for (unsigned ch = 0; ch < kAxesPerConnector; ++ch) sserial_pins(c.pins, port, ch, /*txen=*/false);
+    for (unsigned k = 0; k < kAxesPerConnector; ++k)
+      encoder_pins(c.pins, static_cast<std::uint8_t>(port * kAxesPerConnector + k));
+    for (unsigned k = 0; k < kAxesPerConnector; ++k) {
+      const auto first = static_cast<unsigned>(c.pins.size());
+      for (int i = 0; i < 3; ++i) c.pins.push_back(gpio());
+      c.axes.push_back(AxisWiring{.encoder = port * kAxesPerConnector + k,
+                                  .sserial_port = port,
+                                  .channel = k,
+                                  .hall_pins = {first, first + 1, first + 2}});
+    }
+    while (c.pins.size() < (port + 1u) * kPortWidth) c.pins.push_back(gpio());
+  }
+  c.sserial_ports = 2;
+  c.channels_per_port = kAxesPerConnector;
+  return c;
+}
+
 }  // namespace
 
 CardKind parse_card_kind(std::string_view text) {
@@ -132,6 +176,15 @@ std::string_view card_kind_name(CardKind kind) {
 
 CardConfig CardConfig::preset(CardKind kind) {
   return kind == CardKind::I7i96s ? preset_7i96s() : preset_7i92t();
+}
+
+CardConfig CardConfig::preset_7i92t_servo() {
+  return preset_7i92t_servo_config();
+}
+
+const hm2::ModuleDescriptor* CardConfig::find_module(std::uint8_t gtag) const {
+  const auto it = std::find_if(modules.begin(), modules.end(), [&](const auto& m) { return m.gtag == gtag; });
+  return it == modules.end() ? nullptr : &*it;
 }
 
 const hm2::ModuleDescriptor& CardConfig::sserial_module() const {

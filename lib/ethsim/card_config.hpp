@@ -3,10 +3,14 @@
 // Ethernet EEPROM contents (space 2) and the HostMot2 configuration it presents (IDROM,
 // modules, pins, SSERIAL ports). Two presets:
 //
-//  7I96S: one SSERIAL port with one channel (the RS-422 port on TB2), step/dir, encoder
-//         and GPIO modules on 51 pins, like the card's standard configuration.
+//  7I96S: one SSERIAL port with one channel (the RS-422 port on TB2), step/dir, encoder,
+//         InM (the 11 isolated inputs) and GPIO modules on 51 pins, laid out like firmware
+//         7i96s_d as LinuxCNC's PnCconf describes it (docs/virtual-feedback.md).
 //  7I92T: two SSERIAL ports of eight channels (a 7I74X2D-style configuration: one 8-channel
 //         RS-422 daughter card per connector, e.g. 7I44/7I74), 34 pins.
+//  7I92T servo (preset_7i92t_servo): four axes, each with an encoder, an RS-422 SSERIAL
+//         channel for its 8I20 and three GPIO Hall inputs, in the manner of the 7I85S
+//         firmwares; our own layout, not a Mesa bitfile.
 //
 // Version numbers and the IDROM board name are simulation values: close to what real
 // cards report, not copied from a real bitfile.
@@ -28,6 +32,16 @@ enum class CardKind { I7i96s, I7i92t };
 CardKind parse_card_kind(std::string_view text);
 std::string_view card_kind_name(CardKind kind);
 
+// One servo axis on the card: the encoder instance, the SSERIAL channel of its 8I20 and the
+// IO pins (IDROM pin numbers) its three Hall sensors are wired to.
+struct AxisWiring {
+  unsigned encoder = 0;
+  unsigned sserial_port = 0;
+  unsigned channel = 0;
+  std::array<unsigned, 3> hall_pins{};
+  bool operator==(const AxisWiring&) const = default;
+};
+
 struct CardConfig {
   std::string card_name;  // space 7 and EEPROM: "7I96S"
   std::uint16_t lbp16_version = 3;
@@ -45,8 +59,13 @@ struct CardConfig {
 
   unsigned sserial_ports = 1;
   unsigned channels_per_port = 1;
+  // The axes the configuration is laid out for (empty: no encoders).
+  std::vector<AxisWiring> axes;
 
   static CardConfig preset(CardKind kind);
+  static CardConfig preset_7i92t_servo();
+  // The module with this GTag, or nullptr.
+  const lbp::hm2::ModuleDescriptor* find_module(std::uint8_t gtag) const;
   // The SSERIAL module descriptor (there is exactly one in the presets).
   const lbp::hm2::ModuleDescriptor& sserial_module() const;
 };

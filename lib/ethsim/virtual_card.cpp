@@ -67,7 +67,7 @@ constexpr std::uint16_t kEepromWritableFrom = 0x0020;
 }  // namespace
 
 VirtualCard::VirtualCard(VirtualCardOptions options, Clock::time_point now)
-    : config_(std::move(options.config)), start_(now), now_(now) {
+    : config_(std::move(options.config)), feedback_(config_, now), start_(now), now_(now) {
   const auto store = [this](std::uint32_t address, const lbp::Bytes& bytes) {
     for (std::size_t i = 0; i < bytes.size(); ++i) {
       std::uint32_t& w = hm2_.at((address + i) / 4);
@@ -118,6 +118,7 @@ VirtualCard::VirtualCard(VirtualCardOptions options, Clock::time_point now)
 void VirtualCard::advance(Clock::time_point now) {
   now_ = std::max(now_, now);
   for (auto& port : ports_) port->advance(now_);
+  feedback_.advance(now_);
 }
 
 std::optional<lbp::Bytes> VirtualCard::handle(lbp::ByteView request, Clock::time_point now) {
@@ -268,6 +269,7 @@ std::uint32_t VirtualCard::hm2_read(std::uint16_t address) {
     return 0;
   }
   if (const auto s = sserial_at(address)) return ports_[s->port]->read(s->reg, s->channel, now_);
+  if (const auto value = feedback_.read(address, now_)) return *value;
   return hm2_[address / 4];
 }
 
@@ -275,6 +277,7 @@ void VirtualCard::hm2_write(std::uint16_t address, std::uint32_t value) {
   if (hm2_read_only(address)) return write_error();
   if (const auto s = sserial_at(address)) return ports_[s->port]->write(s->reg, s->channel, value, now_);
   hm2_[address / 4] = value;
+  feedback_.write(address, value, now_);
 }
 
 std::uint32_t VirtualCard::flash_read(std::uint16_t address) {

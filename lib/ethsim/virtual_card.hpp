@@ -5,7 +5,8 @@
 //
 // Spaces and their rules:
 //   0 HostMot2 registers, 32-bit: cookie, "HOSTMOT2", IDROM pointer, IDROM, modules,
-//     pins (read only), the SSERIAL ports (SslbpEngine), everything else plain registers.
+//     pins (read only), the SSERIAL ports (SslbpEngine), the encoders, GPIO ports and InM
+//     inputs (FeedbackBank), everything else plain registers.
 //   1 Ethernet chip (KSZ8851), 16-bit: CIDER reads 0x8872.
 //   2 Ethernet EEPROM, 16-bit: MAC, card name, IP, netmask. The first 0x20 bytes are read
 //     only; writes need EEPROMWEna = 0x5A02 earlier in the same packet.
@@ -35,6 +36,7 @@
 #include <vector>
 
 #include "ethsim/card_config.hpp"
+#include "ethsim/feedback_bank.hpp"
 #include "ethsim/remote_device.hpp"
 #include "ethsim/sslbp_engine.hpp"
 #include "lbp16/lbp16.hpp"
@@ -97,7 +99,10 @@ class VirtualCard {
   const CardStats& stats() const { return stats_; }
   std::uint16_t status_register(std::uint16_t address) const;
   std::uint16_t eeprom_word(std::uint16_t address) const;
+  // The value last written to a space 0 register (or the IDROM's content there).
   std::uint32_t hm2_register(std::uint16_t address) const { return hm2_.at(address / 4); }
+  // Encoders, GPIO and InM inputs: connect shafts and inject faults here.
+  FeedbackBank& feedback() { return feedback_; }
   // Where SSERIAL port `port` keeps its registers in space 0.
   lbp::hm2::SserialRegisters sserial_registers(unsigned port) const {
     return lbp::hm2::SserialRegisters::locate(config_.idrom, config_.sserial_module(), port);
@@ -126,6 +131,7 @@ class VirtualCard {
 
   CardConfig config_;
   std::vector<std::unique_ptr<SslbpEngine>> ports_;
+  FeedbackBank feedback_;
   std::vector<std::uint32_t> hm2_ = std::vector<std::uint32_t>(0x4000, 0);
   std::vector<std::uint16_t> eth_chip_ = std::vector<std::uint16_t>(0x80, 0);
   std::vector<std::uint16_t> eeprom_ = std::vector<std::uint16_t>(0x40, 0);

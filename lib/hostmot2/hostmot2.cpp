@@ -117,6 +117,21 @@ std::uint16_t ModuleDescriptor::register_address(const Idrom& idrom, unsigned re
   return static_cast<std::uint16_t>(address);
 }
 
+std::optional<ModuleDescriptor::Slot> ModuleDescriptor::slot_at(const Idrom& idrom,
+                                                                std::uint16_t address) const {
+  const std::uint32_t reg_stride = register_stride(idrom);
+  const std::uint32_t inst_stride = instance_stride(idrom);
+  if (address < base_address || reg_stride == 0 || inst_stride == 0) return std::nullopt;
+  const std::uint32_t offset = address - base_address;
+  const unsigned reg = offset / reg_stride;
+  const std::uint32_t within = offset % reg_stride;
+  if (reg >= registers || within % inst_stride != 0) return std::nullopt;
+  const unsigned instance = within / inst_stride;
+  const bool per_instance = reg < 32 && (multiple_registers >> reg & 1u) != 0;
+  if (instance >= (per_instance ? instances : 1u)) return std::nullopt;
+  return Slot{reg, instance};
+}
+
 std::vector<ModuleDescriptor> parse_modules(ByteView bytes) {
   std::vector<ModuleDescriptor> out;
   for (std::size_t at = 0; at + ModuleDescriptor::kBytes <= bytes.size() && out.size() < kMaxModules;

@@ -65,6 +65,7 @@ inline constexpr std::uint8_t kIoPort = 0x03;
 inline constexpr std::uint8_t kEncoder = 0x04;
 inline constexpr std::uint8_t kStepGen = 0x05;
 inline constexpr std::uint8_t kPwmGen = 0x06;
+inline constexpr std::uint8_t kInm = 0x23;  // 35: debounced input module (7I96S isolated inputs)
 inline constexpr std::uint8_t kLed = 0x80;
 inline constexpr std::uint8_t kSserial = 0xC1;
 inline constexpr std::uint8_t kSserialB = 0xC6;  // newer SSERIAL, same register interface
@@ -92,6 +93,15 @@ struct ModuleDescriptor {
   // Address of register `reg` (0-based) of instance `instance`. Throws UsageError when the
   // instance or register does not exist or the address leaves the 64K space.
   std::uint16_t register_address(const Idrom& idrom, unsigned reg, unsigned instance) const;
+  // The register and instance at `address`, the inverse of register_address(): nullopt when
+  // the address is none of this module's registers. A register whose bit in
+  // multiple_registers is clear exists once (instance 0).
+  struct Slot {
+    unsigned reg = 0;
+    unsigned instance = 0;
+    bool operator==(const Slot&) const = default;
+  };
+  std::optional<Slot> slot_at(const Idrom& idrom, std::uint16_t address) const;
 
   bool operator==(const ModuleDescriptor&) const = default;
 };
@@ -114,6 +124,65 @@ struct PinDescriptor {
 };
 inline constexpr std::size_t kMaxPins = 144;
 std::vector<PinDescriptor> parse_pins(ByteView bytes, std::size_t count);
+
+// ---- Encoder, IOPort and InM registers (LinuxCNC hm2/encoder.c, ioport.c, inm.c; FW regmap) ----
+
+// Register numbers within the quadrature counter module (multiplied by the register stride).
+namespace encoder_reg {
+inline constexpr unsigned kCount = 0;             // count (0-15), timestamp of the last count change (16-31)
+inline constexpr unsigned kLatchControl = 1;      // latched count (16-31), control and status (0-15)
+inline constexpr unsigned kTimestampDivider = 2;  // TSDiv: TSCount runs at ClockLow / (TSDiv + 2)
+inline constexpr unsigned kTimestampCount = 3;    // TSCount, 16-bit, read only
+inline constexpr unsigned kFilterRate = 4;        // QFilterRate
+inline constexpr unsigned kCount_ = 5;
+}  // namespace encoder_reg
+
+// Latch/control register bits.
+namespace encoder_bit {
+inline constexpr std::uint32_t kInputA = 1u << 0;  // read only, live
+inline constexpr std::uint32_t kInputB = 1u << 1;
+inline constexpr std::uint32_t kInputIndex = 1u << 2;
+inline constexpr std::uint32_t kIndexPolarity = 1u << 3;  // 1: the rising edge is the index event
+inline constexpr std::uint32_t kLatchOnIndex = 1u << 4;
+inline constexpr std::uint32_t kClearOnIndex = 1u << 5;
+inline constexpr std::uint32_t kJustOnce = 1u << 6;
+inline constexpr std::uint32_t kAbGateIndex = 1u << 7;
+inline constexpr std::uint32_t kIndexMaskPolarity = 1u << 8;
+inline constexpr std::uint32_t kIndexMask = 1u << 9;
+inline constexpr std::uint32_t kCounterMode = 1u << 10;  // 1: up/down (A = count, B = direction)
+inline constexpr std::uint32_t kFilter = 1u << 11;
+inline constexpr std::uint32_t kProbePolarity = 1u << 12;
+inline constexpr std::uint32_t kLatchOnProbe = 1u << 13;
+inline constexpr std::uint32_t kAbMaskPolarity = 1u << 14;
+inline constexpr std::uint32_t kQuadError = 1u << 15;
+}  // namespace encoder_bit
+
+// Secondary pin numbers of an encoder's pins in the pin descriptors.
+namespace encoder_pin {
+inline constexpr std::uint8_t kA = 1;
+inline constexpr std::uint8_t kB = 2;
+inline constexpr std::uint8_t kIndex = 3;
+}  // namespace encoder_pin
+
+namespace ioport_reg {
+inline constexpr unsigned kData = 0;       // read: pin levels; write: output values
+inline constexpr unsigned kDirection = 1;  // DDR, 1 = output
+inline constexpr unsigned kAltSource = 2;  // 1 = the pin's module drives it
+inline constexpr unsigned kOpenDrain = 3;
+inline constexpr unsigned kOutputInvert = 4;
+inline constexpr unsigned kCount = 5;
+}  // namespace ioport_reg
+
+namespace inm_reg {
+inline constexpr unsigned kControl = 0;  // bits 0-4 read only: last input number; bit 5 global invert
+inline constexpr unsigned kFilter = 1;   // 1 per input: the long filter time
+inline constexpr unsigned kFilteredData = 2;
+inline constexpr unsigned kRawData = 3;
+inline constexpr unsigned kMpg = 4;
+inline constexpr unsigned kCount = 5;
+inline constexpr std::uint32_t kGlobalInvert = 1u << 5;
+inline constexpr std::uint32_t kMaxBitMask = 0x1F;
+}  // namespace inm_reg
 
 // ---- SSERIAL registers ------------------------------------------------------------------
 

@@ -82,6 +82,12 @@ TEST_F(EthMesaflash, ReadhmidPrintsTheConfiguration) {
   EXPECT_NE(out.find("Module: StepGen"), std::string::npos) << out;
   EXPECT_NE(out.find("RXData0"), std::string::npos) << out;
   EXPECT_NE(out.find("TXData0"), std::string::npos) << out;
+  // The feedback hostmot2 needs for bldc: the encoder on TB2 and the isolated inputs as InM.
+  EXPECT_NE(out.find("Module: QCount"), std::string::npos) << out;
+  EXPECT_NE(out.find("Module: InM"), std::string::npos) << out;
+  EXPECT_NE(out.find("BaseAddress: 8500"), std::string::npos) << out;
+  EXPECT_NE(out.find("Quad-IDX"), std::string::npos) << out;
+  EXPECT_NE(out.find("Input10"), std::string::npos) << out;
 }
 
 TEST_F(EthMesaflash, SserialListsThe8i20OnItsChannel) {
