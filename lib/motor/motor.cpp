@@ -233,6 +233,23 @@ bool Motor::take_runaway() {
   return ran;
 }
 
+void Motor::set_sensor_faults(SensorFaults faults) {
+  if (faults.encoder_lost && !sensor_faults_.encoder_lost) encoder_frozen_turns_ = state_.angle_turns;
+  if (faults.hall_stuck && !sensor_faults_.hall_stuck) hall_frozen_electrical_ = state_.electrical_angle_rad;
+  sensor_faults_ = faults;
+}
+
+SensorReading Motor::read_sensors() const {
+  SensorReading r;
+  if (params_.encoder)
+    r.encoder_count = encoder_count(*params_.encoder,
+                                    sensor_faults_.encoder_lost ? encoder_frozen_turns_ : state_.angle_turns);
+  if (params_.halls)
+    r.hall_code = hall_code(
+        *params_.halls, sensor_faults_.hall_stuck ? hall_frozen_electrical_ : state_.electrical_angle_rad);
+  return r;
+}
+
 double Motor::kinetic_energy_j() const {
   return 0.5 * params_.inertia_kgm2 * state_.speed_rad_s * state_.speed_rad_s;
 }

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "motor/current_loop.hpp"
 #include "motor/params.hpp"
@@ -63,6 +64,19 @@ struct MotorState {
   EnergyLedger energy;
 };
 
+// Feedback faults the simulators inject: a Hall code that no longer changes, an encoder
+// whose count no longer changes (a cut cable or a lost supply).
+struct SensorFaults {
+  bool hall_stuck = false;
+  bool encoder_lost = false;
+};
+
+// What the motor's encoder and Halls read now (faults applied); empty without the device.
+struct SensorReading {
+  std::optional<std::int64_t> encoder_count;
+  std::optional<unsigned> hall_code;  // H1 H2 H3 in bits 2 1 0
+};
+
 class Motor {
  public:
   explicit Motor(MotorParams params, double pwm_hz = kDefaultPwmHz, int substeps = 4);
@@ -82,6 +96,10 @@ class Motor {
   // Whether the speed has exceeded max_speed since the last call.
   bool take_runaway();
   double kinetic_energy_j() const;
+  // Sensor faults freeze the reading at the moment they are switched on.
+  void set_sensor_faults(SensorFaults faults);
+  const SensorFaults& sensor_faults() const { return sensor_faults_; }
+  SensorReading read_sensors() const;
   // Stored in the winding's inductance: 3/4 L |i|^2.
   double magnetic_energy_j() const;
 
@@ -105,6 +123,9 @@ class Motor {
   std::uint64_t periods_ = 0;
   unsigned overcurrent_ = 0;
   bool runaway_ = false;
+  SensorFaults sensor_faults_;
+  double encoder_frozen_turns_ = 0;
+  double hall_frozen_electrical_ = 0;
 };
 
 }  // namespace i20::motor
