@@ -39,7 +39,6 @@ DriveCommand follow(double iq, double bus = 320.0) {
   return d;
 }
 
-
 }  // namespace
 
 TEST(MotorMechanics, SteadySpeedUnderAConstantTorqueIsTheClosedForm) {

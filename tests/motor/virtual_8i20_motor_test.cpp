@@ -10,6 +10,8 @@
 #include "../sim/bench.hpp"
 #include "motor/motor.hpp"
 #include "sim/bits.hpp"
+#include "sim/control.hpp"
+#include "sim/error.hpp"
 
 namespace i20::sim::test {
 namespace {
@@ -179,6 +181,43 @@ TEST_F(CardWithMotor, ARunawayBeyondMaxSpeedLatchesBusOverVoltage) {
 TEST_F(CardWithMotor, WithoutAMotorThereIsNoMotorState) {
   Bench plain;
   EXPECT_EQ(plain.card.motor(), nullptr);
+  EXPECT_THROW(apply_control(plain.card, "motor load 0.1Nm", plain.t), ControlError);
+  EXPECT_EQ(describe_state(plain.card).find("motor"), std::string::npos);
+}
+
+TEST_F(CardWithMotor, ControlLinesStepTheLoadLive) {
+  EXPECT_EQ(apply_control(b().card, "motor load -0.2Nm", b().t), "ok");  // drives it forward
+  EXPECT_DOUBLE_EQ(b().card.motor()->params().load_nm, -0.2);
+  b().card.world().settings().enable = false;  // no torque from the card
+  b().wait(std::chrono::milliseconds(20));
+  EXPECT_GT(state().speed_rad_s, 10.0);
+  EXPECT_THROW(apply_control(b().card, "motor load 3", b().t), ControlError);
+  EXPECT_THROW(apply_control(b().card, "motor colour red", b().t), ControlError);
+  EXPECT_DOUBLE_EQ(b().card.motor()->params().load_nm, -0.2) << "a refused line changes nothing";
+  EXPECT_EQ(apply_control(b().card, "motor brake.engaged true", b().t), "ok");
+  EXPECT_TRUE(b().card.motor()->params().brake_engaged);
+}
+
+TEST_F(CardWithMotor, InjectedSensorFaultsFreezeTheReadings) {
+  auto p = servo();
+  p.encoder = motor::EncoderDescription{4000, 1, 0};
+  p.halls = motor::HallDescription{};
+  p.load_nm = -0.2;
+  bench_.emplace(with_motor(p));
+  b().wait(std::chrono::milliseconds(5));
+  EXPECT_EQ(apply_control(b().card, "motor fault encoder-lost on", b().t), "ok");
+  EXPECT_EQ(apply_control(b().card, "motor fault hall-stuck on", b().t), "ok");
+  const auto frozen = b().card.motor()->read_sensors();
+  b().wait(std::chrono::milliseconds(20));
+  const auto later = b().card.motor()->read_sensors();
+  EXPECT_EQ(later.encoder_count, frozen.encoder_count);
+  EXPECT_EQ(later.hall_code, frozen.hall_code);
+  apply_control(b().card, "motor fault encoder-lost off", b().t);
+  EXPECT_GT(*b().card.motor()->read_sensors().encoder_count, *frozen.encoder_count);
+  const std::string shown = apply_control(b().card, "show", b().t);
+  for (const char* field :
+       {"motor_angle=", "speed=", "electrical=", "encoder=", "halls=", "(stuck)", "iu=", "iv=", "iw="})
+    EXPECT_NE(shown.find(field), std::string::npos) << field << " in " << shown;
 }
 
 }  // namespace
