@@ -11,6 +11,7 @@
 
 #include "motor/error.hpp"
 #include "motor/units.hpp"
+#include "params/closest.hpp"
 #include "params/text.hpp"
 #include "params/value.hpp"
 
@@ -166,8 +167,13 @@ constexpr std::string_view kRequired[] = {"pole_pairs", "resistance", "inductanc
 const Key& find_key(std::string_view name) {
   const auto& table = keys();
   const auto it = std::ranges::find(table, name, &Key::name);
-  if (it == table.end()) throw MotorError(std::string(name) + ": unknown key (known: see motors/README.md)");
-  return *it;
+  if (it != table.end()) return *it;
+  std::vector<params::Candidate> candidates;
+  for (const auto& k : table) candidates.push_back({std::string(k.name), {std::string(k.name)}});
+  const auto near = params::closest(name, candidates, 1);
+  throw MotorError(
+      std::string(name) + ": unknown key" +
+      (near.empty() ? " (the keys: motors/README.md)" : "; did you mean '" + near.front() + "'?"));
 }
 
 struct Entry {

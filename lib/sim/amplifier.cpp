@@ -107,7 +107,7 @@ void Amplifier::set_motor_sensor_faults(motor::SensorFaults faults, Clock::time_
   motor_->set_sensor_faults(faults);
 }
 
-void Amplifier::power_lost(Clock::time_point now) {
+void Amplifier::bridge_off(Clock::time_point now) {
   if (!motor_) return;
   run_motor(now);
   auto off = motor_->drive();
@@ -127,7 +127,7 @@ void Amplifier::run_motor(Clock::time_point now) {
   // when the next command or tick notices it.
   if (const auto due = watchdog_due(); due && *due > motor_time_ && *due < now && motor_->drive().output_on) {
     step_motor_to(*due);
-    power_lost(*due);
+    bridge_off(*due);
   }
   step_motor_to(now);
   const unsigned phases = motor_->take_overcurrent();

@@ -111,8 +111,8 @@ class Amplifier {
   void set_motor_sensor_faults(motor::SensorFaults faults, Clock::time_point now);
   // Lets the motor run up to `now` with the drive as it is (also while the logic is off).
   void run_motor(Clock::time_point now);
-  // Logic power lost: the bridge switches off.
-  void power_lost(Clock::time_point now);
+  // The bridge switches off at `now` (logic power lost, a watchdog bite between updates).
+  void bridge_off(Clock::time_point now);
 
   // CLEARFAULT never returns to 0 and nothing is cleared (injected firmware hang).
   void set_clearfault_stuck(bool stuck) { clearfault_stuck_ = stuck; }

@@ -52,7 +52,7 @@ const char* kHelp =
     "set NAME VALUE             force a parameter's raw value (bypasses protection)\n"
     "motor KEY VALUE            change the attached motor live, as its file writes it, e.g.\n"
     "                           motor load 0.3Nm (a load step), motor brake.engaged true,\n"
-    "                           motor friction.coulomb 0.05Nm (keys: docs/motor-model.md)\n"
+    "                           motor friction.coulomb 0.05Nm (keys: motors/README.md)\n"
     "motor fault hall-stuck|encoder-lost on|off   freeze the Hall code or the encoder count\n"
     "motor                      the motor's state: angle, speed, electrical angle, encoder, Halls, currents\n"
     "show                       the state at a glance (with the motor's, if one is attached)\n"

@@ -239,7 +239,7 @@ std::optional<Clock::time_point> Virtual8i20::next_event() const {
 
 void Virtual8i20::power_off() {
   powered_ = false;
-  amplifier_.power_lost(now_);
+  amplifier_.bridge_off(now_);
   framer_.clear();
   outbox_.erase(
       std::remove_if(outbox_.begin(), outbox_.end(), [&](const Outgoing& o) { return o.release > now_; }),

@@ -75,7 +75,9 @@ TEST(MotorFile, MistakesAreOneLineNamingFileLineAndKey) {
     std::string expected;
   };
   const Case cases[] = {
-      {std::string(kSmall) + "colour: red\n", "m.yaml:6: colour: unknown key"},
+      {std::string(kSmall) + "colour: red\n", "m.yaml:6: colour: unknown key (the keys: motors/README.md)"},
+      {std::string(kSmall) + "torque_konstant: 1Nm/A\n",
+       "m.yaml:6: torque_konstant: unknown key; did you mean 'torque_constant'?"},
       {"pole_pairs: 4\nresistance: 0.6ohm\ninductance: 1.75mH\ninertia: 1kgm^2\n",
        "m.yaml: torque_constant: missing"},
       {"pole_pairs: 4\nresistance: 0.6ohm\ninductance: 1.75mh\ntorque_constant: 0.2Nm/A\ninertia: 1kgm^2\n",
