@@ -3,6 +3,7 @@
 # default, /usr for the Debian package):
 #   bin/                                  i20, wpd, rpd, i20sim
 #   share/i20tools/profiles/              the shipped motor and tuning profiles (found by name)
+#   share/i20tools/motors/                example motor files for `i20sim --motor`
 #   share/doc/i20tools/                   README.md, docs/, the profile and simulator notes
 #   share/man/man1/                       man pages, generated from --help (packaging/)
 #   share/bash-completion/completions/i20 bash completion, generated from --help (packaging/)
@@ -14,11 +15,14 @@ install(TARGETS i20 wpd rpd i20sim RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/profiles/ DESTINATION ${CMAKE_INSTALL_DATADIR}/i20tools/profiles
         FILES_MATCHING PATTERN "*.yaml" PATTERN "*.md")
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/motors/ DESTINATION ${CMAKE_INSTALL_DATADIR}/i20tools/motors
+        FILES_MATCHING PATTERN "*.yaml")
 
 # The same layout as in the repository, so the documents' relative links keep working.
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(FILES ${PROJECT_SOURCE_DIR}/docs/README.md ${PROJECT_SOURCE_DIR}/docs/facts.md
-        DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)
+              ${PROJECT_SOURCE_DIR}/docs/motor-model.md DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)
+install(FILES ${PROJECT_SOURCE_DIR}/motors/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR}/motors)
 install(FILES ${PROJECT_SOURCE_DIR}/profiles/README.md ${PROJECT_SOURCE_DIR}/profiles/TUNING.md
         DESTINATION ${CMAKE_INSTALL_DOCDIR}/profiles)
 install(FILES ${PROJECT_SOURCE_DIR}/lib/sim/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR}/lib/sim)

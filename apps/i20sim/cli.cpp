@@ -2,9 +2,13 @@
 #include "cli.hpp"
 
 #include <CLI/CLI.hpp>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "ethsim/card_control.hpp"
+#include "motor/error.hpp"
+#include "motor/loader.hpp"
 #include "params/param_db.hpp"
 #include "parse_error.hpp"
 #include "sim/control.hpp"
@@ -22,6 +26,9 @@ const char* kDescription =
     "Examples:\n"
     "  i20sim --pty                                  serve; the first stdout line is the port path\n"
     "  i20sim --pty --eeprom card.eeprom             NV values persist in card.eeprom\n"
+    "  i20sim --pty --operate --motor motors/small-servo.yaml\n"
+    "                                                a motor the card drives (ANGLE, QSETPOINT);\n"
+    "                                                echo 'motor load 0.3Nm' > the --control FIFO\n"
     "  i20sim --pty --busv 24 --enable off           a bench card: low bus, no enable\n"
     "  i20sim --pty --random-map 7                   other working addresses, other SWREVISION\n"
     "  i20sim --pty --wire-time --turnaround-us 1000 real line timing behind a USB adapter\n"
@@ -50,7 +57,16 @@ struct Raw {
   double eeprom_word_ms = 2, clearfault_ms = 5, watchdog_ms = 40, reset_ms = 1, delay_ms = 0,
          turnaround_us = 0;
   std::vector<std::string> faults;
+  std::vector<std::string> motors;
 };
+
+motor::MotorParams load_motor_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw motor::MotorError(path + ": cannot be read");
+  std::stringstream text;
+  text << in.rdbuf();
+  return motor::parse_motor(text.str(), path);
+}
 
 RegisterMap build_map(const Raw& raw) {
   // The YAML is the single source of addresses; user overlays ($I20_PARAMS) do not apply
@@ -132,6 +148,12 @@ void add_options(CLI::App& app, Invocation& o, Raw& raw) {
       ->group(card);
 
   const char* world = "World";
+  app.add_option(
+         "--motor", raw.motors,
+         "A motor on an 8I20's outputs, from a motor file (see motors/README.md), e.g. "
+         "motors/small-servo.yaml; the card drives it in operate mode. With --eth repeatable: each on its "
+         "file's channel")
+      ->group(world);
   app.add_option("--busv", w.bus_volts, "Motor bus voltage, V, e.g. --busv 48")
       ->capture_default_str()
       ->group(world);
@@ -190,6 +212,23 @@ void apply(Invocation& o, const Raw& raw) {
   d.injection.eeprom_power_loss = raw.power_loss == "lost"   ? EepromPowerLoss::Lost
                                   : raw.power_loss == "torn" ? EepromPowerLoss::Torn
                                                              : EepromPowerLoss::None;
+  for (const auto& path : raw.motors) {
+    auto params = load_motor_file(path);
+    if (o.eth) {
+      for (const auto& other : o.eth_options.motors)
+        if (other.channel == params.channel)
+          throw motor::MotorError(path + ": channel " + std::to_string(params.channel) +
+                                  " already has a motor (one motor per 8I20)");
+      o.eth_options.motors.push_back(std::move(params));
+      continue;
+    }
+    // A pty is one 8I20 on its own line: the file's channel (a place on an FPGA card's
+    // SSERIAL port) does not apply.
+    if (raw.motors.size() > 1)
+      throw motor::MotorError(path +
+                              ": the serial simulator has one 8I20, so one motor; several axes need --eth");
+    d.motor = std::move(params);
+  }
   o.sim.wire.turnaround =
       std::chrono::duration_cast<Duration>(std::chrono::duration<double, std::micro>(raw.turnaround_us));
 }

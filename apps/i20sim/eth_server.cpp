@@ -50,6 +50,14 @@ void control(ethsim::CardServer& server, const std::string& line) {
 int serve_eth(const SimOptions& sim, const EthServeOptions& o,
               const std::vector<std::string>& startup_control) {
   ethsim::CardServer server(server_options(sim, o));
+  for (const auto& m : o.motors)
+    server.with_card([&](ethsim::VirtualCard& card) {
+      sim::Virtual8i20* amplifier = server.amplifier(card, 0, m.channel);
+      if (!amplifier)
+        throw UsageError("motor '" + m.name + "' sits on channel " + std::to_string(m.channel) +
+                         ", which has no 8I20 (--channels " + std::to_string(o.channels) + ")");
+      amplifier->amplifier().attach_motor(m, sim::Clock::now());
+    });
   std::optional<ControlFifo> fifo;
   if (!o.control_fifo.empty()) fifo.emplace(o.control_fifo);
   for (const auto& line : startup_control) ethsim::apply_card_control(server, "all " + line);

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "motor/params.hpp"
 #include "sim/sim_stream.hpp"
 
 namespace i20::sim::app {
@@ -18,8 +19,9 @@ struct EthServeOptions {
   std::string card = "7i96s";        // or 7i92t
   unsigned channels = 1;             // 8I20s on port 0, channels 0..channels-1
   bool read_stdin = true;
-  std::string control_fifo{};  // "" for none
-  bool running_host = false;   // start with a LinuxCNC stand-in running (host on)
+  std::string control_fifo{};                // "" for none
+  bool running_host = false;                 // start with a LinuxCNC stand-in running (host on)
+  std::vector<motor::MotorParams> motors{};  // each on its `channel` of port 0 (--motor)
 };
 
 // Prints "ADDR:PORT" alone on the first line of stdout (what clients pass to --eth),

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <string>
 
+#include "motor/current_loop.hpp"
 #include "profile/error.hpp"
 
 namespace i20::profile {
@@ -24,24 +25,26 @@ void require_positive(double value, const char* what) {
     throw TuneError(std::string(what) + " must be a positive number");
 }
 
-// Simulates `count` samples of the loop.
+// Simulates `count` samples of the loop: the motor model's PI current loop and winding
+// (lib/motor/current_loop.hpp, the virtual 8I20's too) on a locked rotor, the step on the
+// q axis alone.
 struct Loop {
-  double a = 0, b = 0;  // i[k+1] = a i[k] + b v[k]
-  double kp = 0, ki = 0, period = 0, vmax = 0, step = 0;
+  MotorModel motor;
+  PhysicalGains gains;
+  double period = 0, vmax = 0, step = 0;
 
   std::vector<StepSample> run(std::size_t count) const {
     std::vector<StepSample> out;
     out.reserve(count);
-    double i = 0, integral = 0, applied = 0;
+    motor::Winding winding(motor, 0);  // a locked rotor has no back-EMF
+    motor::PiCurrentLoop controller;
+    double applied = 0;
     for (std::size_t k = 0; k < count; ++k) {
+      const double i = winding.current().q;
       out.push_back({static_cast<double>(k) * period, step, i, applied});
-      const double e = step - i;
-      const double wanted = kp * e + integral;
-      const double v = std::clamp(wanted, -vmax, vmax);
-      // Integrate only while unsaturated, or when the error pulls out of saturation.
-      if (v == wanted || (e > 0) != (wanted > 0)) integral += ki * period * e;
-      i = a * i + b * applied;  // the plant sees last period's output
-      applied = v;
+      const auto next = controller.update({0, step - i}, gains, gains, period, vmax);
+      winding.step({0, applied}, 0, period);  // the plant sees last period's output
+      applied = next.voltage.q;
     }
     return out;
   }
@@ -88,8 +91,9 @@ StepMetrics measure(const std::vector<StepSample>& s, double step, double vmax) 
 // (Kp / Ki, which hand-set gains may put far from the winding's pole) and the ramp at the
 // voltage limit (L * step / Vmax, a large step on a low bus).
 double slowest_time_constant(const Loop& loop, const MotorModel& motor) {
-  double slowest = std::max(motor.inductance_h / loop.kp, motor.inductance_h / motor.resistance_ohm);
-  if (loop.ki > 0) slowest = std::max(slowest, loop.kp / loop.ki);
+  const double kp = loop.gains.kp_v_per_a, ki = loop.gains.ki_v_per_as;
+  double slowest = std::max(motor.inductance_h / kp, motor.inductance_h / motor.resistance_ohm);
+  if (ki > 0) slowest = std::max(slowest, kp / ki);
   return std::max(slowest, motor.inductance_h * loop.step / loop.vmax);
 }
 
@@ -141,15 +145,13 @@ StepResponse simulate_step(const StepRequest& r) {
   if (r.kp <= 0 || r.ki < 0) throw TuneError("the gains to simulate must be positive");
   StepResponse out;
   out.step_a = r.step_a > 0 ? r.step_a : 0.5 * r.max_current_a;
-  out.voltage_limit_v = r.bus_voltage_v / std::sqrt(3.0);
+  out.voltage_limit_v = motor::voltage_limit(r.bus_voltage_v);
   out.gains = physical_gains(r.kp, r.ki, r.max_current_a, r.bus_voltage_v, r.reference);
 
   Loop loop;
+  loop.motor = r.motor;
+  loop.gains = out.gains;
   loop.period = 1.0 / r.sample_rate_hz;
-  loop.a = std::exp(-r.motor.resistance_ohm * loop.period / r.motor.inductance_h);
-  loop.b = (1.0 - loop.a) / r.motor.resistance_ohm;
-  loop.kp = out.gains.kp_v_per_a;
-  loop.ki = out.gains.ki_v_per_as;
   loop.vmax = out.voltage_limit_v;
   loop.step = out.step_a;
 
@@ -160,7 +162,7 @@ StepResponse simulate_step(const StepRequest& r) {
   } else {
     // A few closed-loop time constants (L / Kp), longer until the response has settled,
     // but no longer than the slowest thing the loop can do could need.
-    const double tau = r.motor.inductance_h / loop.kp;
+    const double tau = r.motor.inductance_h / loop.gains.kp_v_per_a;
     const std::size_t longest = std::clamp(
         static_cast<std::size_t>(kSettleWindows * slowest_time_constant(loop, r.motor) * r.sample_rate_hz),
         kMinSamples, kMaxSamples);

@@ -2,7 +2,8 @@
 // A simulated current step of the 8I20's PI loop on the motor's R-L winding.
 //
 // Model (a locked rotor, so no back-EMF; one axis of the dq frame):
-//  - plant: L di/dt = v - R i, discretised exactly for a zero-order hold;
+//  - plant: L di/dt = v - R i, discretised exactly for a zero-order hold (lib/motor: the
+//    same current loop and winding the virtual 8I20 drives its motor with);
 //  - controller: discrete PI sampled at the PWM rate (default 12 kHz, the manual's
 //    default switching frequency), its output applied one period later (computation delay);
 //  - voltage limited to Vbus / sqrt(3), the largest phase voltage space-vector PWM makes

@@ -42,18 +42,8 @@ void check(const TuneRequest& r) {
   if (ref.kp <= 0 || ref.ki <= 0) throw TuneError("the reference gains must be positive");
 }
 
-// Card counts per V/A at this MAXCURRENT and bus: the reference fixes the constant.
-double kp_counts_per_unit(double max_current_a, double bus_voltage_v, const ReferenceTuning& ref) {
-  const double ref_physical = ref.motor.inductance_h * omega(ref.bandwidth_hz);
-  return static_cast<double>(ref.kp) / ref_physical * (max_current_a / ref.max_current_a) *
-         (ref.bus_voltage_v / bus_voltage_v);
-}
-
-double ki_counts_per_unit(double max_current_a, double bus_voltage_v, const ReferenceTuning& ref) {
-  const double ref_physical = ref.motor.resistance_ohm * omega(ref.bandwidth_hz);
-  return static_cast<double>(ref.ki) / ref_physical * (max_current_a / ref.max_current_a) *
-         (ref.bus_voltage_v / bus_voltage_v);
-}
+using motor::ki_counts_per_unit;
+using motor::kp_counts_per_unit;
 
 std::string number(double v) {
   char buf[32];
@@ -89,12 +79,6 @@ std::int64_t to_counts(double exact, const params::Param& p, std::vector<Finding
 }
 
 }  // namespace
-
-PhysicalGains physical_gains(std::int64_t kp, std::int64_t ki, double max_current_a, double bus_voltage_v,
-                             const ReferenceTuning& reference) {
-  return {static_cast<double>(kp) / kp_counts_per_unit(max_current_a, bus_voltage_v, reference),
-          static_cast<double>(ki) / ki_counts_per_unit(max_current_a, bus_voltage_v, reference)};
-}
 
 TuneResult tune(const TuneRequest& request, const params::ParamDb& db) {
   check(request);

@@ -20,31 +20,18 @@
 #include <string>
 #include <vector>
 
+#include "motor/card_gains.hpp"
 #include "params/param_db.hpp"
 #include "profile/finding.hpp"
 
 namespace i20::profile {
 
 // Per-phase (line-to-neutral) values; half the line-to-line values of a star motor.
-struct MotorModel {
-  double resistance_ohm = 0;
-  double inductance_h = 0;
-};
+using MotorModel = motor::WindingParams;
 
-// The tuning the card's default gains are assumed to be. The reference motor is a generic
-// 400 W, 200 V-class AC servo (2.7 A RMS continuous, about 8 A peak, electrical time
-// constant L/R = 3 ms) on a 240 V line (340 V bus, the case the manual's brake defaults
-// are chosen for), with MAXCURRENT at its peak current as the manual advises, and a
-// 500 Hz current-loop bandwidth: well damped with a one-period computation delay at the
-// default 12 kHz PWM.
-struct ReferenceTuning {
-  std::int64_t kp = 50;
-  std::int64_t ki = 150000;
-  MotorModel motor{2.0, 6.0e-3};
-  double max_current_a = 8.0;
-  double bus_voltage_v = 340.0;
-  double bandwidth_hz = 500.0;
-};
+// The tuning the card's default gains are assumed to be (lib/motor/card_gains.hpp: the
+// scaling is shared with the motor model, so the virtual 8I20 reads gains the same way).
+using ReferenceTuning = motor::ReferenceTuning;
 
 // With a one-period delay, the loop z^2 - z + wc*T = 0 is critically damped at wc*T = 0.25
 // and overshoots about 5% at 0.35 (~670 Hz at 12 kHz); beyond that it rings.
@@ -60,10 +47,7 @@ struct TuneRequest {
 };
 
 // What card gains mean in volts per amp for one MAXCURRENT and bus voltage, per the model.
-struct PhysicalGains {
-  double kp_v_per_a = 0;
-  double ki_v_per_as = 0;
-};
+using PhysicalGains = motor::PhysicalGains;
 
 struct TuneResult {
   std::int64_t kp = 0;  // for KQP and KDP
@@ -81,7 +65,6 @@ struct TuneResult {
 TuneResult tune(const TuneRequest& request, const params::ParamDb& db);
 
 // The physical gains of card gains kp/ki at this MAXCURRENT and bus voltage, per the model.
-PhysicalGains physical_gains(std::int64_t kp, std::int64_t ki, double max_current_a, double bus_voltage_v,
-                             const ReferenceTuning& reference);
+using motor::physical_gains;
 
 }  // namespace i20::profile

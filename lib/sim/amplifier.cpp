@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "sim/amplifier.hpp"
 
+#include <cmath>
+#include <numbers>
+
+#include "motor/card_gains.hpp"
 #include "sim/bits.hpp"
 #include "sim/error.hpp"
 
@@ -9,6 +13,21 @@ namespace {
 
 constexpr unsigned kDefaultBaudIndex = 9;  // 2.5 MBaud (manual, OPERATE MODE BAUD RATE)
 constexpr unsigned kBaudIndexCount = 12;
+
+// The 8I20 puts the current vector a quarter electrical turn ahead of ANGLE for positive
+// QSETPOINT (behind it for negative): an inference from LinuxCNC feeding bldc's rotor-angle,
+// without lead, to the card (docs/motor-model.md). In the card's ANGLE frame that is a
+// current on the q axis only.
+constexpr double kLeadRad = std::numbers::pi / 2;
+// "U current >125% of MAXCURRENT" (manual, FAULT CONDITIONS).
+constexpr double kPhaseTripFraction = 1.25;
+constexpr std::uint16_t kPhaseFaults[3] = {fault::kULoop, fault::kVLoop, fault::kWLoop};
+// A runaway's energy comes back into the bus: the settable over-voltage fault trips first.
+constexpr std::uint16_t kRunawayFault = fault::kBusHigh;
+
+double seconds(Duration d) {
+  return std::chrono::duration<double>(d).count();
+}
 
 }  // namespace
 
@@ -52,18 +71,100 @@ void Amplifier::load_working_from_nv() {
 }
 
 void Amplifier::update(Clock::time_point now) {
+  run_motor(now);
   const auto sample = world_.sample();
   last_temperature_c_ = sample.temperature_c;
+  last_bus_volts_ = sample.bus_volts;
   write_raw(map_.at("BUSV"), sample.busv_raw);
   write_raw(map_.at("TEMPERATURE"), sample.temperature_raw);
   update_brake(sample.bus_volts);
-  const std::uint16_t present = causes(sample, now);
+  const std::uint16_t present = causes(sample, now) | take_motor_causes();
   if ((present & ~previous_causes_) & fault::kWatchdog) ++watchdog_bites_;
   previous_causes_ = present;
   latched_faults_ |= present;
   handle_clearfault(now, present);
   write_raw(map_.at("FAULT"), latched_faults_);
   write_raw(map_.at("STATUS"), status());
+  command_motor();
+}
+
+void Amplifier::attach_motor(const motor::MotorParams& params, Clock::time_point now) {
+  motor_.emplace(params);
+  motor_time_ = now;
+  motor_causes_ = 0;
+  command_motor();
+}
+
+void Amplifier::set_motor_params(const motor::MotorParams& params, Clock::time_point now) {
+  if (!motor_) return;
+  run_motor(now);
+  motor_->set_params(params);
+}
+
+void Amplifier::set_motor_sensor_faults(motor::SensorFaults faults, Clock::time_point now) {
+  if (!motor_) return;
+  run_motor(now);
+  motor_->set_sensor_faults(faults);
+}
+
+void Amplifier::bridge_off(Clock::time_point now) {
+  if (!motor_) return;
+  run_motor(now);
+  auto off = motor_->drive();
+  off.output_on = false;
+  motor_->command(off);
+}
+
+void Amplifier::step_motor_to(Clock::time_point t) {
+  if (t <= motor_time_) return;
+  motor_->step(seconds(t - motor_time_));
+  motor_time_ = t;
+}
+
+void Amplifier::run_motor(Clock::time_point now) {
+  if (!motor_ || now <= motor_time_) return;
+  // A watchdog that bites within this stretch switches the bridge off when it bites, not
+  // when the next command or tick notices it.
+  if (const auto due = watchdog_due(); due && *due > motor_time_ && *due < now && motor_->drive().output_on) {
+    step_motor_to(*due);
+    bridge_off(*due);
+  }
+  step_motor_to(now);
+  const unsigned phases = motor_->take_overcurrent();
+  for (unsigned k = 0; k < 3; ++k)
+    if (phases & (1u << k)) motor_causes_ |= kPhaseFaults[k];
+  const auto& max_speed = motor_->params().max_speed_rad_s;
+  if (motor_->take_runaway() || (max_speed && std::abs(motor_->state().speed_rad_s) > *max_speed))
+    motor_causes_ |= kRunawayFault;
+}
+
+std::uint16_t Amplifier::take_motor_causes() {
+  const std::uint16_t c = motor_causes_;
+  motor_causes_ = 0;
+  return c;
+}
+
+// The drive the card's registers ask for now: on while the current loop is (STATUS bit 9).
+void Amplifier::command_motor() {
+  if (!motor_) return;
+  motor::DriveCommand d = motor_->drive();
+  const auto angle = ram_value("ANGLE"), setpoint = ram_value("QSETPOINT"), max_raw = ram_value("MAXCURRENT");
+  const auto kqp = ram_value("KQP"), kqi = ram_value("KQI"), kdp = ram_value("KDP"), kdi = ram_value("KDI");
+  const double max_current = max_raw ? static_cast<double>(*max_raw) * 0.01 : 0;
+  d.output_on = (status() & status::kCurrentLoopOn) && angle && setpoint && kqp && kqi && kdp && kdi &&
+                max_current > 0 && last_bus_volts_ > 0;
+  if (d.output_on) {
+    const double command = static_cast<std::int16_t>(*setpoint) / 32767.0 * max_current;
+    d.frame_angle_rad = static_cast<double>(*angle) * (2 * std::numbers::pi / 65536.0);
+    d.current_a = {command * std::cos(kLeadRad), command * std::sin(kLeadRad)};
+    d.q_gains = motor::physical_gains(static_cast<std::int64_t>(*kqp), static_cast<std::int64_t>(*kqi),
+                                      max_current, last_bus_volts_);
+    d.d_gains = motor::physical_gains(static_cast<std::int64_t>(*kdp), static_cast<std::int64_t>(*kdi),
+                                      max_current, last_bus_volts_);
+    d.bus_voltage_v = last_bus_volts_;
+    d.phase_trip_a = kPhaseTripFraction * max_current;
+  }
+  motor_->command(d);
 }
 
 void Amplifier::feed_watchdog(Clock::time_point now) {
@@ -142,6 +243,7 @@ bool Amplifier::ram_write_protected(std::uint16_t address, std::size_t length) c
 
 void Amplifier::write_ram(std::uint16_t address, lbp::ByteView data) {
   for (std::size_t i = 0; i < data.size(); ++i) ram_[static_cast<std::uint16_t>(address + i)] = data[i];
+  command_motor();  // a new ANGLE, QSETPOINT or gain takes effect from now
 }
 
 std::uint64_t Amplifier::value(std::string_view name) const {
@@ -155,6 +257,7 @@ void Amplifier::poke(std::string_view name, std::uint64_t value) {
     return;
   }
   write_raw(r, value);
+  command_motor();
 }
 
 std::uint64_t Amplifier::read_raw(const Register& r) const {
@@ -173,6 +276,12 @@ void Amplifier::write_raw(const Register& r, std::uint64_t value) {
     throw ConfigError("internal: " + r.name + " is an EEPROM parameter and is written through the EEPROM");
   for (unsigned i = 0; i < r.bytes(); ++i)
     ram_[static_cast<std::uint16_t>(r.address + i)] = static_cast<lbp::Byte>(value >> (8 * i));
+}
+
+std::optional<std::uint64_t> Amplifier::ram_value(std::string_view name) const {
+  const Register* r = map_.find(name);
+  if (!r || r->space != Space::Ram) return std::nullopt;
+  return read_raw(*r);
 }
 
 std::uint16_t Amplifier::ram16(std::string_view name) const {

@@ -14,6 +14,13 @@
 //  - Brake: on above BRAKEONV or the fixed 385 V, off below BRAKEOFFV (hysteresis).
 //  - STATUS bit 0 (current limited) is set above 70 C (the card's 70 C derating point);
 //    bits 3, 8 and 9 follow LinuxCNC's names (docs/facts.md s4).
+//  - With a motor attached (attach_motor), the current loop drives it while it is on (operate
+//    mode, enable driven, no unmasked fault: STATUS bit 9): QSETPOINT/32767 x MAXCURRENT at
+//    ANGLE plus the card's lead (+90 electrical degrees for positive current, an inference:
+//    docs/motor-model.md), with the working KQP/KQI, KDP/KDI and the measured bus. A phase
+//    above 125% of MAXCURRENT latches that phase's loop-current fault (bits 5-7); a speed
+//    beyond the motor's max_speed latches BUSHIVFAULT (bit 9), what a runaway's regenerated
+//    energy shows on a real card. The motor advances on the simulator's clock.
 #pragma once
 
 #include <chrono>
@@ -21,6 +28,7 @@
 #include <optional>
 
 #include "lbp/bytes.hpp"
+#include "motor/motor.hpp"
 #include "sim/eeprom_store.hpp"
 #include "sim/register_map.hpp"
 #include "sim/world.hpp"
@@ -92,6 +100,20 @@ class Amplifier {
   std::optional<Clock::time_point> watchdog_due() const;
   bool watchdog_running() const;
 
+  // The motor on this channel, from `now` on (replaces one attached before).
+  void attach_motor(const motor::MotorParams& params, Clock::time_point now);
+  // The attached motor, if any: its state (mechanical angle, speed, currents), its
+  // description (encoder, Halls) and injected sensor faults. Up to date as of the last
+  // update() / run_motor().
+  const motor::Motor* motor() const { return motor_ ? &*motor_ : nullptr; }
+  // Changes the attached motor's parameters live (load step, brake, ...). Throws MotorError.
+  void set_motor_params(const motor::MotorParams& params, Clock::time_point now);
+  void set_motor_sensor_faults(motor::SensorFaults faults, Clock::time_point now);
+  // Lets the motor run up to `now` with the drive as it is (also while the logic is off).
+  void run_motor(Clock::time_point now);
+  // The bridge switches off at `now` (logic power lost, a watchdog bite between updates).
+  void bridge_off(Clock::time_point now);
+
   // CLEARFAULT never returns to 0 and nothing is cleared (injected firmware hang).
   void set_clearfault_stuck(bool stuck) { clearfault_stuck_ = stuck; }
   // When the pending CLEARFAULT completes, if one is pending.
@@ -107,6 +129,10 @@ class Amplifier {
   std::uint64_t read_raw(const Register& r) const;
   void write_raw(const Register& r, std::uint64_t value);
   std::uint16_t ram16(std::string_view name) const;
+  std::optional<std::uint64_t> ram_value(std::string_view name) const;
+  void step_motor_to(Clock::time_point t);
+  std::uint16_t take_motor_causes();
+  void command_motor();
 
   RegisterMap map_;
   EepromStore eeprom_;
@@ -125,6 +151,10 @@ class Amplifier {
   std::uint16_t previous_causes_ = 0;
   std::uint64_t watchdog_bites_ = 0;
   bool watchdog_set_ = false;
+  std::optional<motor::Motor> motor_;
+  Clock::time_point motor_time_{};
+  double last_bus_volts_ = 0;
+  std::uint16_t motor_causes_ = 0;  // seen while the motor ran, not yet latched
 };
 
 }  // namespace i20::sim

@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "lbp/bytes.hpp"
+#include "motor/error.hpp"
+#include "motor/loader.hpp"
 #include "sim/bits.hpp"
 #include "sim/error.hpp"
 
@@ -48,7 +50,12 @@ const char* kHelp =
     "power off|on|cycle         switch the card's logic power\n"
     "get NAME                   raw value of a parameter, e.g. get FAULT\n"
     "set NAME VALUE             force a parameter's raw value (bypasses protection)\n"
-    "show                       the state at a glance\n"
+    "motor KEY VALUE            change the attached motor live, as its file writes it, e.g.\n"
+    "                           motor load 0.3Nm (a load step), motor brake.engaged true,\n"
+    "                           motor friction.coulomb 0.05Nm (keys: motors/README.md)\n"
+    "motor fault hall-stuck|encoder-lost on|off   freeze the Hall code or the encoder count\n"
+    "motor                      the motor's state: angle, speed, electrical angle, encoder, Halls, currents\n"
+    "show                       the state at a glance (with the motor's, if one is attached)\n"
     "help                       this list\n";
 
 std::vector<std::string> words(std::string_view line) {
@@ -251,6 +258,38 @@ std::string card_command(Virtual8i20& card, const std::vector<std::string>& w, C
   return {};
 }
 
+std::string motor_command(Virtual8i20& card, const std::vector<std::string>& w, Clock::time_point now) {
+  if (w[0] != "motor") return {};
+  const motor::Motor* m = card.motor();
+  if (!m) fail("no motor is attached to this 8I20 (i20sim --motor FILE.yaml)");
+  card.advance(now);
+  if (w.size() == 1) return describe_motor(*m);
+  if (w[1] == "fault") {
+    const char* form = "motor fault hall-stuck|encoder-lost on|off";
+    need(w, 4, form);
+    motor::SensorFaults faults = m->sensor_faults();
+    const bool on = on_off(w[3], form);
+    if (w[2] == "hall-stuck")
+      faults.hall_stuck = on;
+    else if (w[2] == "encoder-lost")
+      faults.encoder_lost = on;
+    else
+      fail(std::string("expected '") + form + "'");
+    card.amplifier().set_motor_sensor_faults(faults, now);
+    return "ok";
+  }
+  need(w, 3, "motor KEY VALUE");
+  try {
+    motor::MotorParams params = m->params();
+    motor::set_motor_key(params, w[1], w[2], true);
+    card.amplifier().set_motor_params(params, now);
+  } catch (const motor::MotorError& e) {
+    fail(e.what());
+  }
+  card.advance(now);
+  return "ok";
+}
+
 }  // namespace
 
 std::string apply_control(Virtual8i20& card, std::string_view line, Clock::time_point now) {
@@ -264,6 +303,7 @@ std::string apply_control(Virtual8i20& card, std::string_view line, Clock::time_
     }
   }
   if (auto answer = card_command(card, w, now); !answer.empty()) return answer;
+  if (auto answer = motor_command(card, w, now); !answer.empty()) return answer;
   fail("unknown control command '" + w[0] + "': try 'help'");
 }
 
@@ -295,6 +335,33 @@ std::string describe_state(Virtual8i20& card) {
                 card.lbp_registers().status, amp.fault_output_active() ? "fault" : "ok",
                 amp.brake_on() ? "on" : "off", card.lbp_registers().crc_errors,
                 nv_access_name(card.lbp_registers().nv_access), card.lbp_registers().rpcmem ? "on" : "off");
+  std::string out = buf;
+  if (const motor::Motor* m = card.motor()) out += " " + describe_motor(*m);
+  return out;
+}
+
+std::string describe_motor(const motor::Motor& m) {
+  const auto& s = m.state();
+  const auto sensors = m.read_sensors();
+  std::string encoder = "none", halls = "none";
+  if (sensors.encoder_count)
+    encoder = std::to_string(*sensors.encoder_count) + (m.sensor_faults().encoder_lost ? "(lost)" : "");
+  if (sensors.hall_code) {
+    halls.clear();
+    for (int bit = 2; bit >= 0; --bit) halls += (*sensors.hall_code >> bit) & 1u ? '1' : '0';
+    if (m.sensor_faults().hall_stuck) halls += "(stuck)";
+  }
+  constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+  constexpr double kRadPerSToRpm = 60.0 / (2 * 3.14159265358979323846);
+  char buf[512];
+  std::snprintf(
+      buf, sizeof buf,
+      "motor_angle=%.6fturns speed=%.1frpm electrical=%.1fdeg encoder=%s halls=%s iu=%.3fA iv=%.3fA "
+      "iw=%.3fA id=%.3fA iq=%.3fA torque=%.4fNm output=%s load=%gNm brake=%s",
+      s.angle_turns, s.speed_rad_s * kRadPerSToRpm, s.electrical_angle_rad * kRadToDeg, encoder.c_str(),
+      halls.c_str(), s.phase_a[0], s.phase_a[1], s.phase_a[2], s.current_a.d, s.current_a.q, s.torque_nm,
+      m.drive().output_on ? "on" : "off", m.params().load_nm,
+      m.params().brake_engaged ? "engaged" : "released");
   return buf;
 }
 

@@ -12,6 +12,8 @@
 //   clearfault-stuck on|off                           eeprom-power-loss off|lost|torn
 //   mute-after N|off      answer N more commands, then go silent
 //   power off|on|cycle    get NAME    set NAME VALUE  show    help
+//   motor KEY VALUE       change the attached motor live (motor load 0.3Nm: a load step)
+//   motor fault hall-stuck|encoder-lost on|off        motor  (its state)
 #pragma once
 
 #include <string>
@@ -30,5 +32,10 @@ std::string control_help();
 
 // "busv=320.00V temp=35.00C enable=on fault=0x0000 status=0x0040 ...": the state at a glance.
 std::string describe_state(Virtual8i20& card);
+
+// "motor_angle=0.125000turns speed=300.0rpm electrical=180.0deg encoder=1250 halls=110 iu=...":
+// mechanical angle, speed, electrical angle, encoder count, Hall code, phase and dq
+// currents, torque, whether the bridge is on, load and brake.
+std::string describe_motor(const motor::Motor& motor);
 
 }  // namespace i20::sim

@@ -123,8 +123,8 @@ lbp::Bytes Virtual8i20::run_rpc(unsigned number, lbp::ByteView stream, Clock::ti
   const lbp::RpcList list = lbp::decode_rpc_list(rpc_table_, number);
   if (list.stream_bytes != stream.size())
     throw ProtocolError("internal: RPC " + std::to_string(number) + " framed with " +
-                             std::to_string(stream.size()) + " stream bytes, its list takes " +
-                             std::to_string(list.stream_bytes));
+                        std::to_string(stream.size()) + " stream bytes, its list takes " +
+                        std::to_string(list.stream_bytes));
   lbp::Bytes reply;
   std::size_t used = 0;
   for (const auto& step : list.steps) {

@@ -38,6 +38,7 @@ Virtual8i20::Virtual8i20(DeviceOptions options, Clock::time_point power_on)
       now_(power_on) {
   amplifier_.set_clearfault_stuck(injection_.clearfault_stuck);
   amplifier_.power_up(power_on);
+  if (options_.motor) amplifier_.attach_motor(*options_.motor, power_on);
   start_lbp(power_on);
 }
 
@@ -93,7 +94,10 @@ void Virtual8i20::advance(Clock::time_point now) {
 
 void Virtual8i20::service(Clock::time_point now) {
   now_ = std::max(now_, now);
-  if (!powered_) return;
+  if (!powered_) {
+    amplifier_.run_motor(now_);  // the rotor turns on without the card
+    return;
+  }
   amplifier_.set_clearfault_stuck(injection_.clearfault_stuck);
   if (deaf_until_ && now_ >= *deaf_until_) deaf_until_.reset();
   Clock::time_point cursor = now_;
@@ -235,6 +239,7 @@ std::optional<Clock::time_point> Virtual8i20::next_event() const {
 
 void Virtual8i20::power_off() {
   powered_ = false;
+  amplifier_.bridge_off(now_);
   framer_.clear();
   outbox_.erase(
       std::remove_if(outbox_.begin(), outbox_.end(), [&](const Outgoing& o) { return o.release > now_; }),

@@ -63,6 +63,8 @@ struct DeviceOptions {
   AmplifierSettings amplifier{};                       // operate_mode follows `mode`
   WorldSettings world{};
   Injection injection{};
+  // The motor on this 8I20's outputs (operate mode drives it), if any.
+  std::optional<motor::MotorParams> motor{};
 };
 
 // LBP interface registers (the local commands' state).
@@ -84,7 +86,7 @@ struct DeviceStats {
   std::uint64_t commands_ignored = 0;  // while muted (answer limit)
   std::uint64_t bytes_ignored = 0;     // while rebooting or powered off
   std::uint64_t eeprom_writes = 0;
-  std::uint64_t resets = 0;  // processor starts after the first: resets and power cycles
+  std::uint64_t resets = 0;                   // processor starts after the first: resets and power cycles
   std::uint64_t bytes_received = 0;           // every byte the host sent, heard or not
   std::uint64_t bytes_received_at_reset = 0;  // bytes_received when the card last reset
 };
@@ -119,6 +121,10 @@ class Virtual8i20 {
   Injection& injection() { return injection_; }
   // Replaces the injection switches and restarts their random sequence from the seed.
   void set_injection(const Injection& injection);
+  // The motor on this card's outputs (DeviceOptions::motor), or nullptr: its state
+  // (mechanical angle in turns, speed, electrical angle, currents), its encoder and Hall
+  // description and injected sensor faults, as of the latest time given to the card.
+  const motor::Motor* motor() const { return amplifier_.motor(); }
   Amplifier& amplifier() { return amplifier_; }
   const Amplifier& amplifier() const { return amplifier_; }
   const LbpRegisters& lbp_registers() const { return lbp_; }
