@@ -2,6 +2,7 @@
 #include "commission/encoder_analysis.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <vector>
@@ -75,14 +76,19 @@ LineFit fit_direction(std::span<const Sample> samples, const Sweep& sweep, int d
   return fit;
 }
 
-std::size_t hall_changes(std::span<const Sample> samples, const Sweep& sweep) {
-  std::size_t changes = 0;
+// The Hall sensors show motion when at least two of them changed (a lone noisy sensor on a
+// stalled rotor does not count).
+bool halls_moved(std::span<const Sample> samples, const Sweep& sweep) {
+  std::array<std::size_t, 3> changes{};
   for (const SweepRun& run : sweep.runs) {
     for (std::size_t i = run.steady_begin + 1; i < run.end; ++i) {
-      if (samples[i].hall_state != samples[i - 1].hall_state) ++changes;
+      const auto changed = samples[i].hall_state ^ samples[i - 1].hall_state;
+      for (int sensor = 1; sensor <= 3; ++sensor) {
+        if (changed & hall_bit(sensor)) ++changes[static_cast<std::size_t>(sensor - 1)];
+      }
     }
   }
-  return changes;
+  return std::count_if(changes.begin(), changes.end(), [](std::size_t n) { return n >= 2; }) >= 2;
 }
 
 std::vector<std::int64_t> index_latches(std::span<const Sample> samples) {
@@ -285,7 +291,7 @@ std::optional<RotorAngleFromEncoder> analyse_encoder(std::span<const Sample> sam
   const bool forward_moved = std::abs(forward.count_change) >= kStillCountsPerTurn * travel_forward;
   const bool backward_moved = std::abs(backward.count_change) >= kStillCountsPerTurn * travel_backward;
   if (!forward_moved && !backward_moved) {
-    if (hall_changes(samples, sweep) >= 6) {
+    if (halls_moved(samples, sweep)) {
       result.problems.push_back({ProblemKind::EncoderSilent,
                                  "the Hall sensors changed but the encoder did not count: is the encoder "
                                  "connected and powered?"});
@@ -330,11 +336,16 @@ std::optional<RotorAngleFromEncoder> analyse_encoder(std::span<const Sample> sam
       direction, 0,
       direction > 0 ? "counts rose as the commanded angle rose (both sweeps agree)"
                     : "counts fell as the commanded angle rose (both sweeps agree): bldc scale negative"};
+  // Cogging ripple is not random: it can tilt a fitted line by about twice its amplitude over
+  // the travel, which the regression's standard error does not show.
   const double quantisation = 2.0 / std::min(travel_forward, travel_backward);
-  const Finding<double> measured{
-      magnitude,
-      disagreement / 2.0 + 3.0 * std::hypot(forward.slope_error, backward.slope_error) / 2.0 + quantisation,
-      "slope of count against command, fitted on each sweep and averaged"};
+  const double ripple =
+      2.0 * std::max(forward.max_residual / travel_forward, backward.max_residual / travel_backward);
+  const Finding<double> measured{magnitude,
+                                 disagreement / 2.0 +
+                                     3.0 * std::hypot(forward.slope_error, backward.slope_error) / 2.0 +
+                                     quantisation + ripple,
+                                 "slope of count against command, fitted on each sweep and averaged"};
   result.counts_per_electrical_turn = measured;
 
   // The index: latches at one mark (both ways) or marks a turn apart.

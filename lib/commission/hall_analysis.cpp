@@ -57,14 +57,8 @@ HallSensorFinding judge_sensor(const std::vector<Point>& points, int sensor) {
   HallSensorFinding finding;
   finding.sensor = sensor;
   const HallCode bit = hall_bit(sensor);
-  CircularMean high;
-  std::size_t highs = 0;
-  for (const Point& p : points) {
-    if (p.code & bit) {
-      high.add(p.angle);
-      ++highs;
-    }
-  }
+  const auto highs = static_cast<std::size_t>(
+      std::count_if(points.begin(), points.end(), [&](const Point& p) { return (p.code & bit) != 0; }));
   if (highs == points.size()) {
     finding.condition = SensorCondition::StuckHigh;
     finding.how = sensor_name(sensor) +
@@ -77,11 +71,33 @@ HallSensorFinding judge_sensor(const std::vector<Point>& points, int sensor) {
     finding.how = sensor_name(sensor) + " read low all through the sweep: stuck low, shorted, or unpowered";
     return finding;
   }
-  // A sensor is high for half an electrical turn: compare each sample with that half turn.
-  const double centre = high.mean_turns();
+  // A sensor is high for half an electrical turn: compare each sample with that half turn,
+  // found for each direction on its own (against the command the lag shifts it each way).
+  // Angles are binned first so a part of the turn swept twice does not pull the centre.
+  constexpr std::size_t kBins = 180;
+  std::array<std::array<std::array<std::size_t, 2>, kBins>, 2> bins{};  // [direction][bin][high?]
+  for (const Point& p : points) {
+    const auto bin = std::min(kBins - 1, static_cast<std::size_t>(p.angle * kBins));
+    ++bins[p.direction > 0 ? 0 : 1][bin][(p.code & bit) ? 1 : 0];
+  }
+  std::array<CircularMean, 2> high_by_direction;
+  for (std::size_t d = 0; d < 2; ++d) {
+    for (std::size_t b = 0; b < kBins; ++b) {
+      const std::size_t total = bins[d][b][0] + bins[d][b][1];
+      if (total == 0) continue;
+      high_by_direction[d].add((static_cast<double>(b) + 0.5) / kBins,
+                               static_cast<double>(bins[d][b][1]) / static_cast<double>(total));
+    }
+  }
+  const double centre = high_by_direction[0].empty()   ? high_by_direction[1].mean_turns()
+                        : high_by_direction[1].empty() ? high_by_direction[0].mean_turns()
+                                                       : circular_midpoint(high_by_direction[0].mean_turns(),
+                                                                           high_by_direction[1].mean_turns());
   std::size_t judged = 0, wrong = 0;
   for (const Point& p : points) {
-    const double from_centre = std::abs(wrap_signed(p.angle - centre));
+    const CircularMean& own = high_by_direction[p.direction > 0 ? 0 : 1];
+    if (own.empty()) continue;
+    const double from_centre = std::abs(wrap_signed(p.angle - own.mean_turns()));
     if (std::abs(from_centre - 0.25) < kEdgeMargin) continue;
     ++judged;
     const bool expected_high = from_centre < 0.25;
