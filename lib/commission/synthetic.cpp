@@ -63,15 +63,16 @@ class MotorState {
   void move_rotor(double t, double command) {
     if (motor_.stalled) return;
     const double before = rotor_;
+    // The rising current pulls the rotor to the nearest electrical equivalent of the command,
+    // whole electrical turns from it; the rotor follows that equivalent from then on.
+    const double equivalent = command + std::round(motor_.initial_rotor_electrical_turns - plan_.align_turns);
     if (t <= plan_.align_s) {
-      // The rising current pulls the rotor to the nearest electrical equivalent of the command.
-      const double target = command + std::round(motor_.initial_rotor_electrical_turns - command);
       const double pull = std::clamp(t / plan_.ramp_s, 0.0, 1.0);
       played_ =
-          motor_.initial_rotor_electrical_turns + (target - motor_.initial_rotor_electrical_turns) * pull;
+          motor_.initial_rotor_electrical_turns + (equivalent - motor_.initial_rotor_electrical_turns) * pull;
     } else {
       const double lag = motor_.friction_lag_deg * kDeg;
-      played_ = std::clamp(played_, command - lag, command + lag);
+      played_ = std::clamp(played_, equivalent - lag, equivalent + lag);
     }
     const double ripple =
         motor_.cogging_deg * kDeg *

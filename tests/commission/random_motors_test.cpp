@@ -80,6 +80,8 @@ Case random_case(std::mt19937_64& rng) {
   } else if (given < 0.95) {
     c.options.counts_per_turn = m.counts_per_turn;
     c.options.pole_pairs = m.pole_pairs;
+  } else {
+    c.healthy = false;  // neither given: the pole pairs need two index marks
   }
   return c;
 }
