@@ -22,8 +22,8 @@ constexpr double kEdgeMargin = 15.0 * kDeg;
 constexpr double kNoisyFraction = 0.005;
 // A state seen in less than this share of a sector's worth of samples is a glitch.
 constexpr double kGlitchShare = 0.2;
-// Crossings further than this from their edge's first mean are glitches.
-constexpr double kCrossingOutlier = 20.0 * kDeg;
+// Crossings further than this from their edge's median are glitches.
+constexpr double kCrossingOutlier = 8.0 * kDeg;
 // States further than this from bldc's sector centres could be either of two patterns.
 constexpr double kAmbiguousOffset = 25.0 * kDeg;
 constexpr double kWarnOffset = 10.0 * kDeg;
@@ -137,11 +137,18 @@ struct CrossingMean {
 CrossingMean robust_mean(const std::vector<double>& crossings) {
   CrossingMean out;
   if (crossings.empty()) return out;
+  // The median (taken around the circular mean) is not pulled by a few glitches; the mean of
+  // the crossings near it is the estimate.
   CircularMean first;
   for (double c : crossings) first.add(c);
+  std::vector<double> around;
+  for (double c : crossings) around.push_back(wrap_signed(c - first.mean_turns()));
+  std::nth_element(around.begin(), around.begin() + static_cast<std::ptrdiff_t>(around.size() / 2),
+                   around.end());
+  const double median = first.mean_turns() + around[around.size() / 2];
   CircularMean kept;
   for (double c : crossings) {
-    if (std::abs(wrap_signed(c - first.mean_turns())) <= kCrossingOutlier) kept.add(c);
+    if (std::abs(wrap_signed(c - median)) <= kCrossingOutlier) kept.add(c);
   }
   if (kept.empty()) return out;
   out.mean = kept.mean_turns();
@@ -274,6 +281,10 @@ class HallAnalysis {
       const Point& p = points_[i];
       if (i > 0 && p.run != points_[i - 1].run) stable.reset();
       if (!significant_[p.code]) continue;
+      // A new state must hold for the next sample too: a one-sample flip is a glitch.
+      const bool holds =
+          i + 1 < points_.size() && points_[i + 1].run == p.run && points_[i + 1].code == p.code;
+      if (stable && *stable != p.code && !holds) continue;
       if (stable && *stable != p.code) {
         const std::size_t a = position[*stable], b = position[p.code];
         const double at = circular_midpoint(points_[i - 1].angle, p.angle);
