@@ -61,6 +61,10 @@ void cogging(Rng& rng, SyntheticMotor& m) {
   m.cogging_periods_per_turn = static_cast<int>(integer(rng, 2, 48));
 }
 
+void vibration(Rng& rng, SyntheticMotor& m) {
+  m.vibration_deg = uniform(rng, 0, 1.5);
+}
+
 void hall_errors(Rng& rng, SyntheticMotor& m) {
   m.hall_offset_deg = uniform(rng, -15, 15);
   m.sensor_error_deg = {uniform(rng, -3, 3), uniform(rng, -3, 3), uniform(rng, -3, 3)};
@@ -153,23 +157,26 @@ int main(int argc, char** argv) {
       {"friction 0-25 + backlash 0-5 deg", friction},
       {"cogging 0-4 deg", cogging},
       {"Hall offset/placement/hysteresis", hall_errors},
+      {"rotor vibration 0-1.5 deg rms", vibration},
       {"all of the above",
-       [](Rng& rng, SyntheticMotor& m) { friction(rng, m), cogging(rng, m), hall_errors(rng, m); }},
+       [](Rng& rng, SyntheticMotor& m) {
+         friction(rng, m), cogging(rng, m), hall_errors(rng, m), vibration(rng, m);
+       }},
       {"all + a noisy Hall sensor (1%)",
        [](Rng& rng, SyntheticMotor& m) {
-         friction(rng, m), cogging(rng, m), hall_errors(rng, m);
+         friction(rng, m), cogging(rng, m), hall_errors(rng, m), vibration(rng, m);
          m.noisy_sensor = static_cast<int>(integer(rng, 1, 3));
          m.noise_probability = 0.01;
        }},
       {"all, 500 counts x 8 pole pairs",
        [](Rng& rng, SyntheticMotor& m) {
-         friction(rng, m), cogging(rng, m), hall_errors(rng, m);
+         friction(rng, m), cogging(rng, m), hall_errors(rng, m), vibration(rng, m);
          m.counts_per_turn = 500;
          m.pole_pairs = 8;
        }},
       {"all, 10000 counts x 1-2 pole pairs",
        [](Rng& rng, SyntheticMotor& m) {
-         friction(rng, m), cogging(rng, m), hall_errors(rng, m);
+         friction(rng, m), cogging(rng, m), hall_errors(rng, m), vibration(rng, m);
          m.counts_per_turn = 10000;
          m.pole_pairs = static_cast<int>(integer(rng, 1, 2));
        }},

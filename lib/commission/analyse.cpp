@@ -7,6 +7,7 @@
 #include "commission/format.hpp"
 #include "commission/hall_analysis.hpp"
 #include "commission/sweep.hpp"
+#include "error/error.hpp"
 
 namespace i20::commission {
 
@@ -17,6 +18,16 @@ constexpr std::size_t kMinimumSamples = 16;
 // through the cogging ripple is seen at least once in each direction.
 constexpr double kMinimumTravelTurns = 1.0;
 
+void check_options(const AnalysisOptions& options) {
+  if (options.pole_pairs && *options.pole_pairs < 1) {
+    throw UsageError("pole pairs must be 1 or more, not " + std::to_string(*options.pole_pairs));
+  }
+  if (options.counts_per_turn && *options.counts_per_turn < 1) {
+    throw UsageError("counts per turn must be 1 or more, not " + std::to_string(*options.counts_per_turn));
+  }
+  if (!(options.settle_turns >= 0)) throw UsageError("the settle travel must be 0 or more turns");
+}
+
 }  // namespace
 
 bool CommutationResult::has(ProblemKind kind) const {
@@ -24,6 +35,7 @@ bool CommutationResult::has(ProblemKind kind) const {
 }
 
 CommutationResult analyse(std::span<const Sample> samples, const AnalysisOptions& options) {
+  check_options(options);
   CommutationResult result;
   if (samples.size() < kMinimumSamples) {
     result.problems.push_back(

@@ -94,7 +94,7 @@ bool halls_moved(std::span<const Sample> samples, const Sweep& sweep) {
 std::vector<std::int64_t> index_latches(std::span<const Sample> samples) {
   std::vector<std::int64_t> latches;
   for (const Sample& s : samples) {
-    if (s.index_latched) latches.push_back(s.latched_count);
+    if (s.index_seen) latches.push_back(s.latched_count);
   }
   return latches;
 }

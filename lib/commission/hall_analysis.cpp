@@ -62,8 +62,8 @@ HallSensorFinding judge_sensor(const std::vector<Point>& points, int sensor) {
   if (highs == points.size()) {
     finding.condition = SensorCondition::StuckHigh;
     finding.how = sensor_name(sensor) +
-                  " read high all through the sweep: stuck high, or not connected (an open "
-                  "input with a pull-up reads high)";
+                  " read high all through the sweep: stuck high, or missing (an open input "
+                  "with a pull-up reads high)";
     return finding;
   }
   if (highs == 0) {

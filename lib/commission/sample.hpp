@@ -22,10 +22,14 @@ struct Sample {
   double commanded_electrical_turns = 0;  // cumulative
   std::int64_t encoder_count = 0;         // raw, 64-bit extended (hm2 `rawcounts`)
   HallCode hall_state = 0;                // H1*4 + H2*2 + H3
-  bool index_latched = false;             // an index latch happened in this period ...
-  std::int64_t latched_count = 0;         // ... at this raw count (valid when index_latched)
+  // The index latched in this period (the procedure re-arms the latch every period, so each
+  // pass shows once) at this raw count; latched_count is valid only when index_seen.
+  bool index_seen = false;
+  std::int64_t latched_count = 0;
 };
 
+// Options outside their range (pole pairs or counts below 1, a negative settle) are a
+// UsageError from analyse().
 struct AnalysisOptions {
   std::optional<int> pole_pairs;                   // pairs, not poles (bldc's `poles` = 2x)
   std::optional<std::int64_t> counts_per_turn;     // encoder counts per mechanical turn (lines x 4)

@@ -77,7 +77,8 @@ class MotorState {
     const double ripple =
         motor_.cogging_deg * kDeg *
         std::sin(2.0 * std::numbers::pi * motor_.cogging_periods_per_turn * mechanical(played_));
-    rotor_ = played_ + ripple;
+    std::normal_distribution<double> jitter(0.0, motor_.vibration_deg * kDeg);
+    rotor_ = played_ + ripple + (motor_.vibration_deg > 0 ? jitter(random_) : 0.0);
     if (rotor_ > before) moving_ = 1;
     if (rotor_ < before) moving_ = -1;
   }
@@ -106,7 +107,7 @@ class MotorState {
     const double low = std::min(from, to), high = std::max(from, to);
     const double first = std::ceil(low - motor_.index_mechanical_turns) + motor_.index_mechanical_turns;
     if (first <= high && first > low) {
-      s.index_latched = true;
+      s.index_seen = true;
       s.latched_count = count_at(first);
     }
   }

@@ -44,6 +44,7 @@ struct SyntheticMotor {
   double backlash_deg = 0;           // electrical play between rotor and encoder
   double cogging_deg = 0;            // ripple amplitude, electrical
   int cogging_periods_per_turn = 0;  // per mechanical turn
+  double vibration_deg = 0;          // random rotor jitter each sample (standard deviation), electrical
 };
 
 // The procedure: hold at align_turns while the current ramps, then sweep_turns electrical

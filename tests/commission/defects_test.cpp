@@ -123,6 +123,21 @@ TEST(Defects, NoIndexLeavesTheOffsetOutAndSaysWhy) {
   EXPECT_TRUE(wrong_values(r, m).empty());
 }
 
+TEST(Defects, AnIndexThatLatchesOffItsMarkIsInconsistent) {
+  const SyntheticMotor m = motor();
+  auto samples = synthetic_sweep(m, plan(), 13);
+  // A spurious latch a third of a turn away from the real mark (noise on the index line).
+  std::int64_t real = 0;
+  for (const Sample& s : samples) {
+    if (s.index_seen) real = s.latched_count;
+  }
+  samples[2500].index_seen = true;
+  samples[2500].latched_count = real + m.counts_per_turn / 3;
+  const auto r = analyse(samples, counts());
+  EXPECT_TRUE(r.has(ProblemKind::IndexInconsistent)) << problems_text(r);
+  EXPECT_FALSE(r.encoder_offset_counts);
+}
+
 TEST(Defects, NamesEachStuckSensorHighOrLow) {
   for (int sensor = 1; sensor <= 3; ++sensor) {
     for (bool high : {true, false}) {

@@ -50,6 +50,7 @@ Case random_case(std::mt19937_64& rng) {
     m.cogging_deg = uniform(0, 4);
     m.cogging_periods_per_turn = static_cast<int>(integer(2, 48));
   }
+  if (chance(0.3)) m.vibration_deg = uniform(0, 1.5);
   if (chance(0.15)) {
     m.noisy_sensor = static_cast<int>(integer(1, 3));
     m.noise_probability = uniform(0.001, 0.05);

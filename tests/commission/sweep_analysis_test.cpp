@@ -6,6 +6,7 @@
 
 #include "commission/analyse.hpp"
 #include "commission/synthetic.hpp"
+#include "error/error.hpp"
 #include "truth.hpp"
 
 using namespace i20::commission;
@@ -198,6 +199,30 @@ TEST(Analyse, FrictionBacklashCoggingAndHysteresisCancel) {
   for (const HallEdgeAngle& e : r.hall.edges) {
     EXPECT_NEAR(e.hysteresis_deg, m.hall_hysteresis_deg / 2.0 - m.backlash_deg / 2.0, 1.0);
   }
+}
+
+TEST(Analyse, RotorVibrationAveragesOut) {
+  SyntheticMotor m = healthy_motor();
+  m.vibration_deg = 1.5;
+  m.friction_lag_deg = 10.0;
+  m.hall_hysteresis_deg = 2.0;
+  const auto r = run(m, given_counts(m), 31);
+  EXPECT_TRUE(r.problems.empty()) << problems_text(r);
+  EXPECT_TRUE(wrong_values(r, m).empty());
+  ASSERT_TRUE(r.index_electrical_angle_deg);
+  EXPECT_LT(offset_error_deg(r, m), 1.0);
+  for (const HallSensorFinding& s : r.hall.sensors) EXPECT_EQ(s.condition, SensorCondition::Ok);
+}
+
+TEST(Analyse, OptionsOutOfRangeAreUsageErrors) {
+  const SyntheticMotor m = healthy_motor();
+  const auto samples = synthetic_sweep(m, plan_for(m), 32);
+  AnalysisOptions no_poles;
+  no_poles.pole_pairs = 0;
+  EXPECT_THROW(analyse(samples, no_poles), i20::UsageError);
+  AnalysisOptions negative_counts;
+  negative_counts.counts_per_turn = -2000;
+  EXPECT_THROW(analyse(samples, negative_counts), i20::UsageError);
 }
 
 TEST(Analyse, CommandThatWrapsEachTurnIsUnwrapped) {
