@@ -279,17 +279,12 @@ void report_offset(const RotorAngleFromEncoder& encoder, double cpet, int direct
                                               "electrical degrees from the index to electrical zero"};
 }
 
-}  // namespace
-
-std::optional<RotorAngleFromEncoder> analyse_encoder(std::span<const Sample> samples, const Sweep& sweep,
-                                                     const AnalysisOptions& options,
-                                                     CommutationResult& result) {
-  const LineFit forward = fit_direction(samples, sweep, 1);
-  const LineFit backward = fit_direction(samples, sweep, -1);
-  const double travel_forward = sweep.steady_travel(1);
-  const double travel_backward = sweep.steady_travel(-1);
-  const bool forward_moved = std::abs(forward.count_change) >= kStillCountsPerTurn * travel_forward;
-  const bool backward_moved = std::abs(backward.count_change) >= kStillCountsPerTurn * travel_backward;
+// Did the rotor follow the command both ways, steadily? Names what went wrong if not.
+bool followed_command(std::span<const Sample> samples, const Sweep& sweep, const LineFit& forward,
+                      const LineFit& backward, CommutationResult& result) {
+  const bool forward_moved = std::abs(forward.count_change) >= kStillCountsPerTurn * sweep.steady_travel(1);
+  const bool backward_moved =
+      std::abs(backward.count_change) >= kStillCountsPerTurn * sweep.steady_travel(-1);
   if (!forward_moved && !backward_moved) {
     if (halls_moved(samples, sweep)) {
       result.problems.push_back({ProblemKind::EncoderSilent,
@@ -297,12 +292,11 @@ std::optional<RotorAngleFromEncoder> analyse_encoder(std::span<const Sample> sam
                                  "connected and powered?"});
     } else {
       result.problems.push_back(
-          {ProblemKind::NoMotion, "no motion: is the brake released, the motor connected? (encoder " +
-                                      fixed(forward.count_change, 0) + " and " +
-                                      fixed(backward.count_change, 0) +
-                                      " counts over the sweeps, Hall sensors unchanged)"});
+          {ProblemKind::NoMotion,
+           "no motion: is the brake released, the motor connected? (" + fixed(forward.count_change, 0) +
+               " and " + fixed(backward.count_change, 0) + " counts over the sweeps, Hall sensors still)"});
     }
-    return std::nullopt;
+    return false;
   }
   if (!forward_moved || !backward_moved || (forward.slope > 0) != (backward.slope > 0)) {
     result.problems.push_back(
@@ -310,7 +304,7 @@ std::optional<RotorAngleFromEncoder> analyse_encoder(std::span<const Sample> sam
                                                     fixed(forward.count_change, 0) + " counts forward, " +
                                                     fixed(backward.count_change, 0) +
                                                     " back): a load, a brake, or too little current"});
-    return std::nullopt;
+    return false;
   }
   const double stray = std::max(forward.max_residual / std::abs(forward.slope),
                                 backward.max_residual / std::abs(backward.slope));
@@ -319,8 +313,15 @@ std::optional<RotorAngleFromEncoder> analyse_encoder(std::span<const Sample> sam
                                "the rotor strayed " + fixed(stray * 360.0, 0) +
                                    " electrical degrees from the command's steady line: it slipped or stuck "
                                    "(too little current, a load, or cogging stronger than the current)"});
-    return std::nullopt;
+    return false;
   }
+  return true;
+}
+
+// Counts per electrical turn from the two slopes, or nullopt (and a problem) when they disagree.
+std::optional<Finding<double>> counts_per_electrical_turn(const Sweep& sweep, const LineFit& forward,
+                                                          const LineFit& backward,
+                                                          CommutationResult& result) {
   const double magnitude = (std::abs(forward.slope) + std::abs(backward.slope)) / 2.0;
   const double disagreement = std::abs(std::abs(forward.slope) - std::abs(backward.slope));
   if (disagreement / magnitude > kCountsPerTurnTolerance) {
@@ -331,29 +332,75 @@ std::optional<RotorAngleFromEncoder> analyse_encoder(std::span<const Sample> sam
                                    "missed counts"});
     return std::nullopt;
   }
+  // Cogging ripple is not random: it can tilt a fitted line by about twice its amplitude over
+  // the travel, which the regression's standard error does not show.
+  const double travel_forward = sweep.steady_travel(1), travel_backward = sweep.steady_travel(-1);
+  const double quantisation = 2.0 / std::min(travel_forward, travel_backward);
+  const double ripple =
+      2.0 * std::max(forward.max_residual / travel_forward, backward.max_residual / travel_backward);
+  const double uncertainty = disagreement / 2.0 +
+                             3.0 * std::hypot(forward.slope_error, backward.slope_error) / 2.0 +
+                             quantisation + ripple;
+  return Finding<double>{magnitude, uncertainty,
+                         "slope of count against command, fitted on each sweep and averaged"};
+}
+
+// The farthest any steady sample is from the reference, in electrical turns.
+double farthest_turns(std::span<const Sample> samples, const Sweep& sweep,
+                      const RotorAngleFromEncoder& encoder) {
+  double far = 0;
+  for (const SweepRun& run : sweep.runs) {
+    for (std::size_t i = run.steady_begin; i < run.end; ++i) {
+      far = std::max(far, std::abs(static_cast<double>(samples[i].encoder_count) - encoder.reference_count));
+    }
+  }
+  return far / std::abs(encoder.signed_counts_per_electrical_turn);
+}
+
+// The electrical angle at the reference count, with the lag it cancels.
+void calibrate_angle(std::span<const Sample> samples, const Sweep& sweep, const Scale& scale,
+                     const Finding<double>& measured, RotorAngleFromEncoder& encoder,
+                     CommutationResult& result) {
+  const DirectionMean forward = mean_over_direction(samples, sweep, 1, encoder);
+  const DirectionMean backward = mean_over_direction(samples, sweep, -1, encoder);
+  encoder.angle_at_reference_turns = circular_midpoint(forward.mean_turns, backward.mean_turns);
+  const double spread = std::hypot(forward.error_turns, backward.error_turns);
+  const double lag = wrap_signed(forward.mean_turns - backward.mean_turns) / 2.0;
+  result.friction_lag_deg = Finding<double>{lag * 360.0, 3.0 * spread * 180.0,
+                                            "half the gap between the forward and backward means"};
+  if (std::abs(lag) > kMaxLagTurns) {
+    result.notes.push_back("the rotor trailed the command by " + fixed(lag * 360.0, 0) +
+                           " electrical degrees: raise the sweep current or slow the sweep");
+  }
+  // Without an exact scale, the error in counts per electrical turn grows with the distance
+  // from the reference.
+  const double scale_drift = scale.exact ? 0.0
+                                         : farthest_turns(samples, sweep, encoder) * measured.uncertainty /
+                                               scale.counts_per_electrical_turn;
+  encoder.uncertainty_turns = 3.0 * spread / 2.0 + 1.0 / scale.counts_per_electrical_turn + scale_drift;
+}
+
+}  // namespace
+
+std::optional<RotorAngleFromEncoder> analyse_encoder(std::span<const Sample> samples, const Sweep& sweep,
+                                                     const AnalysisOptions& options,
+                                                     CommutationResult& result) {
+  const LineFit forward = fit_direction(samples, sweep, 1);
+  const LineFit backward = fit_direction(samples, sweep, -1);
+  if (!followed_command(samples, sweep, forward, backward, result)) return std::nullopt;
+  const auto measured = counts_per_electrical_turn(sweep, forward, backward, result);
+  if (!measured) return std::nullopt;
+  result.counts_per_electrical_turn = measured;
   const int direction = forward.slope > 0 ? 1 : -1;
   result.encoder_direction = Finding<int>{
       direction, 0,
       direction > 0 ? "counts rose as the commanded angle rose (both sweeps agree)"
                     : "counts fell as the commanded angle rose (both sweeps agree): bldc scale negative"};
-  // Cogging ripple is not random: it can tilt a fitted line by about twice its amplitude over
-  // the travel, which the regression's standard error does not show.
-  const double quantisation = 2.0 / std::min(travel_forward, travel_backward);
-  const double ripple =
-      2.0 * std::max(forward.max_residual / travel_forward, backward.max_residual / travel_backward);
-  const Finding<double> measured{magnitude,
-                                 disagreement / 2.0 +
-                                     3.0 * std::hypot(forward.slope_error, backward.slope_error) / 2.0 +
-                                     quantisation + ripple,
-                                 "slope of count against command, fitted on each sweep and averaged"};
-  result.counts_per_electrical_turn = measured;
 
   // The index: latches at one mark (both ways) or marks a turn apart.
-  const auto latches = index_latches(samples);
-  const double same_mark = 3.0 + 0.01 * magnitude;
-  const auto marks = index_marks(latches, same_mark);
+  const auto marks = index_marks(index_latches(samples), 3.0 + 0.01 * measured->value);
   const auto from_index = counts_per_turn_from_index(marks);
-  const auto scale = decide_scale(options, measured, from_index, result);
+  const auto scale = decide_scale(options, *measured, from_index, result);
   if (!scale) return std::nullopt;
   if (from_index && options.counts_per_turn &&
       std::abs(from_index->value - static_cast<double>(*options.counts_per_turn)) >
@@ -365,50 +412,21 @@ std::optional<RotorAngleFromEncoder> analyse_encoder(std::span<const Sample> sam
                                              " counts: a noisy index, or the counts per turn are wrong"});
     return std::nullopt;
   }
-
-  RotorAngleFromEncoder encoder;
-  encoder.signed_counts_per_electrical_turn = direction * scale->counts_per_electrical_turn;
+  if (marks.size() > 1 && !from_index) {
+    result.problems.push_back({ProblemKind::IndexInconsistent,
+                               "the index latched at marks that are not a whole turn apart: a noisy index?"});
+    return std::nullopt;
+  }
   if (marks.empty()) {
     result.problems.push_back({ProblemKind::NoIndex,
                                "no index latched during the sweep: sweep more than one mechanical turn (pole "
                                "pairs + 1 electrical turns) each way, or check the index wiring"});
-    encoder.reference_count = 0;
-  } else {
-    encoder.reference_count = marks.front();
-    if (marks.size() > 1 && !from_index) {
-      result.problems.push_back(
-          {ProblemKind::IndexInconsistent,
-           "the index latched at marks that are not a whole turn apart: a noisy index?"});
-      return std::nullopt;
-    }
   }
-  const DirectionMean mean_forward = mean_over_direction(samples, sweep, 1, encoder);
-  const DirectionMean mean_backward = mean_over_direction(samples, sweep, -1, encoder);
-  encoder.angle_at_reference_turns = circular_midpoint(mean_forward.mean_turns, mean_backward.mean_turns);
-  const double lag = wrap_signed(mean_forward.mean_turns - mean_backward.mean_turns) / 2.0;
-  result.friction_lag_deg = Finding<double>{
-      lag * 360.0, 3.0 * std::hypot(mean_forward.error_turns, mean_backward.error_turns) * 180.0,
-      "half the gap between the forward and backward means"};
-  if (std::abs(lag) > kMaxLagTurns) {
-    result.notes.push_back("the rotor trailed the command by " + fixed(lag * 360.0, 0) +
-                           " electrical degrees: raise the sweep current or slow the sweep");
-  }
-  // Without an exact scale, the error in counts per electrical turn grows with the distance
-  // from the reference.
-  double scale_drift = 0;
-  if (!scale->exact) {
-    double far = 0;
-    for (const SweepRun& run : sweep.runs) {
-      for (std::size_t i = run.steady_begin; i < run.end; ++i) {
-        far =
-            std::max(far, std::abs(static_cast<double>(samples[i].encoder_count) - encoder.reference_count));
-      }
-    }
-    scale_drift =
-        far / scale->counts_per_electrical_turn * measured.uncertainty / scale->counts_per_electrical_turn;
-  }
-  encoder.uncertainty_turns = 3.0 * std::hypot(mean_forward.error_turns, mean_backward.error_turns) / 2.0 +
-                              1.0 / scale->counts_per_electrical_turn + scale_drift;
+
+  RotorAngleFromEncoder encoder;
+  encoder.signed_counts_per_electrical_turn = direction * scale->counts_per_electrical_turn;
+  encoder.reference_count = marks.empty() ? 0.0 : marks.front();
+  calibrate_angle(samples, sweep, *scale, *measured, encoder, result);
   if (!marks.empty()) report_offset(encoder, scale->counts_per_electrical_turn, direction, result);
   return encoder;
 }
