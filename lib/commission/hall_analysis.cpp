@@ -265,17 +265,13 @@ class HallAnalysis {
     return true;
   }
 
-  bool place_edges() {
-    // crossings[k][0] forward, [1] backward: edge k lies between order_[k] and order_[k+1].
-    std::array<std::array<std::vector<double>, 2>, 6> crossings;
+  // crossings[k][0] forward, [1] backward: edge k lies between order_[k] and order_[k+1].
+  using Crossings = std::array<std::array<std::vector<double>, 2>, 6>;
+
+  Crossings collect_crossings() const {
+    Crossings crossings;
     std::map<HallCode, std::size_t> position;
     for (std::size_t k = 0; k < 6; ++k) position[order_[k]] = k;
-    double widest_step = 0;
-    for (std::size_t i = 1; i < points_.size(); ++i) {
-      if (points_[i].run == points_[i - 1].run) {
-        widest_step = std::max(widest_step, std::abs(wrap_signed(points_[i].angle - points_[i - 1].angle)));
-      }
-    }
     std::optional<HallCode> stable;
     for (std::size_t i = 0; i < points_.size(); ++i) {
       const Point& p = points_[i];
@@ -284,56 +280,83 @@ class HallAnalysis {
       // A new state must hold for the next sample too: a one-sample flip is a glitch.
       const bool holds =
           i + 1 < points_.size() && points_[i + 1].run == p.run && points_[i + 1].code == p.code;
-      if (stable && *stable != p.code && !holds) continue;
       if (stable && *stable != p.code) {
+        if (!holds) continue;
         const std::size_t a = position[*stable], b = position[p.code];
         const double at = circular_midpoint(points_[i - 1].angle, p.angle);
         const std::size_t side = p.direction > 0 ? 0 : 1;
-        if ((a + 1) % 6 == b)
+        if ((a + 1) % 6 == b) {
           crossings[a][side].push_back(at);
-        else if ((b + 1) % 6 == a)
+        } else if ((b + 1) % 6 == a) {
           crossings[b][side].push_back(at);
+        }
       }
       stable = p.code;
     }
-    std::array<double, 6> edge{};
-    std::array<double, 6> edge_error{};
-    for (std::size_t k = 0; k < 6; ++k) {
-      const CrossingMean forward = robust_mean(crossings[k][0]);
-      const CrossingMean backward = robust_mean(crossings[k][1]);
-      HallEdgeAngle found;
-      found.before = order_[k];
-      found.after = order_[(k + 1) % 6];
-      const std::string name = hall_code_text(found.before) + "/" + hall_code_text(found.after);
-      if (forward.count == 0 && backward.count == 0) {
-        problem(ProblemKind::HallEdgeMissing, "the Hall edge " + name + " was never crossed");
-        return false;
+    return crossings;
+  }
+
+  // How far the rotor moved between two samples at most: a crossing is known to half of it.
+  double widest_step() const {
+    double widest = 0;
+    for (std::size_t i = 1; i < points_.size(); ++i) {
+      if (points_[i].run == points_[i - 1].run) {
+        widest = std::max(widest, std::abs(wrap_signed(points_[i].angle - points_[i - 1].angle)));
       }
-      std::string how;
-      if (forward.count && backward.count) {
-        edge[k] = circular_midpoint(forward.mean, backward.mean);
-        found.hysteresis_deg = wrap_signed(forward.mean - backward.mean) / 2.0 * 360.0;
-        edge_error[k] = 3.0 * std::hypot(forward.error, backward.error) / 2.0 + widest_step / 2.0;
-        how = "mean of " + std::to_string(forward.count) + " forward and " + std::to_string(backward.count) +
-              " backward crossings against " + reference();
-      } else {
-        const CrossingMean& one = forward.count ? forward : backward;
-        edge[k] = one.mean;
-        edge_error[k] = 3.0 * one.error + widest_step / 2.0 + 5.0 * kDeg;  // hysteresis not cancelled
-        how = "mean of " + std::to_string(one.count) + " crossings one way only against " + reference() +
-              " (hysteresis not cancelled)";
-      }
-      found.angle_deg = Finding<double>{edge[k] * 360.0, edge_error[k] * 360.0, how};
-      result_.hall.edges.push_back(std::move(found));
     }
+    return widest;
+  }
+
+  // Edge k from its crossings both ways (their midpoint cancels the sensor's hysteresis).
+  std::optional<HallEdgeAngle> edge_from(const Crossings& crossings, std::size_t k, double step) {
+    const CrossingMean forward = robust_mean(crossings[k][0]);
+    const CrossingMean backward = robust_mean(crossings[k][1]);
+    HallEdgeAngle found;
+    found.before = order_[k];
+    found.after = order_[(k + 1) % 6];
+    if (forward.count == 0 && backward.count == 0) {
+      problem(ProblemKind::HallEdgeMissing, "the Hall edge " + hall_code_text(found.before) + "/" +
+                                                hall_code_text(found.after) + " was never crossed");
+      return std::nullopt;
+    }
+    double angle = 0, error = 0;
+    std::string how;
+    if (forward.count && backward.count) {
+      angle = circular_midpoint(forward.mean, backward.mean);
+      found.hysteresis_deg = wrap_signed(forward.mean - backward.mean) / 2.0 * 360.0;
+      error = 3.0 * std::hypot(forward.error, backward.error) / 2.0 + step / 2.0;
+      how = "mean of " + std::to_string(forward.count) + " forward and " + std::to_string(backward.count) +
+            " backward crossings against " + reference();
+    } else {
+      const CrossingMean& one = forward.count ? forward : backward;
+      angle = one.mean;
+      error = 3.0 * one.error + step / 2.0 + 5.0 * kDeg;  // hysteresis not cancelled
+      how = "mean of " + std::to_string(one.count) + " crossings one way only against " + reference() +
+            " (hysteresis not cancelled)";
+    }
+    found.angle_deg = Finding<double>{angle * 360.0, error * 360.0, how};
+    return found;
+  }
+
+  bool place_edges() {
+    const Crossings crossings = collect_crossings();
+    const double step = widest_step();
     for (std::size_t k = 0; k < 6; ++k) {
-      const std::size_t entry = (k + 5) % 6;
-      const double width = wrap_turns(edge[k] - edge[entry]);
+      auto edge = edge_from(crossings, k, step);
+      if (!edge) return false;
+      result_.hall.edges.push_back(std::move(*edge));
+    }
+    const auto& edges = result_.hall.edges;
+    for (std::size_t k = 0; k < 6; ++k) {
+      const HallEdgeAngle& entry = edges[(k + 5) % 6];
+      const HallEdgeAngle& exit = edges[k];
+      const double width = wrap_turns((exit.angle_deg.value - entry.angle_deg.value) / 360.0);
       HallStateAngle state;
       state.code = order_[k];
-      state.centre_deg = Finding<double>{wrap_turns(edge[entry] + width / 2.0) * 360.0,
-                                         std::hypot(edge_error[k], edge_error[entry]) / 2.0 * 360.0,
-                                         "half way between its two edges"};
+      state.centre_deg =
+          Finding<double>{wrap_turns(entry.angle_deg.value / 360.0 + width / 2.0) * 360.0,
+                          std::hypot(entry.angle_deg.uncertainty, exit.angle_deg.uncertainty) / 2.0,
+                          "half way between its two edges"};
       if (width < 30.0 * kDeg || width > 90.0 * kDeg) {
         result_.notes.push_back("Hall state " + hall_code_text(state.code) + " spans " +
                                 fixed(width * 360.0, 0) + " electrical degrees, not 60");
