@@ -53,7 +53,16 @@ std::string sensor_name(int sensor) {
   return "hall" + std::to_string(sensor);
 }
 
-HallSensorFinding judge_sensor(const std::vector<Point>& points, int sensor) {
+// How many bins a turn is cut into to locate a sensor's high half-turn: as fine as 2 degrees,
+// but never finer than two encoder counts, so every bin holds readings and the parts of the
+// turn a coarse encoder reads more often do not weigh more.
+std::size_t bins_for(double counts_per_electrical_turn) {
+  constexpr std::size_t kFinest = 180;
+  if (counts_per_electrical_turn <= 0) return kFinest;  // angles from the command: continuous
+  return std::clamp<std::size_t>(static_cast<std::size_t>(counts_per_electrical_turn / 2.0), 12, kFinest);
+}
+
+HallSensorFinding judge_sensor(const std::vector<Point>& points, int sensor, std::size_t bin_count) {
   HallSensorFinding finding;
   finding.sensor = sensor;
   const HallCode bit = hall_bit(sensor);
@@ -74,18 +83,20 @@ HallSensorFinding judge_sensor(const std::vector<Point>& points, int sensor) {
   // A sensor is high for half an electrical turn: compare each sample with that half turn,
   // found for each direction on its own (against the command the lag shifts it each way).
   // Angles are binned first so a part of the turn swept twice does not pull the centre.
-  constexpr std::size_t kBins = 180;
-  std::array<std::array<std::array<std::size_t, 2>, kBins>, 2> bins{};  // [direction][bin][high?]
+  // [direction][bin][high?]
+  std::array<std::vector<std::array<std::size_t, 2>>, 2> bins{
+      std::vector<std::array<std::size_t, 2>>(bin_count), std::vector<std::array<std::size_t, 2>>(bin_count)};
   for (const Point& p : points) {
-    const auto bin = std::min(kBins - 1, static_cast<std::size_t>(p.angle * kBins));
+    const auto bin =
+        std::min(bin_count - 1, static_cast<std::size_t>(p.angle * static_cast<double>(bin_count)));
     ++bins[p.direction > 0 ? 0 : 1][bin][(p.code & bit) ? 1 : 0];
   }
   std::array<CircularMean, 2> high_by_direction;
   for (std::size_t d = 0; d < 2; ++d) {
-    for (std::size_t b = 0; b < kBins; ++b) {
+    for (std::size_t b = 0; b < bin_count; ++b) {
       const std::size_t total = bins[d][b][0] + bins[d][b][1];
       if (total == 0) continue;
-      high_by_direction[d].add((static_cast<double>(b) + 0.5) / kBins,
+      high_by_direction[d].add((static_cast<double>(b) + 0.5) / static_cast<double>(bin_count),
                                static_cast<double>(bins[d][b][1]) / static_cast<double>(total));
     }
   }
@@ -159,9 +170,13 @@ CrossingMean robust_mean(const std::vector<double>& crossings) {
 
 class HallAnalysis {
  public:
-  HallAnalysis(std::vector<Point> points, bool from_encoder, const AnalysisOptions& options,
-               CommutationResult& result)
-      : points_(std::move(points)), from_encoder_(from_encoder), options_(options), result_(result) {}
+  HallAnalysis(std::vector<Point> points, const std::optional<RotorAngleFromEncoder>& encoder,
+               const AnalysisOptions& options, CommutationResult& result)
+      : points_(std::move(points)),
+        from_encoder_(encoder.has_value()),
+        bin_count_(bins_for(encoder ? std::abs(encoder->signed_counts_per_electrical_turn) : 0.0)),
+        options_(options),
+        result_(result) {}
 
   void run() {
     judge_sensors();
@@ -182,7 +197,7 @@ class HallAnalysis {
   void judge_sensors() {
     std::vector<std::string> stuck;
     for (int sensor = 1; sensor <= 3; ++sensor) {
-      HallSensorFinding finding = judge_sensor(points_, sensor);
+      HallSensorFinding finding = judge_sensor(points_, sensor, bin_count_);
       if (finding.condition == SensorCondition::StuckHigh || finding.condition == SensorCondition::StuckLow) {
         stuck.push_back(finding.how);
       } else if (finding.condition == SensorCondition::Noisy) {
@@ -451,6 +466,7 @@ class HallAnalysis {
 
   std::vector<Point> points_;
   bool from_encoder_;
+  std::size_t bin_count_;
   const AnalysisOptions& options_;
   CommutationResult& result_;
   std::array<StateStats, 8> stats_{};
@@ -464,7 +480,7 @@ class HallAnalysis {
 void analyse_hall(std::span<const Sample> samples, const Sweep& sweep,
                   const std::optional<RotorAngleFromEncoder>& encoder, const AnalysisOptions& options,
                   CommutationResult& result) {
-  HallAnalysis(points_of(samples, sweep, encoder), encoder.has_value(), options, result).run();
+  HallAnalysis(points_of(samples, sweep, encoder), encoder, options, result).run();
 }
 
 }  // namespace i20::commission
