@@ -19,6 +19,9 @@ struct RotorAngleFromEncoder {
   double signed_counts_per_electrical_turn = 0;  // negative when counts fall going forward
   double angle_at_reference_turns = 0;
   double uncertainty_turns = 0;
+  // How much the rotor wanders about the command sample to sample (cogging, vibration): it
+  // moves Hall edges about by as much.
+  double jitter_turns = 0;
   double rotor_turns(std::int64_t count) const {
     return angle_at_reference_turns +
            (static_cast<double>(count) - reference_count) / signed_counts_per_electrical_turn;

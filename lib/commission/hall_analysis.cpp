@@ -16,7 +16,8 @@ namespace i20::commission {
 namespace {
 
 constexpr double kDeg = 1.0 / 360.0;  // one electrical degree in turns
-// A sample this close to a sensor's expected edge may fairly read either way.
+// A sample this close to a sensor's expected edge may fairly read either way; more when the
+// rotor angle is less certain or the rotor jitters (see edge_margin()).
 constexpr double kEdgeMargin = 15.0 * kDeg;
 // More wrong readings than this, away from the edges, make a sensor noisy.
 constexpr double kNoisyFraction = 0.005;
@@ -62,7 +63,13 @@ std::size_t bins_for(double counts_per_electrical_turn) {
   return std::clamp<std::size_t>(static_cast<std::size_t>(counts_per_electrical_turn / 2.0), 12, kFinest);
 }
 
-HallSensorFinding judge_sensor(const std::vector<Point>& points, int sensor, std::size_t bin_count) {
+double edge_margin(const std::optional<RotorAngleFromEncoder>& encoder) {
+  if (!encoder) return kEdgeMargin;
+  return kEdgeMargin + encoder->uncertainty_turns + 3.0 * encoder->jitter_turns;
+}
+
+HallSensorFinding judge_sensor(const std::vector<Point>& points, int sensor, std::size_t bin_count,
+                               double margin) {
   HallSensorFinding finding;
   finding.sensor = sensor;
   const HallCode bit = hall_bit(sensor);
@@ -109,7 +116,7 @@ HallSensorFinding judge_sensor(const std::vector<Point>& points, int sensor, std
     const CircularMean& own = high_by_direction[p.direction > 0 ? 0 : 1];
     if (own.empty()) continue;
     const double from_centre = std::abs(wrap_signed(p.angle - own.mean_turns()));
-    if (std::abs(from_centre - 0.25) < kEdgeMargin) continue;
+    if (std::abs(from_centre - 0.25) < margin) continue;
     ++judged;
     const bool expected_high = from_centre < 0.25;
     if (expected_high != ((p.code & bit) != 0)) ++wrong;
@@ -175,6 +182,7 @@ class HallAnalysis {
       : points_(std::move(points)),
         from_encoder_(encoder.has_value()),
         bin_count_(bins_for(encoder ? std::abs(encoder->signed_counts_per_electrical_turn) : 0.0)),
+        margin_(edge_margin(encoder)),
         options_(options),
         result_(result) {}
 
@@ -197,7 +205,7 @@ class HallAnalysis {
   void judge_sensors() {
     std::vector<std::string> stuck;
     for (int sensor = 1; sensor <= 3; ++sensor) {
-      HallSensorFinding finding = judge_sensor(points_, sensor, bin_count_);
+      HallSensorFinding finding = judge_sensor(points_, sensor, bin_count_, margin_);
       if (finding.condition == SensorCondition::StuckHigh || finding.condition == SensorCondition::StuckLow) {
         stuck.push_back(finding.how);
       } else if (finding.condition == SensorCondition::Noisy) {
@@ -467,6 +475,7 @@ class HallAnalysis {
   std::vector<Point> points_;
   bool from_encoder_;
   std::size_t bin_count_;
+  double margin_;
   const AnalysisOptions& options_;
   CommutationResult& result_;
   std::array<StateStats, 8> stats_{};
