@@ -71,11 +71,13 @@ struct HallEdgeAngle {
   HallCode before = 0;  // the state below the edge (in increasing electrical angle)
   HallCode after = 0;
   Finding<double> angle_deg;
-  double hysteresis_deg = 0;  // half the gap between the forward and backward crossings
+  // Half the gap between the forward and backward crossings (against the encoder angle the
+  // play between rotor and encoder counts against it).
+  double hysteresis_deg = 0;
 };
 
 struct HallFindings {
-  std::vector<HallSensorFinding> sensors;  // always three
+  std::vector<HallSensorFinding> sensors;  // three, once the Hall sensors were judged
   std::vector<HallStateAngle> states;      // in increasing electrical angle, when six were found
   std::vector<HallEdgeAngle> edges;        // edges[k] follows states[k]
   std::optional<Finding<HallSequence>> sequence;

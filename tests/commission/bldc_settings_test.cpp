@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "commission/analyse.hpp"
 #include "commission/synthetic.hpp"
 #include "truth.hpp"
@@ -81,6 +83,45 @@ TEST(BldcSettings, OtherPatternsComeAsTwentyFiveWithARewiring) {
   ASSERT_TRUE(s.pattern && s.hall_rewiring);
   EXPECT_EQ(*s.pattern, 25);
   EXPECT_FALSE(s.hall_rewiring->is_identity());
+}
+
+// bldc's trapezoidal modes read the rotor angle from the Hall code through the pattern: with
+// the settings found (pattern 25, the sensors fed as the rewiring says) every sample's sector
+// centre must be within half a sector of the rotor's true angle, for every one of the 48 maps.
+TEST(BldcSettings, HallSettingsPutEveryMapWithinHalfASector) {
+  const HallSequence pattern_25 = bldc_pattern_25();
+  for (std::size_t row = 0; row < hall_table().size(); ++row) {
+    SyntheticMotor m;
+    m.pole_pairs = 3;
+    m.counts_per_turn = 6000;
+    m.hall_row = row;
+    m.encoder_direction = row % 2 ? 1 : -1;
+    SweepPlan plan;
+    plan.sweep_turns = 4.5;
+    AnalysisOptions options;
+    options.counts_per_turn = m.counts_per_turn;
+    const auto samples = synthetic_sweep(m, plan, 100 + row);
+    const BldcSettings s = bldc_settings(analyse(samples, options));
+    ASSERT_TRUE(s.pattern);
+    ASSERT_EQ(*s.pattern, 25);
+    const HallRewiring rewiring = s.hall_rewiring.value_or(HallRewiring{});
+    double worst = 0;
+    for (const Sample& sample : samples) {
+      // No friction or play: the rotor's angle follows from the count (to one count).
+      const double mechanical = static_cast<double>(sample.encoder_count - m.initial_count) /
+                                (m.encoder_direction * static_cast<double>(m.counts_per_turn));
+      const double truth =
+          m.pole_pairs * (mechanical - m.index_mechanical_turns) + m.index_electrical_deg / 360.0;
+      const HallCode seen = apply_rewiring(rewiring, sample.hall_state);
+      const auto* sector =
+          std::find(pattern_25.code_at_sector.begin(), pattern_25.code_at_sector.end(), seen);
+      ASSERT_NE(sector, pattern_25.code_at_sector.end()) << "row " << row << " code " << hall_code_text(seen);
+      const double bldc_angle = 60.0 * static_cast<double>(sector - pattern_25.code_at_sector.begin());
+      worst = std::max(worst, circular_error_deg(bldc_angle, truth * 360.0));
+    }
+    EXPECT_LE(worst, 30.0 + 2.0 * 360.0 * m.pole_pairs / static_cast<double>(m.counts_per_turn))
+        << "row " << row;
+  }
 }
 
 TEST(BldcSettings, AnInexactCountsPerTurnGivesNoScale) {
