@@ -21,7 +21,8 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/motors/ DESTINATION ${CMAKE_INSTALL_DATA
 # The same layout as in the repository, so the documents' relative links keep working.
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(FILES ${PROJECT_SOURCE_DIR}/docs/README.md ${PROJECT_SOURCE_DIR}/docs/facts.md
-              ${PROJECT_SOURCE_DIR}/docs/motor-model.md DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)
+              ${PROJECT_SOURCE_DIR}/docs/motor-model.md
+              ${PROJECT_SOURCE_DIR}/docs/commissioning-analysis.md DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)
 install(FILES ${PROJECT_SOURCE_DIR}/motors/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR}/motors)
 install(FILES ${PROJECT_SOURCE_DIR}/profiles/README.md ${PROJECT_SOURCE_DIR}/profiles/TUNING.md
         DESTINATION ${CMAKE_INSTALL_DOCDIR}/profiles)
