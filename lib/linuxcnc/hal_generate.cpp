@@ -289,8 +289,10 @@ void estop_section(std::ostream& out, const HalPlan& plan) {
     out << "net estop-ext " << plan.estop_in << " => i20-estop-ok.in-00\n";
   out << "net estop-ok i20-estop-ok.and => iocontrol.0.emc-enable-in\n"
          "# Whether the 8I20 keeps a fault latched until it is cleared is for the acceptance check on a\n"
-         "# real card to confirm: if it does, E-stop stays on until the fault is cleared (i20 "
-         "clear-faults).\n";
+         "# real card to confirm: if it does, E-stop cannot be reset until the fault is cleared.\n\n"
+         "# ---- tool changes (no tool changer: confirm at once)\n"
+         "net tool-change-loop iocontrol.0.tool-change => iocontrol.0.tool-changed\n"
+         "net tool-prepare-loop iocontrol.0.tool-prepare => iocontrol.0.tool-prepared\n";
 }
 
 }  // namespace

@@ -175,7 +175,7 @@ class Linter {
       add(use.at, LintSeverity::Error, "obsolete-8i20-name",
           use.name + ": the 8I20 " + old->kind + " '" + old->name +
               "' was removed from hostmot2 in 2012 (LinuxCNC 2.6): halcmd finds no such " + old->kind,
-          "use " + old->replacement);
+          old->replacement);
     }
   }
 

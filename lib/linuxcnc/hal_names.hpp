@@ -31,7 +31,7 @@ struct BldcRule {
 struct ObsoleteName {
   std::string name;         // after hm2_<board>.<n>.8i20.<port>.<channel>.
   std::string kind;         // pin | param
-  std::string replacement;  // one sentence: what to use now
+  std::string replacement;  // the fix, an instruction: "use the bus-voltage pin (volts)"
 };
 
 class HalNames {

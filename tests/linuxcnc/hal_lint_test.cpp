@@ -221,5 +221,5 @@ TEST(HalLint, FindingsPrintAsFileLineSeverityMessageFix) {
   EXPECT_EQ(
       to_string(f[0]).rfind("t.hal:1: error: " + dev("max_current") + ": the 8I20 param 'max_current'", 0),
       0u);
-  EXPECT_NE(to_string(f[0]).find(" (fix: use "), std::string::npos);
+  EXPECT_NE(to_string(f[0]).find(" (fix: delete it, `current` is in amps"), std::string::npos);
 }
