@@ -18,6 +18,7 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/profiles/ DESTINATION ${CMAKE_INSTALL_DA
 # The same layout as in the repository, so the documents' relative links keep working.
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(FILES ${PROJECT_SOURCE_DIR}/docs/README.md ${PROJECT_SOURCE_DIR}/docs/facts.md
+              ${PROJECT_SOURCE_DIR}/docs/linuxcnc-hal.md
         DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)
 install(FILES ${PROJECT_SOURCE_DIR}/profiles/README.md ${PROJECT_SOURCE_DIR}/profiles/TUNING.md
         DESTINATION ${CMAKE_INSTALL_DOCDIR}/profiles)
