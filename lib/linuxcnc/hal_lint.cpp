@@ -296,6 +296,14 @@ class Linter {
 
   void bldc_names() {
     if (bldc_module_ == nullptr) return;  // a postgui file alone: the cfg is in another file
+    if (bldc_module_->args.count("names") != 0)
+      add(bldc_module_->at, LintSeverity::Error, "bldc-instances",
+          "bldc takes no names= (LinuxCNC 2.9: \"Unknown parameter\", the module does not load)",
+          "delete names=; the instances are bldc.0, bldc.1, ... in cfg order");
+    if (bldc_.empty())
+      add(bldc_module_->at, LintSeverity::Error, "bldc-instances",
+          "loadrt bldc without cfg= makes no instance (bldc needs a feedback letter per motor)",
+          "add cfg=, e.g. cfg=qh for Halls, then the encoder");
     if (static_cast<int>(bldc_.size()) > names_.bldc_max_instances())
       add(bldc_module_->at, LintSeverity::Error, "bldc-instances",
           "bldc makes at most " + std::to_string(names_.bldc_max_instances()) + " instances; cfg lists " +

@@ -156,9 +156,13 @@ TEST(HalLint, BldcNamesAreNotJudgedWithoutItsLoadLine) {
   EXPECT_TRUE(lint_text("net p bldc.0.phase-angle pyvcp.p\nnet x bldc.3.init\n").empty());
 }
 
-TEST(HalLint, MoreCfgStringsThanBldcMakes) {
+TEST(HalLint, BldcLoadLinesThatMakeNoUsableInstances) {
   EXPECT_EQ(lines(of_rule(lint_text("loadrt bldc cfg=h,h,h,h,h,h,h,h,h\n"), "bldc-instances")),
             std::vector<int>{1});
+  // LinuxCNC 2.9: without cfg bldc loads with no instance; names= makes the load fail.
+  EXPECT_EQ(lines(of_rule(lint_text("\nloadrt bldc\n"), "bldc-instances")), std::vector<int>{2});
+  EXPECT_EQ(lines(of_rule(lint_text("loadrt bldc names=x cfg=qh\n"), "bldc-instances")), std::vector<int>{1});
+  EXPECT_TRUE(of_rule(lint_text("loadrt bldc cfg=qh\n"), "bldc-instances").empty());
 }
 
 TEST(HalLint, ValuesThatAreClearlyNotMeant) {
