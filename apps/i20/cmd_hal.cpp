@@ -12,7 +12,9 @@
 #include "linuxcnc/hal_generate.hpp"
 #include "linuxcnc/hal_lint.hpp"
 #include "output_file.hpp"
+#include "profile/loader.hpp"
 #include "profile/quantity.hpp"
+#include "profile_lookup.hpp"
 
 namespace i20::cli {
 namespace {
@@ -28,6 +30,25 @@ double parse_amps(const std::string& option, const std::string& text) {
   return *v;
 }
 
+// The MAXCURRENT a motor profile sets (working or NV value), in amps.
+double profile_max_current(Context& ctx, const std::string& file) {
+  const auto& db = ctx.session().db();
+  const auto p = profile::load_profile_file(file, db);
+  for (const auto& s : p.settings) {
+    const params::Param& param = db.get(s.name);
+    if ((param.is_nv() ? param.twin : param.name) == "MAXCURRENT")
+      return static_cast<double>(s.raw) * param.scale;
+  }
+  throw UsageError("profile " + file + " sets no MAXCURRENT or NVMAXCURRENT: give --max-current");
+}
+
+// --max-current, else the profile's MAXCURRENT, else none.
+std::optional<double> max_current(Context& ctx, const std::string& text, const std::string& profile_file) {
+  if (!text.empty()) return parse_amps("--max-current", text);
+  if (!profile_file.empty()) return profile_max_current(ctx, profile_file);
+  return std::nullopt;
+}
+
 std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw UsageError("cannot read " + path);
@@ -41,6 +62,7 @@ std::string read_file(const std::string& path) {
 struct LintCliOptions {
   std::vector<std::string> files;
   std::string max_current;
+  std::string profile;
   std::optional<int> pattern;
 };
 
@@ -53,7 +75,7 @@ app::Json finding_json(const L::LintFinding& f) {
 
 void run_lint(Context& ctx, const LintCliOptions& o) {
   L::LintOptions options;
-  if (!o.max_current.empty()) options.max_current = parse_amps("--max-current", o.max_current);
+  options.max_current = max_current(ctx, o.max_current, o.profile);
   options.pattern = o.pattern;
   std::vector<L::Statement> statements;
   for (const auto& file : o.files) {
@@ -80,6 +102,7 @@ void run_lint(Context& ctx, const LintCliOptions& o) {
 struct HalCliOptions {
   L::HalPlan plan;
   std::string max_current;
+  std::string profile;
   std::string out;
   bool overwrite = false;
 };
@@ -99,9 +122,9 @@ std::string command_line(const L::HalPlan& p) {
   return c.str();
 }
 
-void run_generate(const HalCliOptions& o) {
+void run_generate(Context& ctx, const HalCliOptions& o) {
   auto plan = o.plan;
-  if (!o.max_current.empty()) plan.max_current = parse_amps("--max-current", o.max_current);
+  plan.max_current = max_current(ctx, o.max_current, o.profile);
   plan.command_line = command_line(plan);
   L::check_plan(plan);
   check_output_file(o.out, o.overwrite);  // before any work: a refusal costs nothing
@@ -148,8 +171,9 @@ void register_hal_commands(CLI::App& app, Context& ctx) {
       "--counts-per-rev", p.counts_per_rev,
       "Encoder counts per motor revolution, bldc's scale (cfg with q; negative reverses commutation)");
   hal->add_option("--encoder-offset", p.encoder_offset, "Counts from the index to electrical zero (cfg qhi)");
-  hal->add_option("--max-current", o->max_current,
-                  "The card's MAXCURRENT in amps, e.g. 12A: the pid's output limit (required)");
+  hal->add_option(
+      "--max-current", o->max_current,
+      "The card's MAXCURRENT in amps, e.g. 12A: the pid's output limit (this or --profile is required)");
   hal->add_option("--halls", p.halls,
                   "The HAL pins of Hall 1,2,3, comma-separated, once per axis (cfg with h), e.g. "
                   "hm2_7i96s.0.inm.00.input-00,hm2_7i96s.0.inm.00.input-01,hm2_7i96s.0.inm.00.input-02");
@@ -158,8 +182,12 @@ void register_hal_commands(CLI::App& app, Context& ctx) {
                   "estop-ext; until then the machine stays in E-stop)");
   hal->add_option("--output,-o", o->out, "Write the HAL file here (default: standard output)");
   hal->add_flag("--overwrite", o->overwrite, "Replace the --output file if it exists");
-  hal->callback([hal, o] {
-    if (hal->get_subcommands().empty()) run_generate(*o);
+  hal->add_option("--profile", o->profile,
+                  "A motor profile (name or file) whose MAXCURRENT is the limit, instead of --max-current")
+      ->transform(profile_file())
+      ->excludes("--max-current");
+  hal->callback([&ctx, hal, o] {
+    if (hal->get_subcommands().empty()) run_generate(ctx, *o);
   });
 
   auto lo = std::make_shared<LintCliOptions>();
@@ -173,6 +201,10 @@ void register_hal_commands(CLI::App& app, Context& ctx) {
   lint->add_option("files", lo->files, "HAL files, in the order LinuxCNC runs them")->required();
   lint->add_option("--max-current", lo->max_current,
                    "The card's MAXCURRENT in amps: report current commands that can exceed it");
+  lint->add_option("--profile", lo->profile,
+                   "A motor profile (name or file) whose MAXCURRENT is the limit, instead of --max-current")
+      ->transform(profile_file())
+      ->excludes("--max-current");
   lint->add_option("--pattern", lo->pattern,
                    "The Hall pattern commissioning found: report every bldc with Halls that uses another");
   lint->callback([&ctx, lo] { run_lint(ctx, *lo); });

@@ -307,7 +307,8 @@ void check_plan(const HalPlan& plan, const HalNames& names) {
   check_board(plan);
   check_cfg(plan, names);
   check_motor(plan);
-  if (!plan.max_current) throw UsageError("--max-current is required: the card's MAXCURRENT in amps");
+  if (!plan.max_current)
+    throw UsageError("--max-current (or --profile) is required: the card's MAXCURRENT in amps");
   const double card_max = card_max_current();
   if (!(*plan.max_current > 0) || *plan.max_current > card_max)
     throw UsageError("--max-current " + amps(*plan.max_current) +

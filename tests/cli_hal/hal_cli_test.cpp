@@ -74,7 +74,7 @@ TEST(HalCli, BadOptionsFailWithOneLineAndExit2) {
   const auto no_current = run("i20", {"hal", "--pattern", "17", "--poles", "8", "--counts-per-rev", "4000",
                                       "--halls", "a.in,b.in,c.in"});
   EXPECT_EQ(no_current.exit_code, 2);
-  EXPECT_NE(no_current.err.find("--max-current is required"), std::string::npos) << no_current.err;
+  EXPECT_NE(no_current.err.find("--max-current (or --profile) is required"), std::string::npos) << no_current.err;
   EXPECT_EQ(run("i20", with(kGood, {"--max-current", "12 furlongs"})).exit_code, 2);
 }
 
@@ -102,4 +102,24 @@ TEST(HalCli, LintExitCodes) {
   EXPECT_NE(syntax.err.find(broken.string() + ":1: unterminated quoted string"), std::string::npos)
       << syntax.err;
   EXPECT_EQ(run("i20", {"hal", "lint", (dir / "missing.hal").string()}).exit_code, 2);
+}
+
+TEST(HalCli, MaxcurrentFromAMotorProfile) {
+  // profiles/line-120v.yaml sets NVMAXCURRENT 12 A.
+  const auto r = run("i20", {"hal", "--profile", "line-120v", "--pattern", "17", "--poles", "8",
+                             "--counts-per-rev", "4000", "--halls", "a.in,b.in,c.in"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("setp pid.0.maxoutput 12 "), std::string::npos);
+  EXPECT_EQ(run("i20", with(kGood, {"--profile", "line-120v"})).exit_code, 2);  // not both
+  TempDir dir;
+  const auto hal = dir / "x.hal";
+  write(hal,
+        "loadrt pid num_chan=1\nsetp pid.0.maxoutput 15\nnet c pid.0.output hm2_7i96s.0.8i20.0.0.current\n");
+  const auto lint = run("i20", {"hal", "lint", "--profile", "line-120v", hal.string()});
+  EXPECT_EQ(lint.exit_code, 1);
+  EXPECT_NE(
+      lint.out.find(hal.string() +
+                    ":2: warning: hm2_7i96s.0.8i20.0.0.current is fed from pid.0 whose maxoutput is 15 A"),
+      std::string::npos)
+      << lint.out;
 }

@@ -150,7 +150,7 @@ TEST(HalGenerate, RefusesPlansItCannotWriteCorrectly) {
   EXPECT_EQ(bad(q), "--encoder-offset needs a cfg with i: bldc cfg=qh creates no encoder-offset");
   q = p;
   q.max_current.reset();
-  EXPECT_NE(bad(q).find("--max-current is required"), std::string::npos);
+  EXPECT_NE(bad(q).find("--max-current (or --profile) is required"), std::string::npos);
   q = p;
   q.max_current = 31;  // the 8I20's MAXCURRENT is at most 30 A (params/8i20.yaml)
   EXPECT_NE(bad(q).find("at most 30 A"), std::string::npos);
