@@ -117,6 +117,11 @@ class Linter {
     if (bldc_module_ == nullptr) return;
     const auto cfg = bldc_module_->args.find("cfg");
     if (cfg == bldc_module_->args.end()) return;
+    // cfg=[BLDC]CFG or $CFG: the instances are known only with the INI file; judge none.
+    if (cfg->second.find_first_of("[$") != std::string::npos) {
+      bldc_module_ = nullptr;
+      return;
+    }
     int index = 0;
     for (const auto& one : split_commas(cfg->second)) bldc_.push_back({index++, one, bldc_module_->at});
   }

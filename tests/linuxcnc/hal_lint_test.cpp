@@ -151,6 +151,10 @@ TEST(HalLint, BldcPinsTheCfgDoesNotCreate) {
   EXPECT_EQ(lines(of_rule(f, "bldc-instance")), (std::vector<int>{5, 6}));
 }
 
+TEST(HalLint, BldcNamesAreNotJudgedWhenTheCfgComesFromTheIniFile) {
+  EXPECT_TRUE(lint_text("loadrt bldc cfg=[BLDC]CFG\nnet i bldc.0.init\nnet r bldc.1.rawcounts\n").empty());
+}
+
 TEST(HalLint, BldcNamesAreNotJudgedWithoutItsLoadLine) {
   // A postgui file alone: its bldc was loaded by another file.
   EXPECT_TRUE(lint_text("net p bldc.0.phase-angle pyvcp.p\nnet x bldc.3.init\n").empty());
