@@ -38,7 +38,8 @@ struct BldcName {
 };
 
 std::optional<BldcName> split_bldc(const std::string& name) {
-  static const std::regex kBldc(R"(^bldc\.([0-9]+)(?:\.(.*))?$)");
+  // At most 6 digits: a longer number is no instance bldc makes, and would overflow stoi.
+  static const std::regex kBldc(R"(^bldc\.([0-9]{1,6})(?:\.(.*))?$)");
   std::smatch m;
   if (!std::regex_match(name, m, kBldc)) return std::nullopt;
   return BldcName{std::stoi(m[1].str()), m[2].str()};

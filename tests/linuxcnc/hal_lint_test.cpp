@@ -151,6 +151,12 @@ TEST(HalLint, BldcPinsTheCfgDoesNotCreate) {
   EXPECT_EQ(lines(of_rule(f, "bldc-instance")), (std::vector<int>{5, 6}));
 }
 
+TEST(HalLint, AHugeBldcInstanceNumberIsJustANameNotACrash) {
+  EXPECT_NO_THROW(lint_text("loadrt bldc cfg=qh\nnet x bldc.99999999999999999999.value\n"));
+  EXPECT_EQ(lines(of_rule(lint_text("loadrt bldc cfg=qh\nnet x bldc.999999.value\n"), "bldc-instance")),
+            std::vector<int>{2});
+}
+
 TEST(HalLint, BldcNamesAreNotJudgedWhenTheCfgComesFromTheIniFile) {
   EXPECT_TRUE(lint_text("loadrt bldc cfg=[BLDC]CFG\nnet i bldc.0.init\nnet r bldc.1.rawcounts\n").empty());
 }
