@@ -74,7 +74,8 @@ TEST(HalCli, BadOptionsFailWithOneLineAndExit2) {
   const auto no_current = run("i20", {"hal", "--pattern", "17", "--poles", "8", "--counts-per-rev", "4000",
                                       "--halls", "a.in,b.in,c.in"});
   EXPECT_EQ(no_current.exit_code, 2);
-  EXPECT_NE(no_current.err.find("--max-current (or --profile) is required"), std::string::npos) << no_current.err;
+  EXPECT_NE(no_current.err.find("--max-current (or --profile) is required"), std::string::npos)
+      << no_current.err;
   EXPECT_EQ(run("i20", with(kGood, {"--max-current", "12 furlongs"})).exit_code, 2);
 }
 
