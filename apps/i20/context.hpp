@@ -59,5 +59,6 @@ void register_fault_commands(CLI::App& app, Context& ctx);    // faults, clear-f
 void register_profile_commands(CLI::App& app, Context& ctx);  // profile, tune
 void register_scan_command(CLI::App& app, Context& ctx);      // scan (Ethernet)
 void register_report_command(CLI::App& app, Context& ctx);    // report (field service)
+void register_hal_commands(CLI::App& app, Context& ctx);      // hal, hal lint (LinuxCNC HAL files)
 
 }  // namespace i20::cli

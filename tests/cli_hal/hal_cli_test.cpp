@@ -1,0 +1,126 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "harness.hpp"
+
+using namespace i20::test;
+
+namespace {
+
+const std::vector<std::string> kGood{
+    "hal",  "--max-current", "12A",           "--pattern", "17", "--poles", "8", "--counts-per-rev",
+    "4000", "--halls",       "a.in,b.in,c.in"};
+
+std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& more) {
+  args.insert(args.end(), more.begin(), more.end());
+  return args;
+}
+
+void write(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+std::string read(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+TEST(HalCli, WritesAFileThatItsOwnLintPasses) {
+  TempDir dir;
+  const auto file = dir / "axis.hal";
+  const auto made = run("i20", with(kGood, {"-o", file.string()}));
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  EXPECT_NE(read(file).find("net j0-rotor-angle bldc.0.rotor-angle => hm2_7i96s.0.8i20.0.0.angle"),
+            std::string::npos);
+  const auto lint = run("i20", {"hal", "lint", "--max-current", "12", "--pattern", "17", file.string()});
+  EXPECT_EQ(lint.exit_code, 0) << lint.out << lint.err;
+  EXPECT_EQ(lint.out, "");
+}
+
+TEST(HalCli, RefusesToReplaceAFileWithoutOverwrite) {
+  TempDir dir;
+  const auto file = dir / "mine.hal";
+  write(file, "# the user's own file\n");
+  const auto refused = run("i20", with(kGood, {"-o", file.string()}));
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("exists; pass --overwrite"), std::string::npos) << refused.err;
+  EXPECT_EQ(read(file), "# the user's own file\n");
+  EXPECT_EQ(run("i20", with(kGood, {"-o", file.string(), "--overwrite"})).exit_code, 0);
+  EXPECT_NE(read(file).find("loadrt bldc cfg=qh"), std::string::npos);
+  // No temporary file is left beside it.
+  int entries = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++entries;
+  EXPECT_EQ(entries, 1);
+}
+
+TEST(HalCli, BadOptionsFailWithOneLineAndExit2) {
+  for (const auto& extra : std::vector<std::vector<std::string>>{{"--cfg", "qi"},
+                                                                 {"--board", "5i25"},
+                                                                 {"--encoder-offset", "3"},
+                                                                 {"--axes", "0"},
+                                                                 {"--board-ip", "x"}}) {
+    const auto r = run("i20", with(kGood, extra));
+    EXPECT_EQ(r.exit_code, 2) << extra[0];
+    EXPECT_EQ(r.out, "") << extra[0];
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+  const auto no_current = run("i20", {"hal", "--pattern", "17", "--poles", "8", "--counts-per-rev", "4000",
+                                      "--halls", "a.in,b.in,c.in"});
+  EXPECT_EQ(no_current.exit_code, 2);
+  EXPECT_NE(no_current.err.find("--max-current (or --profile) is required"), std::string::npos)
+      << no_current.err;
+  EXPECT_EQ(run("i20", with(kGood, {"--max-current", "12 furlongs"})).exit_code, 2);
+}
+
+TEST(HalCli, LintExitCodes) {
+  TempDir dir;
+  const auto clean = dir / "clean.hal";
+  write(clean,
+        "loadrt bldc cfg=qh\nnet a bldc.0.rotor-angle hm2_7i96s.0.8i20.0.0.angle\n"
+        "net f hm2_7i96s.0.8i20.0.0.fault.watchdog x.in\nnet r enc.rawcounts bldc.0.rawcounts\n"
+        "net h1 p.a bldc.0.hall1\nnet h2 p.b bldc.0.hall2\nnet h3 p.c bldc.0.hall3\n");
+  EXPECT_EQ(run("i20", {"hal", "lint", clean.string()}).exit_code, 0);
+  const auto old = dir / "old.hal";
+  write(old, "# old\nsetp hm2_5i20.0.8i20.0.0.max_current 30.0\n");
+  const auto findings = run("i20", {"hal", "lint", old.string()});
+  EXPECT_EQ(findings.exit_code, 1);
+  EXPECT_EQ(findings.out.rfind(old.string() + ":2: error: hm2_5i20.0.8i20.0.0.max_current", 0), 0u)
+      << findings.out;
+  const auto json = run("i20", {"--json", "hal", "lint", old.string()});
+  EXPECT_EQ(json.exit_code, 1);
+  EXPECT_NE(json.out.find("\"obsolete-8i20-name\""), std::string::npos) << json.out;
+  const auto broken = dir / "broken.hal";
+  write(broken, "setp a.b \"1\nfoo\n");
+  const auto syntax = run("i20", {"hal", "lint", broken.string()});
+  EXPECT_EQ(syntax.exit_code, 2);
+  EXPECT_NE(syntax.err.find(broken.string() + ":1: unterminated quoted string"), std::string::npos)
+      << syntax.err;
+  EXPECT_EQ(run("i20", {"hal", "lint", (dir / "missing.hal").string()}).exit_code, 2);
+}
+
+TEST(HalCli, MaxcurrentFromAMotorProfile) {
+  // profiles/line-120v.yaml sets NVMAXCURRENT 12 A.
+  const auto r = run("i20", {"hal", "--profile", "line-120v", "--pattern", "17", "--poles", "8",
+                             "--counts-per-rev", "4000", "--halls", "a.in,b.in,c.in"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("setp pid.0.maxoutput 12 "), std::string::npos);
+  EXPECT_EQ(run("i20", with(kGood, {"--profile", "line-120v"})).exit_code, 2);  // not both
+  TempDir dir;
+  const auto hal = dir / "x.hal";
+  write(hal,
+        "loadrt pid num_chan=1\nsetp pid.0.maxoutput 15\nnet c pid.0.output hm2_7i96s.0.8i20.0.0.current\n");
+  const auto lint = run("i20", {"hal", "lint", "--profile", "line-120v", hal.string()});
+  EXPECT_EQ(lint.exit_code, 1);
+  EXPECT_NE(
+      lint.out.find(hal.string() +
+                    ":2: warning: hm2_7i96s.0.8i20.0.0.current is fed from pid.0 whose maxoutput is 15 A"),
+      std::string::npos)
+      << lint.out;
+}

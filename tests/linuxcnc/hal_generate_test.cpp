@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// `i20 hal`'s writer: the file reads as halcmd reads it, passes our own linter with the
+// facts it was written from, and is wired the way docs/linuxcnc-hal.md says.
+#include "linuxcnc/hal_generate.hpp"
+
+#include <gtest/gtest.h>
+
+#include "error/error.hpp"
+#include "linuxcnc/hal_design.hpp"
+#include "linuxcnc/hal_lint.hpp"
+
+using namespace i20::linuxcnc;
+
+namespace {
+
+HalPlan hall_encoder_plan(int axes = 1) {
+  HalPlan p;
+  p.axes = axes;
+  p.cfg = "qh";
+  p.pattern = 17;
+  p.poles = 8;
+  p.counts_per_rev = 4000;
+  p.max_current = 12.0;
+  for (int k = 0; k < axes; ++k)
+    p.halls.push_back("hm2_7i96s.0.inm.00.input-0" + std::to_string(3 * k) + ",hm2_7i96s.0.inm.00.input-0" +
+                      std::to_string(3 * k + 1) + ",hm2_7i96s.0.inm.00.input-0" + std::to_string(3 * k + 2));
+  return p;
+}
+
+std::string bad(const HalPlan& p) {
+  try {
+    check_plan(p);
+  } catch (const i20::UsageError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+}  // namespace
+
+TEST(HalGenerate, EveryPlanLintsCleanWithTheFactsItWasWrittenFrom) {
+  std::vector<HalPlan> plans{hall_encoder_plan(1), hall_encoder_plan(3)};
+  auto qhi = hall_encoder_plan(1);
+  qhi.cfg = "qhi";
+  qhi.encoder_offset = 120;
+  qhi.board = "7i92t";
+  qhi.estop_in = "hm2_7i92.0.gpio.010.in";
+  plans.push_back(qhi);
+  HalPlan halls_only;
+  halls_only.cfg = "h";
+  halls_only.pattern = 25;
+  halls_only.max_current = 5.0;
+  halls_only.halls = {"a.in,b.in,c.in"};
+  plans.push_back(halls_only);
+  for (const auto& p : plans) {
+    const auto text = generate_hal(p);
+    const auto findings = lint(read_hal(text, "gen.hal"), {p.max_current, p.pattern});
+    for (const auto& f : findings)
+      ADD_FAILURE() << "cfg=" << p.cfg << " axes=" << p.axes << ": " << to_string(f);
+  }
+}
+
+TEST(HalGenerate, RotorAngleFeedsTheEightI20AndTheCurrentIsLimitedToMaxcurrent) {
+  const HalDesign d(read_hal(generate_hal(hall_encoder_plan(2)), "gen.hal"));
+  for (int k = 0; k < 2; ++k) {
+    const std::string n = std::to_string(k), dev = "hm2_7i96s.0.8i20.0." + n;
+    const auto* angle = d.signal_of(dev + ".angle");
+    ASSERT_NE(angle, nullptr);
+    EXPECT_TRUE(std::any_of(angle->pins.begin(), angle->pins.end(),
+                            [&](const auto& p) { return p.name == "bldc." + n + ".rotor-angle"; }));
+    EXPECT_EQ(d.signal_of("bldc." + n + ".phase-angle"), nullptr);  // never used
+    EXPECT_EQ(d.setting("pid." + n + ".maxoutput")->value, "12");
+    EXPECT_EQ(d.signal_of("bldc." + n + ".out"), d.signal_of(dev + ".current"));
+    EXPECT_EQ(d.signal_of("pid." + n + ".output"), d.signal_of("bldc." + n + ".value"));
+    EXPECT_EQ(d.signal_of("hm2_7i96s.0.encoder.0" + n + ".rawcounts"),
+              d.signal_of("bldc." + n + ".rawcounts"));
+    EXPECT_EQ(d.setting("bldc." + n + ".pattern")->value, "17");
+    EXPECT_EQ(d.setting("bldc." + n + ".poles")->value, "8");
+    EXPECT_EQ(d.setting("bldc." + n + ".scale")->value, "4000");
+    EXPECT_EQ(d.setting("bldc." + n + ".lead-angle"), nullptr);  // not needed with rotor-angle
+  }
+  EXPECT_EQ(d.module("bldc")->args.at("cfg"), "qh,qh");
+  EXPECT_EQ(d.module("hm2_eth")->args.at("board_ip"), "10.10.10.10");
+  EXPECT_EQ(d.setting("hm2_7i96s.0.sserial.port-0.run")->value, "true");
+}
+
+TEST(HalGenerate, EveryFaultPinOfEveryEightI20ReachesTheEstopChain) {
+  const HalDesign d(read_hal(generate_hal(hall_encoder_plan(2)), "gen.hal"));
+  const auto& faults = HalNames::builtin().i20_fault_pins();
+  // logic personalities: per axis `or` and `nor` over 13 inputs; the chain: `and` of 3.
+  EXPECT_EQ(d.module("logic")->args.at("personality"), "0x120D,0x120D,0x103");
+  for (int k = 0; k < 2; ++k) {
+    const std::string n = std::to_string(k);
+    for (std::size_t i = 0; i < faults.size(); ++i) {
+      const auto* sig = d.signal_of("hm2_7i96s.0.8i20.0." + n + "." + faults[i]);
+      ASSERT_NE(sig, nullptr) << faults[i];
+      EXPECT_EQ(sig, d.signal_of("i20-faults-" + n + ".in-" + (i < 10 ? "0" : "") + std::to_string(i)));
+    }
+    EXPECT_EQ(d.signal_of("i20-faults-" + n + ".nor"),
+              d.signal_of("i20-estop-ok.in-0" + std::to_string(k + 1)));
+  }
+  EXPECT_EQ(d.signal_of("i20-estop-ok.and"), d.signal_of("iocontrol.0.emc-enable-in"));
+  // No E-stop input given: the chain's first input is left for the user, so E-stop holds.
+  const auto* ext = d.signal_of("i20-estop-ok.in-00");
+  ASSERT_NE(ext, nullptr);
+  EXPECT_EQ(ext->pins.size(), 1u);
+}
+
+TEST(HalGenerate, QhiNetsTheIndexBetweenEncoderAndBldcOnly) {
+  auto p = hall_encoder_plan(1);
+  p.cfg = "qhi";
+  p.encoder_offset = -250;
+  const HalDesign d(read_hal(generate_hal(p), "gen.hal"));
+  const auto* index = d.signal_of("bldc.0.index-enable");
+  ASSERT_NE(index, nullptr);
+  EXPECT_EQ(index, d.signal_of("hm2_7i96s.0.encoder.00.index-enable"));
+  EXPECT_EQ(d.signal_of("joint.0.index-enable"), nullptr);
+  EXPECT_EQ(d.setting("bldc.0.encoder-offset")->value, "-250");
+}
+
+TEST(HalGenerate, TheHeaderNamesTheIniValuesItReads) {
+  const auto text = generate_hal(hall_encoder_plan(1));
+  for (const char* ini :
+       {"[KINS]KINEMATICS", "[EMCMOT]SERVO_PERIOD", "[JOINT_k]ENCODER_SCALE", "FF0", "DEADBAND"})
+    EXPECT_NE(text.find(ini), std::string::npos) << ini;
+  EXPECT_NE(text.find("setp pid.0.Pgain [JOINT_0]P\n"), std::string::npos);
+  EXPECT_NE(text.find("setp hm2_7i96s.0.encoder.00.scale [JOINT_0]ENCODER_SCALE\n"), std::string::npos);
+}
+
+TEST(HalGenerate, RefusesPlansItCannotWriteCorrectly) {
+  auto p = hall_encoder_plan(1);
+  EXPECT_EQ(bad(p), "accepted");
+  auto q = p;
+  q.cfg = "qi";
+  EXPECT_NE(bad(q).find("--cfg qi: i20 hal writes qh, qhi or h"), std::string::npos);
+  q = p;
+  q.pattern = 48;
+  EXPECT_EQ(bad(q), "--pattern 48: bldc's Hall patterns are 0 to 47");
+  q = p;
+  q.pattern.reset();
+  EXPECT_NE(bad(q).find("--pattern is required"), std::string::npos);
+  q = p;
+  q.poles = 7;
+  EXPECT_NE(bad(q).find("--poles 7"), std::string::npos);
+  q = p;
+  q.counts_per_rev.reset();
+  EXPECT_NE(bad(q).find("--counts-per-rev is required"), std::string::npos);
+  q = p;
+  q.encoder_offset = 5;
+  EXPECT_EQ(bad(q), "--encoder-offset needs a cfg with i: bldc cfg=qh creates no encoder-offset");
+  q = p;
+  q.max_current.reset();
+  EXPECT_NE(bad(q).find("--max-current (or --profile) is required"), std::string::npos);
+  q = p;
+  q.max_current = 31;  // the 8I20's MAXCURRENT is at most 30 A (params/8i20.yaml)
+  EXPECT_NE(bad(q).find("at most 30 A"), std::string::npos);
+  q = p;
+  q.board = "7i76e";
+  EXPECT_EQ(bad(q), "--board 7i76e: 7i96s or 7i92t");
+  q = p;
+  q.board_ip = "10.10.10";
+  EXPECT_NE(bad(q).find("not an IPv4 address"), std::string::npos);
+  q = p;
+  q.halls = {"a.in,b.in"};
+  EXPECT_NE(bad(q).find("three pins"), std::string::npos);
+  q = p;
+  q.halls = {"a.in,b..in,c.in"};
+  EXPECT_NE(bad(q).find("'b..in' is not a HAL pin name"), std::string::npos);
+  q = p;
+  q.axes = 9;
+  EXPECT_NE(bad(q).find("--axes 9: 1 to 8"), std::string::npos);
+  for (const auto& message : {bad(q)}) EXPECT_EQ(message.find('\n'), std::string::npos);  // one line
+}
