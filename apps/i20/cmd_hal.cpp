@@ -11,6 +11,7 @@
 #include "linuxcnc/hal_design.hpp"
 #include "linuxcnc/hal_generate.hpp"
 #include "linuxcnc/hal_lint.hpp"
+#include "params/text.hpp"
 #include "output_file.hpp"
 #include "profile/loader.hpp"
 #include "profile/quantity.hpp"
@@ -88,7 +89,8 @@ void run_lint(Context& ctx, const LintCliOptions& o) {
     for (const auto& f : findings) list.push(finding_json(f));
     ctx.print_json(app::Json::object().set("files", static_cast<int>(o.files.size())).set("findings", list));
   } else {
-    for (const auto& f : findings) std::cout << L::to_string(f) << "\n";
+    // A finding quotes the file: never a raw control character on the terminal.
+    for (const auto& f : findings) std::cout << params::printable(L::to_string(f)) << "\n";
   }
   const auto errors = std::count_if(findings.begin(), findings.end(),
                                     [](const auto& f) { return f.severity == L::LintSeverity::Error; });

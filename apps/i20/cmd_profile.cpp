@@ -13,7 +13,6 @@
 #include "cmd_profile_export.hpp"
 #include "cmd_tune.hpp"
 #include "context.hpp"
-#include "files/atomic_file.hpp"
 #include "fleet_progress.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/apply_run.hpp"
@@ -560,11 +559,9 @@ struct SaveCliOptions {
   bool overwrite = false;
 };
 
-// Whole or not at all (lib/files): a full disk leaves no 0-byte file that looks like a setup.
+// Whole or not at all: a full disk leaves no 0-byte file that looks like a setup.
 void write_new_file(const std::string& file, const std::string& text, bool overwrite) {
-  if (!overwrite && std::filesystem::exists(file))
-    throw UsageError(file + " exists; pass --overwrite to replace it (or choose another name)");
-  files::write_file(file, text, overwrite ? files::Existing::Replace : files::Existing::Refuse);
+  write_file_atomically(file, text, overwrite);
 }
 
 // The YAML of a saved card, proved to load back to exactly the values read before anyone

@@ -15,7 +15,6 @@
 
 #include "change_render.hpp"
 #include "context.hpp"
-#include "files/atomic_file.hpp"
 #include "output_file.hpp"
 #include "profile/export.hpp"
 #include "profile/loader.hpp"
@@ -55,9 +54,7 @@ std::optional<profile::Profile> valid_profile(Context& ctx, const params::ParamD
 }
 
 void write_file(const std::string& path, const std::string& text, bool overwrite) {
-  if (!overwrite && std::filesystem::exists(path))
-    throw Error(path + " exists; pass --overwrite to replace it", ErrorKind::BadInput);
-  files::write_file(path, text, overwrite ? files::Existing::Replace : files::Existing::Refuse);
+  write_file_atomically(path, text, overwrite);
 }
 
 app::Json values_json(const profile::Hostmot2Values& values, const ExportCliOptions& o) {

@@ -10,7 +10,6 @@
 
 #include "context.hpp"
 #include "faults/report.hpp"
-#include "files/atomic_file.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/report.hpp"
 #include "output_file.hpp"
@@ -173,7 +172,7 @@ void run_report(Context& ctx, const ReportOptions& o) {
     std::cout << text;
     return;
   }
-  files::write_file(o.out, text, o.overwrite ? files::Existing::Replace : files::Existing::Refuse);
+  write_file_atomically(o.out, text, o.overwrite);
   std::cerr << "i20: report of " << card.describe() << " written to " << o.out << "\n";
 }
 

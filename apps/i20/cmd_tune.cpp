@@ -12,7 +12,6 @@
 
 #include "change_render.hpp"
 #include "context.hpp"
-#include "files/atomic_file.hpp"
 #include "output_file.hpp"
 #include "profile/error.hpp"
 #include "profile/loader.hpp"
@@ -161,7 +160,7 @@ Tuned compute(const profile::TuneRequest& request, const Basis& basis, const par
 
 // --overwrite was checked before (check_output_file): replacing here is what was asked.
 void write_text_file(const std::string& path, const std::string& text) {
-  files::write_file(path, text, files::Existing::Replace);
+  write_file_atomically(path, text, /*overwrite=*/true);
 }
 
 // The tuning profile, written and then loaded back and validated like any other profile.

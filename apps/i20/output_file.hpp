@@ -19,9 +19,10 @@ void check_output_file(const std::string& path, bool overwrite);
 // folder, or be creatable under the nearest folder that exists and is writable.
 void check_output_dir(const std::filesystem::path& dir);
 
-// Writes `text` to `path` so that nobody ever sees half a file: into a temporary file in
-// the same folder, synced, then moved into place. Without `overwrite` an existing file is
-// left alone (UsageError, exit 2), even one created after check_output_file ran.
+// Writes `text` to `path` so that nobody ever sees half a file (lib/files: a temporary file
+// in the same folder, synced, then moved into place): UsageError (exit 2) for an existing
+// file without `overwrite`, OutputError (exit 6) when the text does not land; an existing
+// file created after check_output_file ran is left alone.
 void write_file_atomically(const std::string& path, const std::string& text, bool overwrite);
 
 }  // namespace i20::cli

@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstring>
 #include <memory>
+#include <random>
 
 #include "error/error.hpp"
 
@@ -48,14 +49,20 @@ class Fd {
 // The hidden temporary file, removed unless it was given its name.
 class TemporaryFile {
  public:
+  // Mode 0666 less the umask, as the final file would get from open(2); O_EXCL: never an
+  // existing file. (mkstemp would make it 0600, and a saved profile unreadable to others.)
   TemporaryFile(const fs::path& folder, const std::string& for_name) {
-    std::string pattern = (folder / ("." + for_name + ".XXXXXX")).string();
-    const int fd = ::mkstemp(pattern.data());
+    std::random_device random;
+    int fd = -1;
+    for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
+      path_ = folder / ("." + for_name + "." + std::to_string(::getpid()) + "-" + std::to_string(random()) + ".tmp");
+      fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+      if (fd < 0 && errno != EEXIST) break;
+    }
     if (fd < 0)
       throw OutputError("cannot write " + (folder / for_name).string() + ": cannot create a file in " +
                         folder.string() + ": " + reason(errno));
     fd_ = std::make_unique<Fd>(fd);
-    path_ = pattern;
   }
   ~TemporaryFile() {
     if (!kept_) ::unlink(path_.c_str());

@@ -14,6 +14,7 @@
 #include "params/closest.hpp"
 #include "params/text.hpp"
 #include "params/value.hpp"
+#include "params/yaml_problem.hpp"
 
 namespace i20::motor {
 namespace {
@@ -226,12 +227,11 @@ void set_motor_key(MotorParams& params, std::string_view key, std::string_view v
 }
 
 MotorParams parse_motor(std::string_view text, std::string_view origin) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(std::string(text));
-  } catch (const YAML::Exception& e) {
-    throw MotorError(std::string(origin) + ":" + std::to_string(e.mark.line + 1) + ": not YAML: " + e.msg);
-  }
+  // The loader every YAML file goes through: a second document is refused, not dropped.
+  const YAML::Node root =
+      params::load_yaml(text, std::string(origin), [](const std::string& where, const std::string& problem) {
+        throw MotorError(where + ": " + problem);
+      });
   if (!root.IsDefined() || root.IsNull()) throw MotorError(std::string(origin) + ": empty motor file");
   std::vector<Entry> entries;
   flatten(root, "", entries, origin);

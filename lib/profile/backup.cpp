@@ -117,16 +117,20 @@ std::vector<std::filesystem::path> backups_of_unit(const std::filesystem::path& 
   struct Found {
     std::filesystem::path path;
     BackupName name;
+    std::filesystem::file_time_type written;  // two backups in one second: the later one
   };
   std::vector<Found> found;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
     const auto name = parse_name(entry.path().filename().string());
-    if (name && unit_in_backup_name(entry.path()) == unit) found.push_back({entry.path(), *name});
+    if (name && unit_in_backup_name(entry.path()) == unit) {
+      std::error_code time_ec;
+      found.push_back({entry.path(), *name, std::filesystem::last_write_time(entry.path(), time_ec)});
+    }
   }
   if (ec) problem = ec.message();
   std::ranges::sort(found, [](const Found& a, const Found& b) {
-    return std::tie(a.name.stamp, a.name.suffix) > std::tie(b.name.stamp, b.name.suffix);
+    return std::tie(a.name.stamp, a.name.suffix, a.written) > std::tie(b.name.stamp, b.name.suffix, b.written);
   });
   std::vector<std::filesystem::path> paths;
   for (auto& f : found) paths.push_back(std::move(f.path));

@@ -99,6 +99,9 @@ TEST(MotorFile, MistakesAreOneLineNamingFileLineAndKey) {
       {std::string(kSmall) + "pole_pairs: 3\n", "m.yaml:6: pole_pairs: given twice"},
       {std::string(kSmall) + "cogging: {torque: 0.1Nm}\n", "cogging.periods_per_turn must be at least 1"},
       {"resistance: [1\n", "m.yaml:"},
+      // A second document is refused, not dropped (issue 33 item 4), even a broken one.
+      {std::string(kSmall) + "---\npole_pairs: 8\n", "m.yaml:7: a second YAML document"},
+      {std::string(kSmall) + "---\nresistance: [1\n", "m.yaml:"},
   };
   for (const auto& c : cases) {
     const std::string message = error_of(c.text);

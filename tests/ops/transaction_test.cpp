@@ -256,7 +256,7 @@ TEST_F(ProfileApply, NoBackupNoWrite) {
 TEST_F(ProfileApply, UnreadableCardIsRefusedWithoutWriting) {
   card_.fail_reads_of = {"NVBUSOVERV"};
   const auto r = run(kLine120);
-  EXPECT_EQ(r.outcome, Outcome::OutputLost);  // exit 6: the backup did not land, so nothing was written
+  EXPECT_EQ(r.outcome, Outcome::Failed);  // exit 1: nothing was written
   EXPECT_NE(r.reason.find("NVBUSOVERV"), std::string::npos) << r.reason;
   EXPECT_EQ(card_.write_calls, 0);
 }
