@@ -55,7 +55,8 @@ class TemporaryFile {
     std::random_device random;
     int fd = -1;
     for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
-      path_ = folder / ("." + for_name + "." + std::to_string(::getpid()) + "-" + std::to_string(random()) + ".tmp");
+      path_ = folder /
+              ("." + for_name + "." + std::to_string(::getpid()) + "-" + std::to_string(random()) + ".tmp");
       fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
       if (fd < 0 && errno != EEXIST) break;
     }

@@ -130,7 +130,8 @@ std::vector<std::filesystem::path> backups_of_unit(const std::filesystem::path& 
   }
   if (ec) problem = ec.message();
   std::ranges::sort(found, [](const Found& a, const Found& b) {
-    return std::tie(a.name.stamp, a.name.suffix, a.written) > std::tie(b.name.stamp, b.name.suffix, b.written);
+    return std::tie(a.name.stamp, a.name.suffix, a.written) >
+           std::tie(b.name.stamp, b.name.suffix, b.written);
   });
   std::vector<std::filesystem::path> paths;
   for (auto& f : found) paths.push_back(std::move(f.path));

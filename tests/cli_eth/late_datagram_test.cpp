@@ -177,7 +177,8 @@ TEST_F(LateDatagrams, ReorderingNetworkEndsWithinTheDeadlineWithATrueExitCode) {
     const Command& c = commands[(seed - 1) / 2 % commands.size()];
     std::vector<std::string> args;
     for (auto a : c.args) {
-      if (const auto at = a.find("{AT}"); at != std::string::npos) a.replace(at, 4, "eth://" + network.address());
+      if (const auto at = a.find("{AT}"); at != std::string::npos)
+        a.replace(at, 4, "eth://" + network.address());
       args.push_back(a);
     }
     const auto capture = [&](unsigned ch) {
@@ -203,16 +204,18 @@ TEST_F(LateDatagrams, ReorderingNetworkEndsWithinTheDeadlineWithATrueExitCode) {
       if (r.exit_code == 0)
         for (const auto& [cell, raw] : c.expect)
           if (sim::value_in(after, map.at(cell)) != static_cast<std::uint64_t>(raw))
-            why += "exit 0 but ch" + std::to_string(ch) + " " + cell + " is not " + std::to_string(raw) + "; ";
+            why +=
+                "exit 0 but ch" + std::to_string(ch) + " " + cell + " is not " + std::to_string(raw) + "; ";
       // Exit 1 and 2 promise nothing was written.
-      if ((r.exit_code == 1 || r.exit_code == 2) && !sim::unexplained_changes(map, before[ch], after, {}).empty())
+      if ((r.exit_code == 1 || r.exit_code == 2) &&
+          !sim::unexplained_changes(map, before[ch], after, {}).empty())
         why += "exit " + std::to_string(r.exit_code) + " but ch" + std::to_string(ch) + " changed " +
                sim::unexplained_changes(map, before[ch], after, {}).front() + "; ";
     }
     false_results += !why.empty();
-    std::cout << "seed " << seed << " (" << (overtaken ? "overtaken" : "held 1-30 ms") << ", " << c.program << " "
-              << c.args[c.args.size() > 3 ? 3 : 0] << "): exit " << r.exit_code << " in " << took << " s"
-              << (why.empty() ? "" : ": " + why) << "\n"
+    std::cout << "seed " << seed << " (" << (overtaken ? "overtaken" : "held 1-30 ms") << ", " << c.program
+              << " " << c.args[c.args.size() > 3 ? 3 : 0] << "): exit " << r.exit_code << " in " << took
+              << " s" << (why.empty() ? "" : ": " + why) << "\n"
               << (why.empty() ? "" : r.out + r.err) << std::flush;
   }
   std::cout << runs << " runs under 30% reordering: the longest took " << longest << " s; exits:";

@@ -432,3 +432,32 @@ TEST(OperationDeadline, PastItALostReadIsSentOnceAndNotWaitedFor) {
   std::cout << "serial, a lost read past the deadline: 1 send, "
             << std::chrono::duration_cast<std::chrono::milliseconds>(waited_past).count() << " ms\n";
 }
+
+// The same over Ethernet: the DOIT packets of a read all lost (requests never reach the
+// card), with the default options' policy, waits shortened as for the tests above.
+TEST(OperationDeadline, OverEthernetPastItALostReadIsSentOnce) {
+  for (const bool past : {false, true}) {
+    test::RunningCard card;
+    ops::RetryPolicy retry;
+    if (past) retry.operation_deadline = 0ms;
+    const auto options = eth_options(retry);
+    auto losing = std::make_unique<LosingDoits>(
+        std::make_unique<eth::UdpClient>(card.address().ip, card.address().port, options.udp));
+    LosingDoits* loss = losing.get();
+    auto opened = open_eth(card.address(), options, retry,
+                           std::make_unique<eth::FencedTransport>(std::move(losing), options.fence));
+    loss->lose = LosingDoits::Lose::Requests;
+    const auto start = Clock::now();
+    EXPECT_NE(read_or_error(*opened), "");
+    const auto waited = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start);
+    if (past) {
+      EXPECT_EQ(loss->doit_packets, 1u) << "sent once past the deadline";
+      EXPECT_LT(waited, 500ms);
+    } else {
+      EXPECT_GE(loss->doit_packets, retry.attempts);
+      EXPECT_GE(waited, retry.silence_window);
+    }
+    std::cout << "Ethernet, a lost read " << (past ? "past" : "within")
+              << " the deadline: " << loss->doit_packets << " DOIT packets, " << waited.count() << " ms\n";
+  }
+}
