@@ -101,6 +101,8 @@ class Card {
   // True once the operation has run longer than RetryPolicy::operation_deadline; the way
   // out of a mode (settle, leaving a mode found on) is never past it.
   bool past_deadline() const { return !uninterruptible_ && std::chrono::steady_clock::now() >= deadline_; }
+  // A new operation on the same card (a watch's next sample): its deadline counts from now.
+  void restart_deadline() { deadline_ = std::chrono::steady_clock::now() + retry_.operation_deadline; }
   std::size_t retries() const { return retries_; }
   // Times a silent card was asked again within the silence window.
   std::size_t probes() const { return probes_; }

@@ -10,7 +10,13 @@ namespace {
 class RegisterSource final : public LiveSource {
  public:
   explicit RegisterSource(Session& session) : session_(session) {}
-  FaultReadings read() override { return read_fault_registers(session_.card()); }
+  // Each sample is an operation of its own: it gets the whole deadline (retry.hpp), however
+  // long the watch has run.
+  FaultReadings read() override {
+    auto& card = session_.card();
+    card.restart_deadline();
+    return read_fault_registers(card);
+  }
   std::string describe() override { return session_.endpoint().text; }
   void reconnect() override { session_.reconnect(); }
   std::string method() const override { return "register reads"; }
