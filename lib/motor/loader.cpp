@@ -228,10 +228,9 @@ void set_motor_key(MotorParams& params, std::string_view key, std::string_view v
 
 MotorParams parse_motor(std::string_view text, std::string_view origin) {
   // The loader every YAML file goes through: a second document is refused, not dropped.
-  const YAML::Node root =
-      params::load_yaml(text, std::string(origin), [](const std::string& where, const std::string& problem) {
-        throw MotorError(where + ": " + problem);
-      });
+  const YAML::Node root = params::load_yaml(
+      text, std::string(origin),
+      [](const std::string& where, const std::string& problem) { throw MotorError(where + ": " + problem); });
   if (!root.IsDefined() || root.IsNull()) throw MotorError(std::string(origin) + ": empty motor file");
   std::vector<Entry> entries;
   flatten(root, "", entries, origin);
