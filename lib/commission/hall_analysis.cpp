@@ -461,14 +461,14 @@ class HallAnalysis {
     hall.rewiring_to_25 = rewiring_to_pattern_25(sequence);
     if (table_row.bldc_pattern) {
       hall.bldc_pattern =
-          Finding<int>{*table_row.bldc_pattern, 0, "the sequence is bldc's default pattern 25"};
+          Finding<int>{*table_row.bldc_pattern, 0,
+                       "the Hall map is " + listing + ", row " + std::to_string(*table_row.bldc_pattern) +
+                           " of bldc(9)'s pattern table"};
     } else {
-      problem(
-          ProblemKind::PatternNumberUnknown,
-          "the Hall map is " + listing +
-              "; its number in bldc's pattern table is not known here (only pattern 25 is confirmed): feed "
-              "bldc " +
-              hall.rewiring_to_25->describe() + " and use pattern 25");
+      problem(ProblemKind::PatternNumberUnknown, "the Hall map is " + listing +
+                                                     "; it is not in bldc's pattern table: feed "
+                                                     "bldc " +
+                                                     hall.rewiring_to_25->describe() + " and use pattern 25");
     }
   }
 

@@ -13,8 +13,10 @@
 //  - Row 25, the default: 001->0, 101->60, 100->120, 110->180, 010->240, 011->300 degrees.
 // The cube {0,1}^3 without two opposite corners is a single 6-cycle, so each excluded pair
 // gives exactly one cycle; 6 starting codes x 2 directions make its 12 rows. That fixes the
-// set of 48 rows. It does not fix which number bldc gives each row, beyond 25: the numbering
-// is left unknown here rather than guessed.
+// set of 48 rows. Which number bldc gives each row comes from bldc(9)'s documented table
+// (the `pattern` parameter's table in bldc.comp's description: for each pattern number, the
+// Hall code H1H2H3 in each excitation's sector), restated below by sector centre; the tests
+// check that it is exactly the set built from the rule, with 25 as stated.
 #include "commission/hall_table.hpp"
 
 #include <algorithm>
@@ -24,6 +26,66 @@
 namespace i20::commission {
 
 namespace {
+
+// bldc(9)'s pattern table by number: the Hall code shown in the sectors centred on 0, 60,
+// 120, 180, 240 and 300 electrical degrees (the documented columns B-C, B-A, C-A, C-B, A-B,
+// A-C).
+constexpr std::array<std::array<HallCode, 6>, 48> kBldcPatterns{{
+    {{0b100, 0b000, 0b001, 0b011, 0b111, 0b110}},  // 0
+    {{0b101, 0b001, 0b000, 0b010, 0b110, 0b111}},  // 1
+    {{0b100, 0b000, 0b010, 0b011, 0b111, 0b101}},  // 2
+    {{0b101, 0b001, 0b011, 0b010, 0b110, 0b100}},  // 3
+    {{0b110, 0b010, 0b011, 0b001, 0b101, 0b100}},  // 4
+    {{0b111, 0b011, 0b010, 0b000, 0b100, 0b101}},  // 5
+    {{0b110, 0b010, 0b000, 0b001, 0b101, 0b111}},  // 6
+    {{0b111, 0b011, 0b001, 0b000, 0b100, 0b110}},  // 7
+    {{0b010, 0b000, 0b001, 0b101, 0b111, 0b110}},  // 8
+    {{0b011, 0b001, 0b000, 0b100, 0b110, 0b111}},  // 9
+    {{0b001, 0b000, 0b010, 0b110, 0b111, 0b101}},  // 10
+    {{0b000, 0b001, 0b011, 0b111, 0b110, 0b100}},  // 11
+    {{0b000, 0b010, 0b011, 0b111, 0b101, 0b100}},  // 12
+    {{0b001, 0b011, 0b010, 0b110, 0b100, 0b101}},  // 13
+    {{0b011, 0b010, 0b000, 0b100, 0b101, 0b111}},  // 14
+    {{0b010, 0b011, 0b001, 0b101, 0b100, 0b110}},  // 15
+    {{0b010, 0b000, 0b100, 0b101, 0b111, 0b011}},  // 16
+    {{0b011, 0b001, 0b101, 0b100, 0b110, 0b010}},  // 17
+    {{0b001, 0b000, 0b100, 0b110, 0b111, 0b011}},  // 18
+    {{0b000, 0b001, 0b101, 0b111, 0b110, 0b010}},  // 19
+    {{0b000, 0b010, 0b110, 0b111, 0b101, 0b001}},  // 20
+    {{0b001, 0b011, 0b111, 0b110, 0b100, 0b000}},  // 21
+    {{0b011, 0b010, 0b110, 0b100, 0b101, 0b001}},  // 22
+    {{0b010, 0b011, 0b111, 0b101, 0b100, 0b000}},  // 23
+    {{0b000, 0b100, 0b101, 0b111, 0b011, 0b010}},  // 24
+    {{0b001, 0b101, 0b100, 0b110, 0b010, 0b011}},  // 25
+    {{0b000, 0b100, 0b110, 0b111, 0b011, 0b001}},  // 26
+    {{0b001, 0b101, 0b111, 0b110, 0b010, 0b000}},  // 27
+    {{0b010, 0b110, 0b111, 0b101, 0b001, 0b000}},  // 28
+    {{0b011, 0b111, 0b110, 0b100, 0b000, 0b001}},  // 29
+    {{0b010, 0b110, 0b100, 0b101, 0b001, 0b011}},  // 30
+    {{0b011, 0b111, 0b101, 0b100, 0b000, 0b010}},  // 31
+    {{0b110, 0b100, 0b101, 0b001, 0b011, 0b010}},  // 32
+    {{0b111, 0b101, 0b100, 0b000, 0b010, 0b011}},  // 33
+    {{0b101, 0b100, 0b110, 0b010, 0b011, 0b001}},  // 34
+    {{0b100, 0b101, 0b111, 0b011, 0b010, 0b000}},  // 35
+    {{0b100, 0b110, 0b111, 0b011, 0b001, 0b000}},  // 36
+    {{0b101, 0b111, 0b110, 0b010, 0b000, 0b001}},  // 37
+    {{0b111, 0b110, 0b100, 0b000, 0b001, 0b011}},  // 38
+    {{0b110, 0b111, 0b101, 0b001, 0b000, 0b010}},  // 39
+    {{0b110, 0b100, 0b000, 0b001, 0b011, 0b111}},  // 40
+    {{0b111, 0b101, 0b001, 0b000, 0b010, 0b110}},  // 41
+    {{0b101, 0b100, 0b000, 0b010, 0b011, 0b111}},  // 42
+    {{0b100, 0b101, 0b001, 0b011, 0b010, 0b110}},  // 43
+    {{0b100, 0b110, 0b010, 0b011, 0b001, 0b101}},  // 44
+    {{0b101, 0b111, 0b011, 0b010, 0b000, 0b100}},  // 45
+    {{0b111, 0b110, 0b010, 0b000, 0b001, 0b101}},  // 46
+    {{0b110, 0b111, 0b011, 0b001, 0b000, 0b100}},  // 47
+}};
+
+std::optional<int> bldc_number_of(const HallSequence& sequence) {
+  for (std::size_t n = 0; n < kBldcPatterns.size(); ++n)
+    if (kBldcPatterns[n] == sequence.code_at_sector) return static_cast<int>(n);
+  return std::nullopt;
+}
 
 bool one_bit_apart(HallCode a, HallCode b) {
   return std::popcount(static_cast<unsigned>(a ^ b)) == 1;
@@ -51,7 +113,6 @@ std::array<HallCode, 6> cycle_without(HallCode excluded) {
 std::array<HallTableRow, 48> build_table() {
   std::array<HallTableRow, 48> rows{};
   std::size_t n = 0;
-  const HallSequence default_row = bldc_pattern_25();
   for (HallCode excluded : {HallCode{0}, HallCode{1}, HallCode{2}, HallCode{3}}) {
     const auto cycle = cycle_without(excluded);
     std::array<HallCode, 6> starts = cycle;
@@ -69,7 +130,7 @@ std::array<HallTableRow, 48> build_table() {
         row.sequence = sequence;
         row.unused_low = excluded;
         row.layout = excluded == 0 ? HallLayout::Deg120 : HallLayout::Deg60;
-        if (sequence == default_row) row.bldc_pattern = 25;
+        row.bldc_pattern = bldc_number_of(sequence);
       }
     }
   }

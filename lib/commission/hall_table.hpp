@@ -36,14 +36,14 @@ struct HallTableRow {
   HallSequence sequence;
   HallCode unused_low;  // the unused complementary pair: unused_low < unused_low ^ 7
   HallLayout layout;
-  // bldc's `pattern` number, only where the public facts fix it (row 25, the default). The
-  // other 47 rows' numbers are not known from the facts at hand: see docs/commissioning-analysis.md.
+  // bldc's `pattern` number (0-47), from bldc(9)'s documented table; every row has one
+  // (tests/commission/hall_table_test.cpp checks the table against the rule it follows).
   std::optional<int> bldc_pattern;
 };
 
 // All 48 rows, in this library's own order (unused pair 000/111, 001/110, 010/101, 011/100;
 // then the code at 0 degrees, ascending; then increasing before decreasing codes). The
-// position in this table is NOT bldc's pattern number.
+// position in this table is NOT bldc's pattern number: that is HallTableRow::bldc_pattern.
 std::span<const HallTableRow, 48> hall_table();
 
 // The row whose sequence this is, or nullopt if it is not one of the 48.

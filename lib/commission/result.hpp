@@ -43,7 +43,7 @@ enum class ProblemKind {
   HallEdgeMissing,
   HallBetweenSectors,    // the states sit about half way between bldc's sector centres
   HallLayoutUnexpected,  // differs from the hint
-  PatternNumberUnknown,  // the map is known, bldc's number for it is not (see the docs)
+  PatternNumberUnknown,  // the map is not one of bldc(9)'s 48 (cannot happen for a Gray six-cycle)
 };
 
 struct Problem {

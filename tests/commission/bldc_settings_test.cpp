@@ -71,25 +71,32 @@ TEST(BldcSettings, FoundSettingsCommutateTheMotorBothDirections) {
   }
 }
 
-TEST(BldcSettings, OtherPatternsComeAsTwentyFiveWithARewiring) {
+TEST(BldcSettings, OtherPatternsComeAsTheirOwnBldcNumber) {
   SyntheticMotor m;
   m.hall_row = 0;
-  ASSERT_FALSE(hall_table()[0].bldc_pattern);
+  ASSERT_TRUE(hall_table()[0].bldc_pattern);
+  ASSERT_NE(*hall_table()[0].bldc_pattern, 25);
   SweepPlan plan;
   plan.sweep_turns = 5.5;
   AnalysisOptions options;
   options.counts_per_turn = m.counts_per_turn;
   const BldcSettings s = bldc_settings(analyse(synthetic_sweep(m, plan, 22), options));
-  ASSERT_TRUE(s.pattern && s.hall_rewiring);
-  EXPECT_EQ(*s.pattern, 25);
-  EXPECT_FALSE(s.hall_rewiring->is_identity());
+  ASSERT_TRUE(s.pattern);
+  EXPECT_EQ(*s.pattern, *hall_table()[0].bldc_pattern);
+  EXPECT_FALSE(s.hall_rewiring) << "no rewiring is needed when bldc has the pattern";
 }
 
 // bldc's trapezoidal modes read the rotor angle from the Hall code through the pattern: with
-// the settings found (pattern 25, the sensors fed as the rewiring says) every sample's sector
-// centre must be within half a sector of the rotor's true angle, for every one of the 48 maps.
+// the pattern found (bldc's own number for the map, the sensors wired as they are) every
+// sample's sector centre must be within half a sector of the rotor's true angle, for every
+// one of the 48 maps.
 TEST(BldcSettings, HallSettingsPutEveryMapWithinHalfASector) {
-  const HallSequence pattern_25 = bldc_pattern_25();
+  const auto sequence_of = [](int pattern) {
+    for (const HallTableRow& row : hall_table())
+      if (row.bldc_pattern == pattern) return row.sequence;
+    ADD_FAILURE() << "no row has bldc pattern " << pattern;
+    return HallSequence{};
+  };
   for (std::size_t row = 0; row < hall_table().size(); ++row) {
     SyntheticMotor m;
     m.pole_pairs = 3;
@@ -103,8 +110,8 @@ TEST(BldcSettings, HallSettingsPutEveryMapWithinHalfASector) {
     const auto samples = synthetic_sweep(m, plan, 100 + row);
     const BldcSettings s = bldc_settings(analyse(samples, options));
     ASSERT_TRUE(s.pattern);
-    ASSERT_EQ(*s.pattern, 25);
-    const HallRewiring rewiring = s.hall_rewiring.value_or(HallRewiring{});
+    EXPECT_FALSE(s.hall_rewiring);
+    const HallSequence pattern = sequence_of(*s.pattern);
     double worst = 0;
     for (const Sample& sample : samples) {
       // No friction or play: the rotor's angle follows from the count (to one count).
@@ -112,11 +119,11 @@ TEST(BldcSettings, HallSettingsPutEveryMapWithinHalfASector) {
                                 (m.encoder_direction * static_cast<double>(m.counts_per_turn));
       const double truth =
           m.pole_pairs * (mechanical - m.index_mechanical_turns) + m.index_electrical_deg / 360.0;
-      const HallCode seen = apply_rewiring(rewiring, sample.hall_state);
       const auto* sector =
-          std::find(pattern_25.code_at_sector.begin(), pattern_25.code_at_sector.end(), seen);
-      ASSERT_NE(sector, pattern_25.code_at_sector.end()) << "row " << row << " code " << hall_code_text(seen);
-      const double bldc_angle = 60.0 * static_cast<double>(sector - pattern_25.code_at_sector.begin());
+          std::find(pattern.code_at_sector.begin(), pattern.code_at_sector.end(), sample.hall_state);
+      ASSERT_NE(sector, pattern.code_at_sector.end())
+          << "row " << row << " code " << hall_code_text(sample.hall_state);
+      const double bldc_angle = 60.0 * static_cast<double>(sector - pattern.code_at_sector.begin());
       worst = std::max(worst, circular_error_deg(bldc_angle, truth * 360.0));
     }
     EXPECT_LE(worst, 30.0 + 2.0 * 360.0 * m.pole_pairs / static_cast<double>(m.counts_per_turn))

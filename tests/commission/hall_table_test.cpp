@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <map>
 #include <set>
 
 using namespace i20::commission;
@@ -53,16 +54,38 @@ TEST(HallTable, IsFourPairsTimesSixStartsTimesTwoDirections) {
 TEST(HallTable, PatternTwentyFiveIsBldcsDocumentedDefault) {
   // 001->0, 101->60, 100->120, 110->180, 010->240, 011->300 degrees.
   const HallSequence stated{{0b001, 0b101, 0b100, 0b110, 0b010, 0b011}};
-  int known = 0;
-  for (const HallTableRow& row : hall_table()) {
-    if (!row.bldc_pattern) continue;
-    ++known;
-    EXPECT_EQ(*row.bldc_pattern, 25);
-    EXPECT_EQ(row.sequence, stated);
-    EXPECT_EQ(row.layout, HallLayout::Deg120);
-  }
-  EXPECT_EQ(known, 1) << "only pattern 25's number is known from the facts";
+  const auto row = find_hall_row(stated);
+  ASSERT_TRUE(row);
+  EXPECT_EQ(hall_table()[*row].bldc_pattern, 25);
+  EXPECT_EQ(hall_table()[*row].layout, HallLayout::Deg120);
   EXPECT_EQ(bldc_pattern_25(), stated);
+}
+
+// bldc(9)'s documented numbering covers exactly the 48 rows the rule builds, each number once,
+// and agrees with what its description says of its common patterns: 17 is a 120-degree
+// layout, 0 and 26 are each other's reverse.
+TEST(HallTable, EveryRowHasOneBldcNumberAndEachNumberOneRow) {
+  std::set<int> numbers;
+  std::map<int, HallSequence> by_number;
+  for (const HallTableRow& row : hall_table()) {
+    ASSERT_TRUE(row.bldc_pattern) << "a row the rule builds is missing from bldc's table";
+    EXPECT_GE(*row.bldc_pattern, 0);
+    EXPECT_LE(*row.bldc_pattern, 47);
+    numbers.insert(*row.bldc_pattern);
+    by_number[*row.bldc_pattern] = row.sequence;
+  }
+  EXPECT_EQ(numbers.size(), 48u);
+  EXPECT_EQ(hall_table()[*find_hall_row(by_number[17])].layout, HallLayout::Deg120);
+  HallSequence reversed{};
+  for (std::size_t k = 0; k < 6; ++k) reversed.code_at_sector[k] = by_number[0].code_at_sector[(6 - k) % 6];
+  // "26, its reverse": the same codes visited the other way round (from another start).
+  bool same_cycle = false;
+  for (std::size_t shift = 0; shift < 6 && !same_cycle; ++shift) {
+    HallSequence shifted{};
+    for (std::size_t k = 0; k < 6; ++k) shifted.code_at_sector[k] = reversed.code_at_sector[(k + shift) % 6];
+    same_cycle = shifted == by_number[26];
+  }
+  EXPECT_TRUE(same_cycle);
 }
 
 TEST(HallTable, EveryRowReachesPatternTwentyFiveByOneRewiring) {
@@ -75,7 +98,7 @@ TEST(HallTable, EveryRowReachesPatternTwentyFiveByOneRewiring) {
       seen.code_at_sector[k] = apply_rewiring(rewiring, row.sequence.code_at_sector[k]);
     EXPECT_EQ(seen, target);
     rewirings.insert(rewiring.describe());
-    EXPECT_EQ(rewiring.is_identity(), row.bldc_pattern.has_value());
+    EXPECT_EQ(rewiring.is_identity(), row.bldc_pattern == 25);
   }
   EXPECT_EQ(rewirings.size(), 48u) << "each row needs its own rewiring";
 }

@@ -109,10 +109,11 @@ TEST(Analyse, FindsEveryHallSequenceBothDirections) {
       ASSERT_TRUE(r.hall.sequence) << problems_text(r);
       EXPECT_EQ(r.hall.sequence->value, hall_table()[row].sequence);
       EXPECT_EQ(r.hall.layout->value, hall_table()[row].layout);
-      EXPECT_EQ(r.hall.bldc_pattern.has_value(), row == row_of_pattern_25());
-      EXPECT_EQ(r.has(ProblemKind::PatternNumberUnknown), row != row_of_pattern_25());
+      ASSERT_TRUE(r.hall.bldc_pattern) << problems_text(r);
+      EXPECT_EQ(r.hall.bldc_pattern->value, *hall_table()[row].bldc_pattern);
+      EXPECT_FALSE(r.has(ProblemKind::PatternNumberUnknown));
       ASSERT_TRUE(r.hall.rewiring_to_25);
-      EXPECT_EQ(r.problems.size(), row == row_of_pattern_25() ? 0u : 1u) << problems_text(r);
+      EXPECT_EQ(r.problems.size(), 0u) << problems_text(r);
     }
   }
 }
