@@ -200,7 +200,8 @@ void flatten(const YAML::Node& node, const std::string& prefix, std::vector<Entr
       for (const auto& element : value) {
         if (!element.IsScalar())
           throw MotorError(where(element) + ": " + key + ": expected a list of numbers");
-        text += (text.empty() ? "" : ",") + element.as<std::string>();
+        if (!text.empty()) text += ',';  // apart: GCC 12's -O3 -Wrestrict misfires on `"," + std::string&&`
+        text += element.as<std::string>();
       }
       out.push_back({key, text, value.Mark().line + 1});
     } else if (value.IsScalar()) {
