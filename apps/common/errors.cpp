@@ -42,7 +42,7 @@ std::string with_advice(const std::string& message, ops::Advice advice) {
   return text;
 }
 
-void print_line(const char* program, const ops::ReportLine& line, const std::string& suffix) {
+void print_line(const char* program, const ops::MessageLine& line, const std::string& suffix) {
   // Messages echo what the user typed or a file held: never a raw control character.
   std::cerr << program << ": " << line.label << ": " << params::printable(line.message + suffix) << "\n";
 }

@@ -32,7 +32,7 @@ std::string advice_text(ops::Advice advice);
 std::string with_advice(const std::string& message, ops::Advice advice);
 
 // "PROGRAM: LABEL: MESSAGE[SUFFIX]" on stderr: every line the apps print from lib/ops.
-void print_line(const char* program, const ops::ReportLine& line, const std::string& suffix = {});
+void print_line(const char* program, const ops::MessageLine& line, const std::string& suffix = {});
 
 // Prints the report's lines and returns its exit code. The first line gets advice_text and
 // then `hint` (what only this app offers, e.g. i20's --passive).

@@ -153,12 +153,12 @@ void run_set(Context& ctx, const SetOptions& o) {
   const auto profile = ops::profile_from_assignments(o.assignments, loaded, ops::ValueSyntax::Engineering);
   ops::precheck(profile, loaded, o.write);
   auto& card = ctx.card();
-  ops::ApplyJob job;
-  job.profile = &profile;
-  job.db = &card.db();
-  job.write = o.write;
-  job.transaction.dry_run = o.dry_run;
-  job.transaction.cancel = card.cancel();
+  const auto job = ops::make_apply_job({.profile = &profile,
+                                        .db = &card.db(),
+                                        .force = o.write.force,
+                                        .allow_unverified = o.write.allow_unverified,
+                                        .dry_run = o.dry_run,
+                                        .cancel = card.cancel()});
   const bool show_progress = !ctx.options.json && profile.settings.size() > 1;
   const auto run = ops::run_apply_on(card, job, [show_progress](const std::string& what) {
     if (show_progress && what.rfind("writing", 0) == 0) std::cerr << "i20: " << what << "\n";

@@ -97,18 +97,15 @@ std::optional<Profile> load(Context& ctx, const params::ParamDb& db, const std::
 }
 
 // The apply that `validate` and `apply --dry-run` predict, and `apply` and `undo` run:
-// one job for every command, so a prediction uses exactly the rules of the real thing.
-ops::ApplyJob apply_job(Context& ctx, const Profile& profile, const params::ParamDb& db, bool force,
-                        bool allow_unverified) {
-  ops::ApplyJob job;
-  job.profile = &profile;
-  job.db = &db;
-  job.write = {allow_unverified, force};
-  job.transaction.force = force;
-  job.transaction.when = std::chrono::system_clock::now();
-  job.transaction.cancel = ctx.session().cancel();
-  job.open = ctx.session().open_options();
-  return job;
+// one request for every command, so a prediction uses exactly the rules of the real thing.
+ops::ApplyRequest apply_request(Context& ctx, const Profile& profile, const params::ParamDb& db, bool force,
+                                bool allow_unverified) {
+  return {.profile = &profile,
+          .db = &db,
+          .force = force,
+          .allow_unverified = allow_unverified,
+          .cancel = ctx.session().cancel(),
+          .open = ctx.session().open_options()};
 }
 
 // One run per target: one card directly, several as the fleet (concurrent across lines).
@@ -214,15 +211,15 @@ app::Json validate_on_cards(Context& ctx, const params::ParamDb& db,
                             const ValidateOptions& o, ops::Outcome& outcome) {
   const auto loaded = try_load(db, file);
   if (!loaded.profile) return validate_offline(ctx, db, file, o.force, outcome);  // reports the load error
-  auto job = apply_job(ctx, *loaded.profile, db, o.force, o.allow_unverified);
-  job.transaction.dry_run = true;
+  auto request = apply_request(ctx, *loaded.profile, db, o.force, o.allow_unverified);
+  request.dry_run = true;
   try {
-    ops::precheck(*loaded.profile, db, job.write);
+    ops::precheck(*loaded.profile, db, request.write_options());
   } catch (const Error& e) {
     outcome = ops::outcome_of(e.kind());
     return refused_offline(ctx, *loaded.profile, db, file, o.force, e);
   }
-  const auto runs = run_on_targets(targets, job);
+  const auto runs = run_on_targets(targets, ops::make_apply_job(request));
   outcome = ops::fleet_outcome(runs);
   auto j = app::Json::object();
   j.set("file", file).set("valid", outcome == ops::Outcome::DryRun);
@@ -438,19 +435,19 @@ void print_many(Context& ctx, const Profile& profile, const std::string& file,
 // `run` runs the job (on a target it opens, or on a card already open).
 using RunJob = std::function<ops::TargetRun(const ops::ApplyJob&, const ops::Activity&)>;
 
-void apply_single(Context& ctx, const Profile& profile, const std::string& file, ops::ApplyJob job,
+void apply_single(Context& ctx, const Profile& profile, const std::string& file, ops::ApplyRequest request,
                   const std::string& target, const RunJob& run_job) {
   const bool text = !ctx.options.json;
   if (text)
     std::cout << "Profile " << profile.name << " (" << file << ") -> " << target << "\n" << std::flush;
   bool plan_shown = false;
-  job.transaction.on_plan = [&](const profile::Plan& plan) {
+  request.on_plan = [&](const profile::Plan& plan) {
     if (!text || plan.empty()) return;
     render::print_plan(std::cout, plan);
     std::cout << std::flush;
     plan_shown = true;
   };
-  const auto run = run_job(job, [text](const std::string& what) {
+  const auto run = run_job(ops::make_apply_job(request), [text](const std::string& what) {
     if (text && (what.rfind("writing", 0) == 0 || what.rfind("restoring", 0) == 0 || what == "resetting"))
       std::cout << "  " << what << "\n" << std::flush;
   });
@@ -460,17 +457,17 @@ void apply_single(Context& ctx, const Profile& profile, const std::string& file,
     j.set("profile", profile.name).set("file", file);
     return ctx.print_json(j);
   }
-  render::print_run(std::cout, run, *job.db, file, plan_shown);
+  render::print_run(std::cout, run, *request.db, file, plan_shown);
   if (!run.ok()) std::cerr << "i20: " << render::error_line(run) << "\n";
 }
 
 // The transaction's settings apply, undo and a fleet share.
-void set_change_options(ops::ApplyJob& job, const ApplyCliOptions& o) {
-  job.transaction.dry_run = o.dry_run;
-  job.transaction.reset = o.reset;
-  job.transaction.backup_dir =
+void set_change_options(ops::ApplyRequest& request, const ApplyCliOptions& o) {
+  request.dry_run = o.dry_run;
+  request.reset = o.reset;
+  request.backup_dir =
       o.backup_dir.empty() ? profile::default_backup_dir() : std::filesystem::path(o.backup_dir);
-  if (!o.dry_run) check_output_dir(*job.transaction.backup_dir);  // before the first byte
+  if (!o.dry_run) check_output_dir(*request.backup_dir);  // before the first byte
 }
 
 void run_apply_command(Context& ctx, const ApplyCliOptions& o) {
@@ -485,18 +482,19 @@ void run_apply_command(Context& ctx, const ApplyCliOptions& o) {
     }
   }
   const auto targets = targets_of(ctx, o.targets);
-  auto job = apply_job(ctx, *profile, db, o.force, o.allow_unverified);
-  ops::precheck(*profile, db, job.write);  // the rules that need no card: nothing is sent when they refuse
+  auto request = apply_request(ctx, *profile, db, o.force, o.allow_unverified);
+  // The rules that need no card: nothing is sent when they refuse.
+  ops::precheck(*profile, db, request.write_options());
   if (!reset_confirmed(ctx, o, targets)) return;
-  set_change_options(job, o);
+  set_change_options(request, o);
   if (targets.size() == 1) {
     const auto& target = targets.front();
     return apply_single(
-        ctx, *profile, o.file, job, target.text,
+        ctx, *profile, o.file, request, target.text,
         [&](const ops::ApplyJob& j, const ops::Activity& a) { return ops::run_apply(target, j, a); });
   }
   FleetProgress progress(targets, !ctx.options.json && isatty(STDERR_FILENO));
-  const auto runs = ops::run_fleet(targets, job, progress.activity());
+  const auto runs = ops::run_fleet(targets, ops::make_apply_job(request), progress.activity());
   progress.stop();
   print_many(ctx, *profile, o.file, runs, db, {o.reset, o.dry_run});
   ctx.record(ops::fleet_outcome(runs));
@@ -536,15 +534,15 @@ void run_undo(Context& ctx, const UndoOptions& o) {
   const std::string file = choice.file.string();
   auto backup = choice.backup;
   backup.name = "undo";  // names the backup this change takes in turn: "...-undo-unit00012345.yaml"
-  auto job = apply_job(ctx, backup, db, o.apply.force, o.apply.allow_unverified);
-  ops::precheck(backup, db, job.write);
-  set_change_options(job, o.apply);
+  auto request = apply_request(ctx, backup, db, o.apply.force, o.apply.allow_unverified);
+  ops::precheck(backup, db, request.write_options());
+  set_change_options(request, o.apply);
   if (!ctx.options.json) {
     for (const auto& s : choice.skipped) std::cerr << "i20: note: passed over " << s << "\n";
     for (const auto& f : forced) std::cerr << "i20: warning: restoring anyway (--force): " << f << "\n";
     std::cout << "Undo: restoring the values saved in " << file << "\n";
   }
-  apply_single(ctx, backup, file, job, target.text, [&](const ops::ApplyJob& j, const ops::Activity& a) {
+  apply_single(ctx, backup, file, request, target.text, [&](const ops::ApplyJob& j, const ops::Activity& a) {
     if (a) a("connecting");
     return ops::run_apply_on(*card, j, a);
   });

@@ -5,11 +5,9 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
-#include <functional>
 #include <iostream>
 #include <memory>
 #include <sstream>
-#include <thread>
 
 #include "csv_log.hpp"
 #include "faults/decode.hpp"
@@ -17,20 +15,17 @@
 #include "lbp/bytes.hpp"
 #include "ops/errors.hpp"
 #include "ops/passive_monitor.hpp"
+#include "ops/passive_watch.hpp"
 #include "ops/scan.hpp"
-#include "ops/signals.hpp"
 #include "terminal.hpp"
 
 namespace i20::cli {
 namespace {
 
 namespace F = i20::faults;
-using Clock = std::chrono::steady_clock;
 using WallClock = std::chrono::system_clock;
 using ops::PassiveChange;
 using ops::PassiveSample;
-
-constexpr std::chrono::milliseconds kSleepSlice{20};  // how fast Ctrl-C is noticed
 
 std::string card_text(const Context& ctx) {
   const auto& o = ctx.options.target;
@@ -147,14 +142,6 @@ class PassiveCsv {
   CsvLog log_;
 };
 
-bool sleep_until(Clock::time_point t, const std::function<bool()>& done) {
-  while (Clock::now() < t) {
-    if (done()) return false;
-    std::this_thread::sleep_for(std::min<Clock::duration>(kSleepSlice, t - Clock::now()));
-  }
-  return !done();
-}
-
 // Two samples a request spacing apart: the second one knows whether another host talks.
 PassiveSample two_samples(ops::PassiveMonitor& monitor) {
   monitor.sample();
@@ -173,6 +160,54 @@ std::string host_text(const PassiveSample& s) {
 void emit_line(const app::Json& j) {
   std::cout << j.dump(0) << "\n" << std::flush;
 }
+
+// What `watch --passive` shows of the loop (lib/ops/passive_watch): a line per change, or
+// JSON lines, and the CSV series.
+class PassiveWatchView : public ops::PassiveWatchSink {
+ public:
+  PassiveWatchView(bool json, PassiveCsv* log) : json_(json), log_(log) {}
+
+  void link(const ops::PassiveLinkEvent& e) override {
+    if (json_)
+      emit_line(app::Json::object()
+                    .set("type", "event")
+                    .set("time", clock_text(e.when, true))
+                    .set("kind", ops::to_string(e.kind))
+                    .set("text", e.text));
+    else
+      std::cout << clock_text(e.when, false) << "  * " << e.text << "\n" << std::flush;
+  }
+
+  void sample(const PassiveSample& s) override {
+    if (json_) {
+      auto j = app::Json::object();
+      j.set("type", "sample").set("time", clock_text(s.when, true)).set("elapsed_s", s.elapsed_s);
+      j.set("host_active", s.host_active() ? app::Json(*s.host_active()) : app::Json());
+      auto amps = app::Json::array();
+      for (const auto& a : s.amplifiers) amps.push(amp_json(a));
+      j.set("amplifiers", std::move(amps));
+      auto events = app::Json::array();
+      for (const auto& c : s.changes) events.push(change_json(c));
+      j.set("events", std::move(events));
+      emit_line(j);
+    } else {
+      if (first_ && s.amplifiers.empty())
+        std::cout << clock_text(s.when, false)
+                  << "  no 8I20 in a running cycle on any SSERIAL channel (is the host "
+                     "running? `i20 --eth ... scan --passive` lists the channels)\n";
+      for (const auto& c : s.changes) std::cout << clock_text(c.when, false) << "  * " << c.text << "\n";
+      std::cout << std::flush;
+    }
+    first_ = false;
+    if (log_) log_->sample(s);
+    app::require_stdout();  // its reader gone (`| head -1`): stop, exit 6, instead of polling for nobody
+  }
+
+ private:
+  bool json_;
+  PassiveCsv* log_;  // none without --log
+  bool first_ = true;
+};
 
 }  // namespace
 
@@ -204,13 +239,6 @@ void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
   options.busv_step_v = o.busv_step_v;
   ops::PassiveMonitor monitor(card, options);
   const bool json = ctx.options.json;
-  const auto start = Clock::now();
-  std::uint64_t samples = 0, changes = 0, missed = 0;
-  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-  const auto done = [&] {
-    return ops::stop_requested() || (o.count && samples >= o.count) ||
-           (o.duration_s > 0 && elapsed() >= o.duration_s);
-  };
   if (json) {
     emit_line(app::Json::object()
                   .set("type", "start")
@@ -224,83 +252,23 @@ void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
               << " requests a second); a line per change; Ctrl-C stops\n"
               << std::flush;
   }
-  std::optional<WallClock::time_point> lost_since;
-  auto next = Clock::now();
-  while (!done()) {
-    if (samples > 0 || lost_since)
-      if (!sleep_until(next, done)) break;
-    next += std::chrono::milliseconds(o.interval_ms);
-    if (next < Clock::now()) next = Clock::now();
-    PassiveSample s;
-    try {
-      s = monitor.sample();
-    } catch (const ops::LinkError& e) {
-      ++missed;
-      if (!lost_since) {
-        lost_since = WallClock::now();
-        const std::string text = std::string("no reply from the card: ") + e.what() + "; still trying";
-        if (json)
-          emit_line(app::Json::object()
-                        .set("type", "event")
-                        .set("time", clock_text(*lost_since, true))
-                        .set("kind", "lost")
-                        .set("text", text));
-        else
-          std::cout << clock_text(*lost_since, false) << "  * " << text << "\n" << std::flush;
-      }
-      continue;
-    }
-    if (lost_since) {
-      const std::string text = "the card answers again";
-      lost_since.reset();
-      if (json)
-        emit_line(app::Json::object()
-                      .set("type", "event")
-                      .set("time", clock_text(s.when, true))
-                      .set("kind", "reconnected")
-                      .set("text", text));
-      else
-        std::cout << clock_text(s.when, false) << "  * " << text << "\n";
-    }
-    ++samples;
-    changes += s.changes.size();
-    if (json) {
-      auto j = app::Json::object();
-      j.set("type", "sample").set("time", clock_text(s.when, true)).set("elapsed_s", s.elapsed_s);
-      j.set("host_active", s.host_active() ? app::Json(*s.host_active()) : app::Json());
-      auto amps = app::Json::array();
-      for (const auto& a : s.amplifiers) amps.push(amp_json(a));
-      j.set("amplifiers", std::move(amps));
-      auto events = app::Json::array();
-      for (const auto& c : s.changes) events.push(change_json(c));
-      j.set("events", std::move(events));
-      emit_line(j);
-    } else {
-      if (samples == 1 && s.amplifiers.empty())
-        std::cout << clock_text(s.when, false)
-                  << "  no 8I20 in a running cycle on any SSERIAL channel (is the host "
-                     "running? `i20 --eth ... scan --passive` lists the channels)\n";
-      for (const auto& c : s.changes) std::cout << clock_text(c.when, false) << "  * " << c.text << "\n";
-      std::cout << std::flush;
-    }
-    if (log) log->sample(s);
-    app::require_stdout();  // its reader gone (`| head -1`): stop, exit 6, instead of polling for nobody
-  }
-  const double seconds = elapsed();
-  const auto requests = monitor.reader().requests_sent();
+  PassiveWatchView view(json, log.get());
+  const auto summary = ops::run_passive_monitor(
+      monitor, {std::chrono::milliseconds(o.interval_ms), o.count, o.duration_s}, view);
   if (json)
     emit_line(app::Json::object()
                   .set("type", "summary")
-                  .set("samples", samples)
-                  .set("elapsed_s", seconds)
-                  .set("changes", changes)
-                  .set("missed", missed)
-                  .set("requests", requests));
+                  .set("samples", summary.samples)
+                  .set("elapsed_s", summary.elapsed_s)
+                  .set("changes", summary.changes)
+                  .set("missed", summary.missed)
+                  .set("requests", summary.requests));
   else
-    std::cout << "watch --passive: " << samples << " samples in " << fixed(seconds, "%.1f") << " s, "
-              << changes << " changes, " << missed << " missed, " << requests << " UDP requests, at least "
-              << 1000 / ops::kPassiveMaxRequestsPerSecond << " ms apart\n";
-  if (ops::stop_requested()) ctx.record(ops::Outcome::Interrupted);
+    std::cout << "watch --passive: " << summary.samples << " samples in " << fixed(summary.elapsed_s, "%.1f")
+              << " s, " << summary.changes << " changes, " << summary.missed << " missed, "
+              << summary.requests << " UDP requests, at least " << 1000 / ops::kPassiveMaxRequestsPerSecond
+              << " ms apart\n";
+  if (summary.outcome == ops::Outcome::Interrupted) ctx.record(ops::Outcome::Interrupted);
 }
 
 void run_passive_faults(Context& ctx) {

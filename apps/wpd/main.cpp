@@ -126,11 +126,11 @@ static int run(int argc, char** argv) {
       const auto profile = ops::profile_from_value(name, value_text, db, ops::ValueSyntax::Raw);
       ops::precheck(profile, db, write);  // before the link is even opened
       auto& card = session.card();
-      ops::ApplyJob job;
-      job.profile = &profile;
-      job.db = &card.db();
-      job.write = write;
-      job.transaction.cancel = card.cancel();
+      const auto job = ops::make_apply_job({.profile = &profile,
+                                            .db = &card.db(),
+                                            .force = write.force,
+                                            .allow_unverified = write.allow_unverified,
+                                            .cancel = card.cancel()});
       return report(ops::run_apply_on(card, job), card.db());  // run_apply_on settles the card itself
     } catch (...) {
       return app::print_failure("wpd", session.fail());  // the card settled too: a mode may be on

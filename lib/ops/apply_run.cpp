@@ -142,6 +142,21 @@ void settle(Card& card, TargetRun& run) {
 
 }  // namespace
 
+ApplyJob make_apply_job(const ApplyRequest& request) {
+  ApplyJob job;
+  job.profile = request.profile;
+  job.db = request.db;
+  job.write = request.write_options();
+  job.transaction.force = request.force;
+  job.transaction.dry_run = request.dry_run;
+  job.transaction.reset = request.reset;
+  job.transaction.backup_dir = request.backup_dir;
+  job.transaction.cancel = request.cancel;
+  job.transaction.on_plan = request.on_plan;
+  job.open = request.open;
+  return job;
+}
+
 TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity) {
   TargetRun run;
   run.target = card.endpoint();
@@ -149,7 +164,7 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
   const auto status_before = sticky_status(card);
   const std::size_t silences_before = card.silences_ended();
   auto options = job.transaction;
-  options.force = options.force || job.write.force;  // one --force: guards and the measured-bus rules
+  options.force = job.write.force;  // one --force: the guards and the rules it overrides
   if (options.backup_label.empty())
     options.backup_label = profile::backup_label(job.profile->name, card.identity().info.unit_number);
   options.backup_origin = origin_of(card);

@@ -3,6 +3,7 @@
 // profile apply`, every fleet target, `i20 set`, `wpd` and `faults mask` run.
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
@@ -22,13 +23,37 @@ using Activity = std::function<void(const std::string&)>;
 // Opens one card (a fleet target over its own line or a shared Ethernet port); throws.
 using CardOpener = std::function<std::unique_ptr<Card>()>;
 
+// What the user asked for, in the words of the command line: every command that changes a
+// card (`i20 set`, `wpd`, `profile apply`/`undo`, a fleet, validate's dry run) says it here,
+// and make_apply_job() turns it into the job, so one user flag is one setting everywhere.
+struct ApplyRequest {
+  const profile::Profile* profile = nullptr;
+  const params::ParamDb* db = nullptr;  // as loaded: each card resolves its own map from it
+  // The one --force: the device layer's guards (NVBAUDRATE, setpoints) and the validation
+  // rules it overrides (the measured-bus thresholds, unstable loops).
+  bool force = false;
+  bool allow_unverified = false;                      // write working addresses the database does not confirm
+  bool dry_run = false;                               // read, validate and plan; write nothing
+  bool reset = false;                                 // reset the card once the EEPROM writes are verified
+  std::optional<std::filesystem::path> backup_dir{};  // none: no backup (i20 set, wpd)
+  Cancel cancel{};                                    // Ctrl-C
+  OpenOptions open{};                                 // how links are opened (run_apply, fleets)
+  std::function<void(const profile::Plan&)> on_plan{};  // told the plan before the first write
+
+  // The device layer's share of the request (also what precheck() judges).
+  device::WriteOptions write_options() const { return {allow_unverified, force}; }
+};
+
 struct ApplyJob {
   const profile::Profile* profile = nullptr;
   const params::ParamDb* db = nullptr;  // as loaded: each card resolves its own map from it
-  TransactionOptions transaction;       // dry run, reset, backup directory, Ctrl-C
-  device::WriteOptions write;           // force, allow_unverified
+  TransactionOptions transaction;       // dry run, reset, backup directory, Ctrl-C (its force: below)
+  device::WriteOptions write;           // force, allow_unverified: the one force of the job
   OpenOptions open;                     // how links are opened
 };
+
+// The job for a request: the only place a job's settings are assembled.
+ApplyJob make_apply_job(const ApplyRequest& request);
 
 struct TargetRun {
   Endpoint target;

@@ -11,8 +11,9 @@
 
 namespace i20::ops {
 
-// One line of a report: "LABEL: MESSAGE" ("error", "refused", "card state", "note", ...).
-struct ReportLine {
+// One line a program says about a failure: "LABEL: MESSAGE" ("error", "refused", "card
+// state", "note", ...). Not faults::ReportLine, which is one bit of a fault report.
+struct MessageLine {
   std::string label;
   std::string message;
 };
@@ -28,7 +29,7 @@ using Advice = i20::Advice;
 // at a point nobody planned for, so nothing is claimed about the card (uncertain).
 struct Failure {
   Outcome outcome = Outcome::Uncertain;
-  ReportLine line;
+  MessageLine line;
   Advice advice = Advice::None;
 };
 Failure failure_of_current_exception();

@@ -104,12 +104,11 @@ MaskResult set_fault_mask(Card& card, const std::string& key, bool masked, const
   result.wanted = faults::set_fault_masked(result.before, key, masked);
   const auto profile =
       profile_from_value("FAULTMASK", std::to_string(result.wanted), card.db(), ValueSyntax::Raw);
-  ApplyJob job;
-  job.profile = &profile;
-  job.db = &card.db();
-  job.write = write;
-  job.transaction.cancel = card.cancel();
-  result.run = run_apply_on(card, job);
+  result.run = run_apply_on(card, make_apply_job({.profile = &profile,
+                                                  .db = &card.db(),
+                                                  .force = write.force,
+                                                  .allow_unverified = write.allow_unverified,
+                                                  .cancel = card.cancel()}));
   return result;
 }
 

@@ -131,7 +131,7 @@ Settled Session::settle() {
   const bool said = card_->unsettled_said();
   try {
     if (const auto mode = card_->settle(); !mode.empty())
-      settled.note = ReportLine{
+      settled.note = MessageLine{
           "note", "the line failed while the card was in " + mode + "; it answered again and left it"};
   } catch (const device::CardStateError&) {
     if (!said) throw;

@@ -50,14 +50,14 @@ params::ParamDb load_database(const SessionOptions& options);
 // a mode had to be left.
 struct Settled {
   Outcome outcome = Outcome::Done;
-  std::optional<ReportLine> note;
+  std::optional<MessageLine> note;
 };
 
 // A failure and what settling the card afterwards found: the lines to print in order, and
 // the outcome of the whole (uncertain when the card did not confirm it was settled).
 struct FailureReport {
   Outcome outcome = Outcome::Uncertain;
-  std::vector<ReportLine> lines;
+  std::vector<MessageLine> lines;
   Advice advice = Advice::None;
 };
 // The exception being handled as a report of its one line (no card to settle). Call from a

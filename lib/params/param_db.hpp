@@ -5,7 +5,7 @@
 // duplicate names, overlapping addresses, ranges that do not fit the width, ...).
 // Overlays (--params FILE, the per-user file, `i20 discover` output) override keys of
 // existing entries or add new ones; an overlay with a top-level `swrevision` applies
-// only once select_firmware() is called with that revision.
+// only in the database for_firmware() returns for that revision.
 #pragma once
 
 #include <filesystem>

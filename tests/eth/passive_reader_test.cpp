@@ -6,11 +6,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
+#include <functional>
 #include <mutex>
 
 #include "ethsim/card_control.hpp"
 #include "fixtures.hpp"
 #include "ops/passive_monitor.hpp"
+#include "ops/passive_watch.hpp"
 
 using namespace i20;
 using namespace i20::eth;
@@ -69,6 +72,38 @@ std::unique_ptr<Lbp16Transport> logged(const HostPort& card, Log& log) {
   udp.timeout = 500ms;
   return std::make_unique<LoggingTransport>(std::make_unique<UdpClient>(card.ip, card.port, udp), log);
 }
+
+// A card that stops answering on demand: the next `unanswered` requests time out.
+class SilenceableTransport final : public Lbp16Transport {
+ public:
+  SilenceableTransport(std::unique_ptr<Lbp16Transport> inner, std::atomic<int>& unanswered)
+      : inner_(std::move(inner)), unanswered_(unanswered) {}
+  std::vector<lbp::Bytes> transact(std::span<const lbp::lbp16::Command> commands, Resend resend) override {
+    if (unanswered_ > 0) {
+      --unanswered_;
+      throw link::TimeoutError("no reply (test)");
+    }
+    return inner_->transact(commands, resend);
+  }
+  std::string describe() const override { return inner_->describe(); }
+  TransportStats stats() const override { return inner_->stats(); }
+
+ private:
+  std::unique_ptr<Lbp16Transport> inner_;
+  std::atomic<int>& unanswered_;
+};
+
+// What `watch --passive` would have shown; `on_sample` acts after each sample.
+struct RecordingSink final : ops::PassiveWatchSink {
+  std::vector<ops::PassiveSample> samples;
+  std::vector<ops::PassiveLinkEvent> events;
+  std::function<void()> on_sample;
+  void sample(const ops::PassiveSample& s) override {
+    samples.push_back(s);
+    if (on_sample) on_sample();
+  }
+  void link(const ops::PassiveLinkEvent& e) override { events.push_back(e); }
+};
 
 const ProcessData* channel(const PassiveSnapshot& s, unsigned port, unsigned ch) {
   for (const auto& d : s.channels)
@@ -176,4 +211,42 @@ TEST(PassiveMonitor, SaysWhenTheHostGoesQuiet) {
                            [](const auto& c) { return c.kind == ops::PassiveChange::Kind::HostQuiet; });
       },
       10s));
+}
+
+TEST(PassiveWatch, SaysOnceWhenTheCardStopsAnsweringAndAgainWhenItIsBack) {
+  test::RunningCard card(machine());
+  ASSERT_TRUE(test::eventually([&] { return host_doits(card) >= 20; }, 30s));
+  Log log;
+  std::atomic<int> unanswered{0};
+  ops::PassiveMonitor monitor(
+      card.address(), std::make_unique<SilenceableTransport>(logged(card.address(), log), unanswered));
+  RecordingSink sink;
+  sink.on_sample = [&] {
+    if (sink.samples.size() == 1) unanswered = 3;  // three samples in a row go unanswered
+  };
+  const auto summary = ops::run_passive_monitor(monitor, {.interval = 50ms, .count = 3}, sink);
+  EXPECT_EQ(summary.outcome, ops::Outcome::Done);
+  EXPECT_EQ(summary.samples, 3u);
+  EXPECT_EQ(sink.samples.size(), 3u);
+  EXPECT_EQ(summary.missed, 3u);
+  ASSERT_EQ(sink.events.size(), 2u) << "one line for the whole silence, one when it ends";
+  EXPECT_EQ(sink.events[0].kind, ops::PassiveLinkEvent::Kind::Lost);
+  EXPECT_NE(sink.events[0].text.find("no reply from the card"), std::string::npos) << sink.events[0].text;
+  EXPECT_EQ(sink.events[1].kind, ops::PassiveLinkEvent::Kind::Reconnected);
+  EXPECT_EQ(sink.events[1].when, sink.samples[1].when) << "back with the sample that answered";
+  EXPECT_EQ(log.writes, 0u) << "a passive watch never writes";
+}
+
+TEST(PassiveWatch, AViewThatFailsEndsTheWatch) {
+  test::RunningCard card(machine());
+  ASSERT_TRUE(test::eventually([&] { return host_doits(card) >= 20; }, 30s));
+  ops::PassiveMonitor monitor(card.address());
+  struct ReaderGone {};
+  RecordingSink sink;
+  sink.on_sample = [&] {
+    if (sink.samples.size() == 2) throw ReaderGone{};  // stdout closed: app::require_stdout() throws
+  };
+  EXPECT_THROW(ops::run_passive_monitor(monitor, {.interval = 50ms}, sink), ReaderGone)
+      << "no --count, no --duration: only the view's failure ends it";
+  EXPECT_EQ(sink.samples.size(), 2u);
 }

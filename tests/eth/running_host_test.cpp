@@ -471,6 +471,8 @@ TEST(EthRunningHost, ASecondClientInNormalModeCountsAsARunningHost) {
 TEST(EthRunningHost, AStoppedHostNoLongerCounts) {
   test::RunningCard card(with_running_host());
   let_host_run(card);
+  // While it runs it counts: without this the test would pass with no host at all.
+  EXPECT_THROW(SslbpPassthroughLink::open(card.target(0)), RunningHostError);
   card.server().stop_host();  // LinuxCNC exits
   EXPECT_NO_THROW(SslbpPassthroughLink::open(card.target(0)));
 }

@@ -54,7 +54,19 @@ TEST(FaultLoader, RejectsDuplicateBits) {
 }
 
 TEST(FaultLoader, TheSameBitNumberInBothRegistersIsFine) {
-  EXPECT_NO_THROW(FaultTable::load_string(table(bit(0, "a"), bit(0, "b")), "ok.yaml"));
+  // FAULT and STATUS are two registers (manual, FAULT and STATUS bit tables): bit 0 of each
+  // is its own bit, loaded into its own register, not a duplicate and not one overwriting
+  // the other.
+  const auto t = FaultTable::load_string(table(bit(0, "a"), bit(0, "b")), "ok.yaml");
+  const BitInfo* fault = t.find(Register::Fault, 0u);
+  const BitInfo* status = t.find(Register::Status, 0u);
+  ASSERT_NE(fault, nullptr);
+  ASSERT_NE(status, nullptr);
+  EXPECT_EQ(fault->slug, "a");
+  EXPECT_EQ(fault->reg, Register::Fault);
+  EXPECT_EQ(status->slug, "b");
+  EXPECT_EQ(status->reg, Register::Status);
+  EXPECT_EQ(t.find(Register::Status, "a"), nullptr) << "a FAULT bit's name does not leak into STATUS";
 }
 
 TEST(FaultLoader, RejectsDuplicateSlugsEvenAcrossRegisters) {

@@ -9,12 +9,12 @@
 #include <thread>
 
 #include "device/errors.hpp"
+#include "lbp/header.hpp"
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
 #include "ops/discover.hpp"
 #include "ops/faults.hpp"
 #include "ops/read.hpp"
-#include "lbp/header.hpp"
 #include "sim_rig.hpp"
 
 using namespace i20;
@@ -40,12 +40,11 @@ SetResult set(Card& card, const std::vector<std::string>& assignments,
     r.refused = e.what();
     return r;
   }
-  ApplyJob job;
-  job.profile = &profile;
-  job.db = &card.db();
-  job.write = write;
-  job.transaction.cancel = cancel;
-  r.run = run_apply_on(card, job);
+  r.run = run_apply_on(card, make_apply_job({.profile = &profile,
+                                             .db = &card.db(),
+                                             .force = write.force,
+                                             .allow_unverified = write.allow_unverified,
+                                             .cancel = cancel}));
   return r;
 }
 
@@ -361,6 +360,7 @@ TEST(OpsSilence, APowerCycleInTheMiddleOfAChangeIsWaitedForAndReported) {
   heal.join();
   EXPECT_EQ(r.run.outcome, Outcome::Done) << reason(r);
   EXPECT_NE(rig.value("KQP"), kqp_before) << "the power cycle reloaded KQP from the EEPROM";
-  EXPECT_NE(r.run.card_reset.find("KQP"), std::string::npos) << "the reset went unreported: " << r.run.card_reset;
+  EXPECT_NE(r.run.card_reset.find("KQP"), std::string::npos)
+      << "the reset went unreported: " << r.run.card_reset;
   EXPECT_GE(card->silences_ended(), 1u);
 }
