@@ -11,7 +11,8 @@
 #   - bldc.hall-error stays FALSE, the 8I20's fault.watchdog never sets;
 #   - hostmot2's encoder position equals the simulator's rotor angle;
 #   - with the wrong encoder sign in bldc (scale negated) the motor does NOT follow: the
-#     check above can fail.
+#     check above can fail;
+#   - the HAL `i20 hal` writes for the card's two axes loads against it (every name real).
 # Why namespaces: hm2_eth sets a static ARP entry for the board (LinuxCNC hm2_eth.c), which
 # fails on loopback, and it edits iptables; both stay inside the test's own namespaces.
 #
@@ -35,8 +36,10 @@ fail() {
 note() { echo "axis_test: $*"; }
 
 [[ $EUID -eq 0 ]] || skip "needs root to make network namespaces (hm2_eth needs a real interface)"
-command -v ip >/dev/null && ip netns list >/dev/null 2>&1 || skip "'ip netns' is not available"
-command -v halrun >/dev/null && command -v halcmd >/dev/null || skip "LinuxCNC's halrun is not installed (linuxcnc-uspace)"
+if ! command -v ip >/dev/null || ! ip netns list >/dev/null 2>&1; then skip "'ip netns' is not available"; fi
+if ! command -v halrun >/dev/null || ! command -v halcmd >/dev/null; then
+  skip "LinuxCNC's halrun is not installed (linuxcnc-uspace)"
+fi
 command -v runuser >/dev/null || skip "runuser is not available"
 id "$HAL_USER" >/dev/null 2>&1 || skip "no user '$HAL_USER' to run halrun as"
 ls /usr/lib/linuxcnc/modules/hm2_eth.so /usr/lib/linuxcnc/modules/bldc.so >/dev/null 2>&1 ||
@@ -74,6 +77,7 @@ sim_pid=""
 hal_pid=""
 started=$(date +%s.%N)
 
+# shellcheck disable=SC2317  # reached through the trap
 cleanup() {
   set +e
   [[ -p $work/release ]] && timeout 2 sh -c "echo > '$work/release'" 2>/dev/null
@@ -95,7 +99,7 @@ trap cleanup EXIT
 trap 'exit 1' INT TERM HUP
 
 # --- the network: host namespace <-> veth <-> card namespace ------------------------------
-ip netns add "$ns_host" && ip netns add "$ns_card" || skip "cannot create network namespaces here"
+if ! ip netns add "$ns_host" || ! ip netns add "$ns_card"; then skip "cannot create network namespaces here"; fi
 ip link add "$veth_host" type veth peer name "$veth_card" || skip "cannot create a veth pair here"
 ip link set "$veth_host" netns "$ns_host"
 ip link set "$veth_card" netns "$ns_card"
@@ -147,6 +151,7 @@ hal() { $RT ip netns exec "$ns_host" runuser -u "$HAL_USER" -- env HOME="$hal_ho
 # "NAME=value" lines in halrun's output.
 write_axis_hal() {
   local extra=$1 rawcounts=$BOARD.encoder.$ENC.rawcounts
+  # shellcheck disable=SC2016  # $1 is the label script's own argument
   printf '#!/bin/sh\nprintf "%%s=" "$1"\n' >"$work/label"
   printf '#!/bin/sh\nread line < %s\n' "$work/release" >"$work/hold"
   chmod 755 "$work/label" "$work/hold"
@@ -264,6 +269,53 @@ awk -v e="$encoder_turns" -v s="$sim_turns" 'BEGIN { d = e - s; exit !(d < 0.001
 # --- 2. the wrong encoder sign: the same check must see the motor not follow ----------------
 run_axis "encoder sign wrong" "setp bldc.0.scale -$COUNTS"
 follows && fail "with bldc's encoder sign wrong the motor still followed: the check cannot fail"
+
+# --- 3. the HAL `i20 hal` writes for this card loads against it ------------------------------
+# Both axes of the card's port 0 (channel k = encoder k), with the motion module and an INI
+# holding the values the file reads. halcmd stops at the first line naming a pin,
+# signal or component that does not exist, so a clean load means every name is real.
+check_generated_hal() {
+  local halls0 halls1
+  halls0=$BOARD.gpio.010.in,$BOARD.gpio.011.in,$BOARD.gpio.012.in
+  halls1=$BOARD.gpio.${HALL_PINS[0]}.in,$BOARD.gpio.${HALL_PINS[1]}.in,$BOARD.gpio.${HALL_PINS[2]}.in
+  "$I20" hal --board 7i92t --board-ip "$CARD_IP" --axes 2 --cfg qh --pattern 25 --poles $POLES \
+    --counts-per-rev $COUNTS --max-current 10A --halls "$halls0" --halls "$halls1" \
+    --estop-in "$BOARD.gpio.016.in" -o "$work/generated.hal" 2>"$work/i20.err" ||
+    fail "i20 hal failed: $(cat "$work/i20.err")"
+  {
+    printf '[KINS]\nKINEMATICS = trivkins coordinates=XY\nJOINTS = 2\n'
+    printf '[EMCMOT]\nEMCMOT = motmod\nSERVO_PERIOD = 1000000\n'
+    for j in 0 1; do
+      printf '[JOINT_%s]\nENCODER_SCALE = %s\nP = 0\nI = 0\nD = 0\nFF0 = 0\nFF1 = 0\nFF2 = 0\n' "$j" "$COUNTS"
+      printf 'BIAS = 0\nDEADBAND = 0\nFERROR = 1\nMIN_FERROR = 0.5\n'
+    done
+  } >"$work/axis.ini"
+  # iocontrol (io) needs a running LinuxCNC's NML buffers; its lines (E-stop out, tool
+  # change loop) are left out of the load and reported.
+  grep -v 'iocontrol\.0\.' "$work/generated.hal" >"$work/loadable.hal"
+  io_lines=$(grep -c 'iocontrol\.0\.' "$work/generated.hal")
+  {
+    # The linuxcnc start script loads these before the HAL files (2.9: motmod needs them).
+    printf 'loadrt homemod\nloadrt tpmod\nsource %s\n' "$work/loadable.hal"
+    printf 'start\nloadusr -w sleep 1\n'
+    printf 'loadusr -w %s watchdog\ngetp %s.fault.watchdog\n' "$work/label" "$AMP"
+  } >"$work/load.hal"
+  chmod 644 "$work/loadable.hal" "$work/axis.ini" "$work/load.hal"
+  start_sim
+  if ! hal env INI_FILE_NAME="$work/axis.ini" timeout 60 halrun -i "$work/axis.ini" -f "$work/load.hal" \
+    >"$work/load.out" 2>&1; then
+    grep -v "IO Pin" "$work/load.out" | tail -20
+    fail "the HAL i20 hal writes did not load against the virtual card"
+  fi
+  stop_sim
+  note "i20 hal: the generated HAL (2 axes, motion) loaded and ran, less its $io_lines iocontrol lines;" \
+    "axis $CHANNEL fault.watchdog $(sed -n 's/^watchdog=//p' "$work/load.out")"
+}
+if [[ -n $I20 && -x $I20 ]]; then
+  check_generated_hal
+else
+  note "i20 hal: skipped (no i20 given)"
+fi
 
 total=$(awk -v a="$started" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
 note "passed in $total s"
