@@ -154,7 +154,8 @@ void add_options(CLI::App& app, Invocation& o, Raw& raw) {
          "--motor", raw.motors,
          "A motor on an 8I20's outputs, from a motor file (see motors/README.md), e.g. "
          "motors/small-servo.yaml; the card drives it in operate mode. With --eth repeatable: each on its "
-         "file's channel")
+         "file's channel, its encoder and Halls on the inputs of that channel's axis (--card 7i92t-servo: "
+         "axis k is channel k)")
       ->group(world);
   app.add_option("--busv", w.bus_volts, "Motor bus voltage, V, e.g. --busv 48")
       ->capture_default_str()
