@@ -10,8 +10,8 @@
 #     simulator's own motor state agree on it);
 #   - bldc.hall-error stays FALSE, the 8I20's fault.watchdog never sets;
 #   - hostmot2's encoder position equals the simulator's rotor angle;
-#   - with the wrong encoder sign in bldc (scale negated) the motor does NOT follow: the
-#     check above can fail;
+#   - with the wrong encoder sign in bldc (scale negated), and with a wrong Hall pattern, the
+#     motor does NOT follow: the check above can fail;
 #   - the HAL `i20 hal` writes for the card's two axes loads against it (every name real).
 # Why namespaces: hm2_eth sets a static ARP entry for the board (LinuxCNC hm2_eth.c), which
 # fails on loopback, and it edits iptables; both stay inside the test's own namespaces.
@@ -266,9 +266,12 @@ follows || {
 awk -v e="$encoder_turns" -v s="$sim_turns" 'BEGIN { d = e - s; exit !(d < 0.001 && d > -0.001) }' ||
   fail "hostmot2's encoder reads $encoder_turns turns, the simulator's rotor is at $sim_turns"
 
-# --- 2. the wrong encoder sign: the same check must see the motor not follow ----------------
+# --- 2. wrong configurations: the same check must see the motor not follow -----------------
 run_axis "encoder sign wrong" "setp bldc.0.scale -$COUNTS"
 follows && fail "with bldc's encoder sign wrong the motor still followed: the check cannot fail"
+# ... and a wrong Hall pattern (17 for the motor's 25) must not follow either.
+run_axis "Hall pattern wrong" "setp bldc.0.pattern 17"
+follows && fail "with bldc's Hall pattern wrong the motor still followed: the check cannot fail"
 
 # --- 3. the HAL `i20 hal` writes for this card loads against it ------------------------------
 # Both axes of the card's port 0 (channel k = encoder k), with the motion module and an INI
