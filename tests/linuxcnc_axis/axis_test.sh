@@ -64,6 +64,10 @@ TORQUE_A=0.08              # 36 mNm with Kt 0.45 Nm/A against 20 mNm of Coulomb 
 # realtime: on a loaded machine that keeps the 1 ms thread's periods within milliseconds.
 # I20_AXIS_TEST_RT="" runs them as ordinary processes.
 RT=${I20_AXIS_TEST_RT-chrt -f 10}
+if [[ -n $RT ]] && ! $RT true 2>/dev/null; then
+  note "cannot run SCHED_FIFO here ($RT); running as ordinary processes"
+  RT=""
+fi
 ns_host=i20ax-h-$$
 ns_card=i20ax-c-$$
 veth_host=i20h$$
