@@ -89,9 +89,11 @@ void add_options(CLI::App& app, Invocation& o, Raw& raw) {
                      "Serve a virtual 7I96S on UDP at ADDR[:PORT] (default port 27181) with the 8I20 on "
                      "SSERIAL channel 0; prints ADDR:PORT on the first line. Instead of --pty")
           ->excludes("--pty");
-  app.add_option("--card", o.eth_options.card, "Virtual Ethernet card for --eth: 7i96s or 7i92t")
+  app.add_option("--card", o.eth_options.card,
+                 "Virtual Ethernet card for --eth: 7i96s, 7i92t, or 7i92t-servo (an encoder, Halls and an "
+                 "8I20 per axis)")
       ->needs(eth)
-      ->check(CLI::IsMember({"7i96s", "7I96S", "7i92t", "7I92T"}));
+      ->check(CLI::IsMember({"7i96s", "7I96S", "7i92t", "7I92T", "7i92t-servo"}));
   app.add_option("--channels", o.eth_options.channels,
                  "8I20s on the card's port 0 (channels 0..N-1), for --eth")
       ->needs(eth)
@@ -152,7 +154,8 @@ void add_options(CLI::App& app, Invocation& o, Raw& raw) {
          "--motor", raw.motors,
          "A motor on an 8I20's outputs, from a motor file (see motors/README.md), e.g. "
          "motors/small-servo.yaml; the card drives it in operate mode. With --eth repeatable: each on its "
-         "file's channel")
+         "file's channel, its encoder and Halls on the inputs of that channel's axis (--card 7i92t-servo: "
+         "axis k is channel k)")
       ->group(world);
   app.add_option("--busv", w.bus_volts, "Motor bus voltage, V, e.g. --busv 48")
       ->capture_default_str()

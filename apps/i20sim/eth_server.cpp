@@ -26,11 +26,19 @@ extern "C" void on_stop_signal(int) {
 ethsim::ServerOptions server_options(const SimOptions& sim, const EthServeOptions& o) {
   ethsim::ServerOptions s;
   s.listen = ethsim::parse_listen_address(o.listen);
-  s.card = ethsim::parse_card_kind(o.card);
+  // "7i92t-servo": the 7I92T laid out with one encoder, three Hall inputs and an 8I20 per
+  // axis (docs/virtual-feedback.md), for LinuxCNC's hm2_eth + bldc against --motor.
+  if (o.card == "7i92t-servo") {
+    s.card = ethsim::CardKind::I7i92t;
+    s.config = ethsim::CardConfig::preset_7i92t_servo();
+  } else {
+    s.card = ethsim::parse_card_kind(o.card);
+  }
   s.amplifier = sim.device;  // map, EEPROM file, world, injection: as for --pty
   s.amplifiers.clear();
   for (unsigned ch = 0; ch < o.channels; ++ch) s.amplifiers.push_back({0, ch});
   if (o.running_host) s.host = ethsim::HostOptions{};
+  s.motors = o.motors;
   return s;
 }
 
@@ -50,14 +58,6 @@ void control(ethsim::CardServer& server, const std::string& line) {
 int serve_eth(const SimOptions& sim, const EthServeOptions& o,
               const std::vector<std::string>& startup_control) {
   ethsim::CardServer server(server_options(sim, o));
-  for (const auto& m : o.motors)
-    server.with_card([&](ethsim::VirtualCard& card) {
-      sim::Virtual8i20* amplifier = server.amplifier(card, 0, m.channel);
-      if (!amplifier)
-        throw UsageError("motor '" + m.name + "' sits on channel " + std::to_string(m.channel) +
-                         ", which has no 8I20 (--channels " + std::to_string(o.channels) + ")");
-      amplifier->amplifier().attach_motor(m, sim::Clock::now());
-    });
   std::optional<ControlFifo> fifo;
   if (!o.control_fifo.empty()) fifo.emplace(o.control_fifo);
   for (const auto& line : startup_control) ethsim::apply_card_control(server, "all " + line);
@@ -66,6 +66,14 @@ int serve_eth(const SimOptions& sim, const EthServeOptions& o,
   std::cout << server.address().ip << ":" << server.address().port << std::endl;
   std::cerr << "i20sim: " << server.describe() << " with " << o.channels << " 8I20(s) on SSERIAL port 0"
             << (o.running_host ? ", another host running them" : "") << std::endl;
+  for (std::size_t i = 0; i < o.motors.size(); ++i) {
+    const auto& where = server.motor_axes()[i];
+    std::cerr << "i20sim: motor '" << o.motors[i].name << "' on channel " << where.channel;
+    if (where.axis)
+      std::cerr << ", its encoder and Halls on the card's axis " << *where.axis << std::endl;
+    else
+      std::cerr << ", no axis of this card reads its sensors" << std::endl;
+  }
   server.start();
   LineSplitter from_stdin, from_fifo;
   bool stdin_open = o.read_stdin;

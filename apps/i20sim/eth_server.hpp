@@ -16,7 +16,7 @@ namespace i20::sim::app {
 
 struct EthServeOptions {
   std::string listen = "127.0.0.1";  // ADDR[:PORT], port 27181 by default
-  std::string card = "7i96s";        // or 7i92t
+  std::string card = "7i96s";        // or 7i92t, 7i92t-servo
   unsigned channels = 1;             // 8I20s on port 0, channels 0..channels-1
   bool read_stdin = true;
   std::string control_fifo{};                // "" for none

@@ -6,8 +6,9 @@
 #include <boost/asio/ip/address_v4.hpp>
 #include <boost/asio/ip/udp.hpp>
 
-#include "ethsim/virtual_8i20_remote.hpp"
 #include "error/error.hpp"
+#include "ethsim/motor_feedback.hpp"
+#include "ethsim/virtual_8i20_remote.hpp"
 
 namespace i20::ethsim {
 
@@ -78,6 +79,7 @@ CardServer::CardServer(ServerOptions options)
       throw UsageError("the virtual " + std::string(card_kind_name(options_.card)) + " has no SSERIAL port " +
                        std::to_string(a.port) + " channel " + std::to_string(a.channel));
   card_ = std::make_unique<VirtualCard>(std::move(card), Clock::now());
+  attach_motors();
   if (options_.host) start_host(*options_.host);
 
   eth::require_ipv4(options_.listen.ip);
@@ -89,6 +91,19 @@ CardServer::CardServer(ServerOptions options)
     throw Error("cannot listen on UDP " + options_.listen.ip + ":" + std::to_string(options_.listen.port) +
                 ": " + ec.message() + " (another card simulator running? use ADDR:PORT to pick another)");
   socket_->socket.non_blocking(true);
+}
+
+void CardServer::attach_motors() {
+  const auto now = Clock::now();
+  for (const auto& m : options_.motors) {
+    sim::Virtual8i20* amp = amplifier(*card_, 0, m.channel);
+    if (!amp)
+      throw UsageError("motor '" + m.name + "' sits on channel " + std::to_string(m.channel) +
+                       ", which has no 8I20 on SSERIAL port 0");
+    amp->amplifier().attach_motor(m, now);
+    motor_axes_.push_back(
+        MotorAxis{.channel = m.channel, .axis = connect_motor_feedback(*card_, *amp, 0, m.channel)});
+  }
 }
 
 CardServer::~CardServer() {

@@ -30,6 +30,7 @@
 #include "ethsim/card_config.hpp"
 #include "ethsim/simulated_host.hpp"
 #include "ethsim/virtual_card.hpp"
+#include "motor/params.hpp"
 #include "sim/virtual_8i20.hpp"
 
 namespace i20::ethsim {
@@ -60,6 +61,15 @@ struct ServerOptions {
   // Another host already running the machine when the server starts (see
   // simulated_host.hpp); start_host() starts one later.
   std::optional<HostOptions> host{};
+  // Motors on the 8I20s of SSERIAL port 0, each on its `channel` (which must hold an 8I20).
+  // The card's axis for that channel (CardConfig::axes) reads the motor's encoder and Halls
+  // (ethsim/motor_feedback.hpp).
+  std::vector<motor::MotorParams> motors{};
+};
+
+struct MotorAxis {
+  unsigned channel = 0;            // the 8I20 on SSERIAL port 0 driving the motor
+  std::optional<unsigned> axis{};  // the card axis reading its sensors; none: no feedback
 };
 
 // "ADDR[:PORT]" (default port 27181; port 0 picks a free one). Throws UsageError.
@@ -98,6 +108,8 @@ class CardServer {
   std::vector<ChannelAddress> amplifiers() const {
     return options_.remotes ? std::vector<ChannelAddress>{} : options_.amplifiers;
   }
+  // Where ServerOptions::motors went: one entry per motor, in that order.
+  const std::vector<MotorAxis>& motor_axes() const { return motor_axes_; }
 
   // Another host starts running the machine (a stand-in for LinuxCNC). `mask` 0 means the
   // port's 8I20s. Replaces a host already running.
@@ -117,11 +129,13 @@ class CardServer {
  private:
   struct Socket;
   void serve_once(std::chrono::steady_clock::time_point until);
+  void attach_motors();
 
   ServerOptions options_;
   std::unique_ptr<Socket> socket_;
   std::mutex mutex_;
   std::unique_ptr<VirtualCard> card_;
+  std::vector<MotorAxis> motor_axes_;
   std::optional<SimulatedHost> host_;            // under mutex_
   std::optional<Clock::time_point> dark_until_;  // under mutex_
   bool power_lost_ = false;                      // under mutex_

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <thread>
 
-#include "lbp/bytes.hpp"
 #include "hostmot2/hostmot2.hpp"
+#include "lbp/bytes.hpp"
 
 namespace i20::ethsim {
 
@@ -60,7 +60,8 @@ void SimulatedHost::run_until(VirtualCard& card, Clock::time_point now) {
         if (options_.mask & (1u << ch)) {
           cycle.push_back(lbp16::read_hm2(regs.interface0(ch)));
           cycle.push_back(lbp16::read_hm2(regs.interface1(ch)));
-          cycle.push_back(lbp16::write_hm2(regs.interface0(ch), 0u));
+          cycle.push_back(
+              lbp16::write_hm2(regs.interface0(ch), options_.interface0 ? options_.interface0(ch) : 0u));
         }
       cycle.push_back(lbp16::write_hm2(regs.command, sslbp::doit(options_.mask)));
       const auto parts = send(card, cycle, now);

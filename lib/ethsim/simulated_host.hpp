@@ -7,12 +7,13 @@
 //
 // Sequence (8I20 manual, "NORMAL MODE OPERATION"): stop, normal start of its channels,
 // then one packet per period: read COMMAND, DATA, INTERFACE0/1 of each channel, write
-// INTERFACE0 = 0 (no current), write COMMAND = DOIT. stop() sends a stop, as LinuxCNC
-// does when it exits.
+// INTERFACE0 (0, no current, unless HostOptions::interface0 says otherwise), write
+// COMMAND = DOIT. stop() sends a stop, as LinuxCNC does when it exits.
 #pragma once
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "ethsim/virtual_card.hpp"
@@ -25,6 +26,10 @@ struct HostOptions {
   // finds (CardServer::start_host resolves it; a SimulatedHost on its own takes channel 0).
   std::uint8_t mask = 0;
   Clock::duration period = std::chrono::milliseconds(1);  // LinuxCNC's default servo period
+  // What the host writes to a channel's INTERFACE0 each cycle: the 8I20's ANGLE in bits
+  // 0-15 and QSETPOINT in bits 16-31 (8I20 manual, 8I20 SPECIFIC INTERFACE REGISTER 0),
+  // e.g. a commutating servo loop in a test. Unset: 0, no current.
+  std::function<std::uint32_t(unsigned channel)> interface0{};
 };
 
 struct HostStats {

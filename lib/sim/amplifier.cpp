@@ -91,8 +91,18 @@ void Amplifier::update(Clock::time_point now) {
 void Amplifier::attach_motor(const motor::MotorParams& params, Clock::time_point now) {
   motor_.emplace(params);
   motor_time_ = now;
+  motor_attached_ = now;
   motor_causes_ = 0;
   command_motor();
+}
+
+std::optional<double> Amplifier::motor_turns_at(Clock::time_point t) const {
+  if (!motor_) return std::nullopt;
+  const auto& s = motor_->state();
+  // The state holds at the end of its last whole PWM period, not at motor_time_ (which
+  // carries the part period not yet run).
+  const double since_state = seconds(t - motor_attached_) - s.time_s;
+  return s.angle_turns + s.speed_rad_s / (2.0 * std::numbers::pi) * since_state;
 }
 
 void Amplifier::set_motor_params(const motor::MotorParams& params, Clock::time_point now) {

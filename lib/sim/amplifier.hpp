@@ -106,6 +106,10 @@ class Amplifier {
   // description (encoder, Halls) and injected sensor faults. Up to date as of the last
   // update() / run_motor().
   const motor::Motor* motor() const { return motor_ ? &*motor_ : nullptr; }
+  // The rotor's mechanical angle (turns, unwrapped) at `t`, for sensors read on another
+  // card's clock: the motor's last state moved on (or back) at its speed to `t`. Cheap and
+  // the same for the same `t` until the motor steps again; nullopt without a motor.
+  std::optional<double> motor_turns_at(Clock::time_point t) const;
   // Changes the attached motor's parameters live (load step, brake, ...). Throws MotorError.
   void set_motor_params(const motor::MotorParams& params, Clock::time_point now);
   void set_motor_sensor_faults(motor::SensorFaults faults, Clock::time_point now);
@@ -153,6 +157,7 @@ class Amplifier {
   bool watchdog_set_ = false;
   std::optional<motor::Motor> motor_;
   Clock::time_point motor_time_{};
+  Clock::time_point motor_attached_{};  // the motor's state().time_s counts from here
   double last_bus_volts_ = 0;
   std::uint16_t motor_causes_ = 0;  // seen while the motor ran, not yet latched
 };

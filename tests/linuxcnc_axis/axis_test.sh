@@ -1,0 +1,329 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-or-later
+# LinuxCNC's own hm2_eth + bldc close the loop of a virtual axis: the virtual 7I92T
+# (i20sim --eth --card 7i92t-servo --motor FILE) serves in a network namespace of its own
+# behind a veth pair, and halrun, as an unprivileged user in a second namespace, runs a
+# 1 ms servo thread with the motor's true configuration: encoder rawcounts and the three
+# Halls into bldc (cfg=qh), bldc's rotor-angle into the 8I20's angle, a torque command
+# (amps) through bldc value/out into its current. Checked:
+#   - +torque turns the motor forward, -torque turns it back (hostmot2's encoder and the
+#     simulator's own motor state agree on it);
+#   - bldc.hall-error stays FALSE, the 8I20's fault.watchdog never sets;
+#   - hostmot2's encoder position equals the simulator's rotor angle;
+#   - with the wrong encoder sign in bldc (scale negated), and with a wrong Hall pattern, the
+#     motor does NOT follow: the check above can fail;
+#   - the HAL `i20 hal` writes for the card's two axes loads against it (every name real).
+# Why namespaces: hm2_eth sets a static ARP entry for the board (LinuxCNC hm2_eth.c), which
+# fails on loopback, and it edits iptables; both stay inside the test's own namespaces.
+#
+# usage: axis_test.sh I20SIM MOTOR_FILE [I20]     exit 0 pass, 1 fail, 77 skipped
+set -u
+
+I20SIM=${1:?usage: axis_test.sh I20SIM MOTOR_FILE [I20]}
+MOTOR=${2:?usage: axis_test.sh I20SIM MOTOR_FILE [I20]}
+I20=${3:-}
+SKIP=77
+HAL_USER=${I20_AXIS_TEST_USER:-nobody}
+
+skip() {
+  echo "SKIPPED: $*"
+  exit $SKIP
+}
+fail() {
+  echo "FAIL: $*"
+  exit 1
+}
+note() { echo "axis_test: $*"; }
+
+[[ $EUID -eq 0 ]] || skip "needs root to make network namespaces (hm2_eth needs a real interface)"
+if ! command -v ip >/dev/null || ! ip netns list >/dev/null 2>&1; then skip "'ip netns' is not available"; fi
+if ! command -v halrun >/dev/null || ! command -v halcmd >/dev/null; then
+  skip "LinuxCNC's halrun is not installed (linuxcnc-uspace)"
+fi
+command -v runuser >/dev/null || skip "runuser is not available"
+id "$HAL_USER" >/dev/null 2>&1 || skip "no user '$HAL_USER' to run halrun as"
+ls /usr/lib/linuxcnc/modules/hm2_eth.so /usr/lib/linuxcnc/modules/bldc.so >/dev/null 2>&1 ||
+  skip "hm2_eth or bldc is not installed"
+
+# The motor file's axis: servo-halls-index.yaml (4 pole pairs, 10000 counts, pattern 25,
+# channel 1). The 7I92T servo layout puts channel 1 of port 0 on encoder 01 and GPIO 013-015
+# (docs/virtual-feedback.md).
+POLES=8
+COUNTS=10000
+CHANNEL=1
+ENC=01
+HALL_PINS=(013 014 015)
+BOARD=hm2_7i92.0
+AMP=$BOARD.8i20.0.$CHANNEL
+CARD_IP=192.168.1.121
+HOST_IP=192.168.1.1
+CARD_MAC=00:60:1b:92:00:01 # the virtual 7I92T's EEPROM MAC: hm2_eth's ARP entry uses it
+TORQUE_A=0.08              # 36 mNm with Kt 0.45 Nm/A against 20 mNm of Coulomb friction
+
+# Both ends run SCHED_FIFO (low priority 10), as a LinuxCNC host runs its servo thread
+# realtime: on a loaded machine that keeps the 1 ms thread's periods within milliseconds.
+# I20_AXIS_TEST_RT="" runs them as ordinary processes.
+RT=${I20_AXIS_TEST_RT-chrt -f 10}
+if [[ -n $RT ]] && ! $RT true 2>/dev/null; then
+  note "cannot run SCHED_FIFO here ($RT); running as ordinary processes"
+  RT=""
+fi
+ns_host=i20ax-h-$$
+ns_card=i20ax-c-$$
+veth_host=i20h$$
+veth_card=i20c$$
+work=$(mktemp -d /tmp/i20-axis.XXXXXX)
+chmod 755 "$work"
+# rtapi_app puts its socket in $HOME (.rtapi_fifo): a home the HAL user may write.
+hal_home=$work/home
+mkdir "$hal_home" && chown "$HAL_USER" "$hal_home"
+sim_pid=""
+hal_pid=""
+started=$(date +%s.%N)
+
+# shellcheck disable=SC2317  # reached through the trap
+cleanup() {
+  set +e
+  [[ -p $work/release ]] && timeout 2 sh -c "echo > '$work/release'" 2>/dev/null
+  if [[ -n $hal_pid ]] && kill -0 "$hal_pid" 2>/dev/null; then
+    timeout 10 tail --pid="$hal_pid" -f /dev/null
+    kill "$hal_pid" 2>/dev/null
+  fi
+  # rtapi_app outlives a killed halrun; halrun -U stops it and frees HAL's memory.
+  ip netns exec "$ns_host" runuser -u "$HAL_USER" -- env HOME="$hal_home" timeout 20 halrun -U >/dev/null 2>&1
+  if [[ -n $sim_pid ]]; then
+    kill "$sim_pid" 2>/dev/null
+    timeout 5 tail --pid="$sim_pid" -f /dev/null
+  fi
+  ip netns del "$ns_host" 2>/dev/null
+  ip netns del "$ns_card" 2>/dev/null
+  rm -rf "$work"
+}
+trap cleanup EXIT
+trap 'exit 1' INT TERM HUP
+
+# --- the network: host namespace <-> veth <-> card namespace ------------------------------
+if ! ip netns add "$ns_host" || ! ip netns add "$ns_card"; then skip "cannot create network namespaces here"; fi
+ip link add "$veth_host" type veth peer name "$veth_card" || skip "cannot create a veth pair here"
+ip link set "$veth_host" netns "$ns_host"
+ip link set "$veth_card" netns "$ns_card"
+ip -n "$ns_card" link set "$veth_card" address "$CARD_MAC"
+ip -n "$ns_host" addr add "$HOST_IP/24" dev "$veth_host"
+ip -n "$ns_card" addr add "$CARD_IP/24" dev "$veth_card"
+for ns in "$ns_host" "$ns_card"; do ip -n "$ns" link set lo up; done
+ip -n "$ns_host" link set "$veth_host" up
+ip -n "$ns_card" link set "$veth_card" up
+
+# --- the virtual card -----------------------------------------------------------------------
+start_sim() {
+  mkfifo "$work/ctl"
+  $RT ip netns exec "$ns_card" "$I20SIM" --eth "$CARD_IP" --card 7i92t-servo --channels 2 --motor "$MOTOR" \
+    --no-stdin --control "$work/ctl" >"$work/sim.out" 2>"$work/sim.err" &
+  sim_pid=$!
+  for _ in $(seq 50); do
+    grep -q "^$CARD_IP:27181" "$work/sim.out" 2>/dev/null && break
+    sleep 0.1
+  done
+  grep -q "^$CARD_IP:27181" "$work/sim.out" || fail "i20sim did not start: $(cat "$work/sim.err")"
+  grep -q "on the card's axis $CHANNEL" "$work/sim.err" || fail "the motor is not on axis $CHANNEL: $(cat "$work/sim.err")"
+}
+stop_sim() {
+  kill "$sim_pid" 2>/dev/null
+  timeout 5 tail --pid="$sim_pid" -f /dev/null
+  sim_pid=""
+  rm -f "$work/ctl"
+}
+# The simulator's answer to one control line (its stdout's next line).
+sim_ask() {
+  local before
+  before=$(wc -l <"$work/sim.out")
+  echo "$1" >"$work/ctl"
+  for _ in $(seq 100); do
+    (($(wc -l <"$work/sim.out") > before)) && break
+    sleep 0.02
+  done
+  tail -n +$((before + 1)) "$work/sim.out" | head -1
+}
+sim_angle() { sim_ask "ch $CHANNEL motor" | sed -n 's/.*motor_angle=\([-0-9.]*\)turns.*/\1/p'; }
+
+# --- LinuxCNC -------------------------------------------------------------------------------
+hal() { $RT ip netns exec "$ns_host" runuser -u "$HAL_USER" -- env HOME="$hal_home" "$@"; }
+
+# The experiment as one HAL file: the axis with the motor's true configuration (`extra`
+# appended: a deliberate mistake), then the torque steps and the readings as halcmd lines,
+# so their timing does not hang on this script starting processes. Readings come out as
+# "NAME=value" lines in halrun's output.
+write_axis_hal() {
+  local extra=$1 rawcounts=$BOARD.encoder.$ENC.rawcounts
+  # shellcheck disable=SC2016  # $1 is the label script's own argument
+  printf '#!/bin/sh\nprintf "%%s=" "$1"\n' >"$work/label"
+  printf '#!/bin/sh\nread line < %s\n' "$work/release" >"$work/hold"
+  chmod 755 "$work/label" "$work/hold"
+  rm -f "$work/release"
+  mkfifo -m 666 "$work/release"
+  report() { printf 'loadusr -w %s %s\ngetp %s\n' "$work/label" "$1" "$2"; }
+  torque_for() { printf 'sets torque-cmd %s\nloadusr -w sleep %s\n' "$1" "$2"; }
+  {
+    printf '%s\n' \
+      "loadrt hostmot2" \
+      "loadrt hm2_eth board_ip=$CARD_IP" \
+      "loadrt bldc cfg=qh" \
+      "loadrt timedelta count=1" \
+      "loadrt threads name1=servo-thread period1=1000000" \
+      "# A 1 ms thread on a loaded, non-realtime host: give each reply 20 ms." \
+      "setp $BOARD.packet-read-timeout 20000000" \
+      "# It also runs a late period's successor at once, before the card's SSLBP has finished" \
+      "# the last DOIT: hostmot2 counts an overrun (fault-inc 10 each, fault-dec 1 per good" \
+      "# cycle) and stops the port at fault-lim, which starves the 8I20's watchdog. Tolerate" \
+      "# them here; the test reports the count (sserial(9): fault-inc, fault-dec, fault-lim)." \
+      "setp $BOARD.sserial.port-0.fault-lim 1000000" \
+      "setp $BOARD.encoder.$ENC.scale $COUNTS" \
+      "setp bldc.0.scale $COUNTS" \
+      "setp bldc.0.poles $POLES" \
+      "setp bldc.0.pattern 25" \
+      "net hall1 $BOARD.gpio.${HALL_PINS[0]}.in => bldc.0.hall1" \
+      "net hall2 $BOARD.gpio.${HALL_PINS[1]}.in => bldc.0.hall2" \
+      "net hall3 $BOARD.gpio.${HALL_PINS[2]}.in => bldc.0.hall3" \
+      "net rawcounts $rawcounts => bldc.0.rawcounts" \
+      "net rotor-angle bldc.0.rotor-angle => $AMP.angle" \
+      "net torque-cmd => bldc.0.value" \
+      "net phase-current bldc.0.out => $AMP.current" \
+      "$extra" \
+      "addf $BOARD.read servo-thread" \
+      "addf bldc.0 servo-thread" \
+      "addf timedelta.0 servo-thread" \
+      "addf $BOARD.write servo-thread" \
+      "start"
+    torque_for 0 0.5
+    report start "$rawcounts"
+    report max_at_start timedelta.0.max
+    report watchdog_at_start "$AMP.fault.watchdog"
+    report faults_at_start "$BOARD.sserial.port-0.fault-count"
+    torque_for "$TORQUE_A" 0.6
+    report forward "$rawcounts"
+    torque_for "-$TORQUE_A" 1.2
+    report back "$rawcounts"
+    torque_for 0 1.5 # friction stops the rotor
+    report end "$rawcounts"
+    report position "$BOARD.encoder.$ENC.position"
+    report hall_error bldc.0.hall-error
+    report watchdog "$AMP.fault.watchdog"
+    report port_faults "$BOARD.sserial.port-0.fault-count"
+    report period_min timedelta.0.min
+    report period_max timedelta.0.max
+    report period_avg_err timedelta.0.avg-err
+    # Stay up, the thread running, until the test has read the simulator.
+    printf 'loadusr -w %s done\nloadusr -w %s\n' "$work/label" "$work/hold"
+  } >"$work/axis.hal"
+  chmod 644 "$work/axis.hal"
+}
+value() { sed -n "s/^$1=\(.*\)\$/\1/p" "$work/hal.out" | tail -1; }
+
+# One run: forward, back, stop. Sets moved_forward, moved_back (counts), encoder_turns,
+# sim_turns and the figures.
+run_axis() {
+  local label=$1 extra=$2
+  start_sim
+  write_axis_hal "$extra"
+  local t0
+  t0=$(date +%s.%N)
+  hal halrun -f "$work/axis.hal" >"$work/hal.out" 2>&1 &
+  hal_pid=$!
+  for _ in $(seq 300); do
+    grep -q '^done=' "$work/hal.out" && break
+    kill -0 "$hal_pid" 2>/dev/null || break
+    sleep 0.1
+  done
+  grep -q '^done=' "$work/hal.out" || {
+    cat "$work/hal.out"
+    fail "$label: halrun did not run the experiment"
+  }
+  run_seconds=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
+  sim_turns=$(sim_angle) # the rotor is at rest now
+  echo >"$work/release"
+  timeout 20 tail --pid="$hal_pid" -f /dev/null || fail "halrun did not exit"
+  hal_pid=""
+  stop_sim
+  moved_forward=$(($(value forward) - $(value start)))
+  moved_back=$(($(value forward) - $(value back)))
+  encoder_turns=$(awk -v c="$(value end)" -v n=$COUNTS 'BEGIN { printf "%.5f", c / n }')
+  hall_error=$(value hall_error)
+  watchdog_bit=$(value watchdog)
+  read_errors=$(grep -c -i "error finishing read" "$work/hal.out")
+  note "$label: forward $moved_forward counts, back $moved_back counts; encoder $encoder_turns turns" \
+    "(position $(value position)), simulator $sim_turns turns; hall-error $hall_error," \
+    "fault.watchdog $watchdog_bit, SSERIAL fault-count $(value port_faults); servo period" \
+    "min/max $(value period_min)/$(value period_max) ns (avg error $(value period_avg_err) ns);" \
+    "$read_errors read errors; halrun $run_seconds s"
+}
+
+follows() { ((moved_forward > COUNTS / 2 && moved_back > COUNTS / 2)); }
+
+# --- 1. the true configuration: the loop closes ---------------------------------------------
+run_axis "true configuration" ""
+follows || {
+  cat "$work/hal.out"
+  fail "the motor did not follow the torque command (forward $moved_forward, back $moved_back counts)"
+}
+[[ $hall_error == FALSE ]] || fail "bldc.0.hall-error went TRUE with the motor's own Hall pattern"
+[[ $watchdog_bit == FALSE ]] || fail "the 8I20's watchdog bit while the servo thread ran"
+awk -v e="$encoder_turns" -v s="$sim_turns" 'BEGIN { d = e - s; exit !(d < 0.001 && d > -0.001) }' ||
+  fail "hostmot2's encoder reads $encoder_turns turns, the simulator's rotor is at $sim_turns"
+
+# --- 2. wrong configurations: the same check must see the motor not follow -----------------
+run_axis "encoder sign wrong" "setp bldc.0.scale -$COUNTS"
+follows && fail "with bldc's encoder sign wrong the motor still followed: the check cannot fail"
+# ... and a wrong Hall pattern (17 for the motor's 25) must not follow either.
+run_axis "Hall pattern wrong" "setp bldc.0.pattern 17"
+follows && fail "with bldc's Hall pattern wrong the motor still followed: the check cannot fail"
+
+# --- 3. the HAL `i20 hal` writes for this card loads against it ------------------------------
+# Both axes of the card's port 0 (channel k = encoder k), with the motion module and an INI
+# holding the values the file reads. halcmd stops at the first line naming a pin,
+# signal or component that does not exist, so a clean load means every name is real.
+check_generated_hal() {
+  local halls0 halls1
+  halls0=$BOARD.gpio.010.in,$BOARD.gpio.011.in,$BOARD.gpio.012.in
+  halls1=$BOARD.gpio.${HALL_PINS[0]}.in,$BOARD.gpio.${HALL_PINS[1]}.in,$BOARD.gpio.${HALL_PINS[2]}.in
+  "$I20" hal --board 7i92t --board-ip "$CARD_IP" --axes 2 --cfg qh --pattern 25 --poles $POLES \
+    --counts-per-rev $COUNTS --max-current 10A --halls "$halls0" --halls "$halls1" \
+    --estop-in "$BOARD.gpio.016.in" -o "$work/generated.hal" 2>"$work/i20.err" ||
+    fail "i20 hal failed: $(cat "$work/i20.err")"
+  {
+    printf '[KINS]\nKINEMATICS = trivkins coordinates=XY\nJOINTS = 2\n'
+    printf '[EMCMOT]\nEMCMOT = motmod\nSERVO_PERIOD = 1000000\n'
+    for j in 0 1; do
+      printf '[JOINT_%s]\nENCODER_SCALE = %s\nP = 0\nI = 0\nD = 0\nFF0 = 0\nFF1 = 0\nFF2 = 0\n' "$j" "$COUNTS"
+      printf 'BIAS = 0\nDEADBAND = 0\nFERROR = 1\nMIN_FERROR = 0.5\n'
+    done
+  } >"$work/axis.ini"
+  # iocontrol (io) needs a running LinuxCNC's NML buffers; its lines (E-stop out, tool
+  # change loop) are left out of the load and reported.
+  grep -v 'iocontrol\.0\.' "$work/generated.hal" >"$work/loadable.hal"
+  io_lines=$(grep -c 'iocontrol\.0\.' "$work/generated.hal")
+  {
+    # The linuxcnc start script loads these before the HAL files (2.9: motmod needs them).
+    printf 'loadrt homemod\nloadrt tpmod\nsource %s\n' "$work/loadable.hal"
+    printf 'start\nloadusr -w sleep 1\n'
+    printf 'loadusr -w %s watchdog\ngetp %s.fault.watchdog\n' "$work/label" "$AMP"
+  } >"$work/load.hal"
+  chmod 644 "$work/loadable.hal" "$work/axis.ini" "$work/load.hal"
+  start_sim
+  if ! hal env INI_FILE_NAME="$work/axis.ini" timeout 60 halrun -i "$work/axis.ini" -f "$work/load.hal" \
+    >"$work/load.out" 2>&1; then
+    grep -v "IO Pin" "$work/load.out" | tail -20
+    fail "the HAL i20 hal writes did not load against the virtual card"
+  fi
+  stop_sim
+  note "i20 hal: the generated HAL (2 axes, motion) loaded and ran, less its $io_lines iocontrol lines;" \
+    "axis $CHANNEL fault.watchdog $(sed -n 's/^watchdog=//p' "$work/load.out")"
+}
+if [[ -n $I20 && -x $I20 ]]; then
+  check_generated_hal
+else
+  note "i20 hal: skipped (no i20 given)"
+fi
+
+total=$(awk -v a="$started" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
+note "passed in $total s"
+exit 0
