@@ -1,7 +1,7 @@
 #!/bin/bash
 # SPDX-License-Identifier: GPL-2.0-or-later
 # LinuxCNC's own hm2_eth + bldc close the loop of a virtual axis: the virtual 7I92T
-# (i20sim --eth --card 7i92t-servo --motor FILE) serves in a network namespace of its own
+# (i20sim --eth --card 7i92t-servo or 7i96s --motor FILE) serves in a network namespace of its own
 # behind a veth pair, and halrun, as an unprivileged user in a second namespace, runs a
 # 1 ms servo thread with the motor's true configuration: encoder rawcounts and the three
 # Halls into bldc (cfg=qh), bldc's rotor-angle into the 8I20's angle, a torque command
@@ -45,19 +45,29 @@ id "$HAL_USER" >/dev/null 2>&1 || skip "no user '$HAL_USER' to run halrun as"
 ls /usr/lib/linuxcnc/modules/hm2_eth.so /usr/lib/linuxcnc/modules/bldc.so >/dev/null 2>&1 ||
   skip "hm2_eth or bldc is not installed"
 
-# The motor file's axis: servo-halls-index.yaml (4 pole pairs, 10000 counts, pattern 25,
-# channel 1). The 7I92T servo layout puts channel 1 of port 0 on encoder 01 and GPIO 013-015
-# (docs/virtual-feedback.md).
+# The motor file's axis: servo-halls-index.yaml (4 pole pairs, 10000 counts, pattern 25).
+# I20_AXIS_CARD picks the virtual card (docs/virtual-feedback.md):
+#   7i92t-servo (default): channel 1 of port 0, encoder 01, Halls on GPIO 013-015;
+#   7i96s: its one 8I20 (channel 0), encoder 00, Halls on the isolated inputs InM 00-02.
 POLES=8
 COUNTS=10000
-CHANNEL=1
-ENC=01
-HALL_PINS=(013 014 015)
-BOARD=hm2_7i92.0
+CARD=${I20_AXIS_CARD:-7i92t-servo}
+case $CARD in
+  7i92t-servo)
+    CHANNEL=1 ENC=01 BOARD=hm2_7i92.0 CHANNELS=2
+    HALL_NETS=("$BOARD.gpio.013.in" "$BOARD.gpio.014.in" "$BOARD.gpio.015.in")
+    CARD_MAC=00:60:1b:92:00:01 # the virtual 7I92T's EEPROM MAC: hm2_eth's ARP entry uses it
+    ;;
+  7i96s)
+    CHANNEL=0 ENC=00 BOARD=hm2_7i96s.0 CHANNELS=1
+    HALL_NETS=("$BOARD.inm.00.input-00" "$BOARD.inm.00.input-01" "$BOARD.inm.00.input-02")
+    CARD_MAC=00:60:1b:16:00:01 # the virtual 7I96S's EEPROM MAC
+    ;;
+  *) echo "axis_test: unknown I20_AXIS_CARD '$CARD'" >&2 && exit 2 ;;
+esac
 AMP=$BOARD.8i20.0.$CHANNEL
 CARD_IP=192.168.1.121
 HOST_IP=192.168.1.1
-CARD_MAC=00:60:1b:92:00:01 # the virtual 7I92T's EEPROM MAC: hm2_eth's ARP entry uses it
 TORQUE_A=0.08              # 36 mNm with Kt 0.45 Nm/A against 20 mNm of Coulomb friction
 
 # Both ends run SCHED_FIFO (low priority 10), as a LinuxCNC host runs its servo thread
@@ -77,6 +87,11 @@ chmod 755 "$work"
 # rtapi_app puts its socket in $HOME (.rtapi_fifo): a home the HAL user may write.
 hal_home=$work/home
 mkdir "$hal_home" && chown "$HAL_USER" "$hal_home"
+# The motor sits on the card's axis channel: the 7I96S has only channel 0.
+if [[ $CARD == 7i96s ]]; then
+  sed 's/^channel: .*/channel: 0/' "$MOTOR" >"$work/motor.yaml"
+  MOTOR=$work/motor.yaml
+fi
 sim_pid=""
 hal_pid=""
 started=$(date +%s.%N)
@@ -117,7 +132,7 @@ ip -n "$ns_card" link set "$veth_card" up
 # --- the virtual card -----------------------------------------------------------------------
 start_sim() {
   mkfifo "$work/ctl"
-  $RT ip netns exec "$ns_card" "$I20SIM" --eth "$CARD_IP" --card 7i92t-servo --channels 2 --motor "$MOTOR" \
+  $RT ip netns exec "$ns_card" "$I20SIM" --eth "$CARD_IP" --card "$CARD" --channels "$CHANNELS" --motor "$MOTOR" \
     --no-stdin --control "$work/ctl" >"$work/sim.out" 2>"$work/sim.err" &
   sim_pid=$!
   for _ in $(seq 50); do
@@ -181,9 +196,9 @@ write_axis_hal() {
       "setp bldc.0.scale $COUNTS" \
       "setp bldc.0.poles $POLES" \
       "setp bldc.0.pattern 25" \
-      "net hall1 $BOARD.gpio.${HALL_PINS[0]}.in => bldc.0.hall1" \
-      "net hall2 $BOARD.gpio.${HALL_PINS[1]}.in => bldc.0.hall2" \
-      "net hall3 $BOARD.gpio.${HALL_PINS[2]}.in => bldc.0.hall3" \
+      "net hall1 ${HALL_NETS[0]} => bldc.0.hall1" \
+      "net hall2 ${HALL_NETS[1]} => bldc.0.hall2" \
+      "net hall3 ${HALL_NETS[2]} => bldc.0.hall3" \
       "net rawcounts $rawcounts => bldc.0.rawcounts" \
       "net rotor-angle bldc.0.rotor-angle => $AMP.angle" \
       "net torque-cmd => bldc.0.value" \
@@ -282,17 +297,21 @@ follows && fail "with bldc's Hall pattern wrong the motor still followed: the ch
 # holding the values the file reads. halcmd stops at the first line naming a pin,
 # signal or component that does not exist, so a clean load means every name is real.
 check_generated_hal() {
-  local halls0 halls1
-  halls0=$BOARD.gpio.010.in,$BOARD.gpio.011.in,$BOARD.gpio.012.in
-  halls1=$BOARD.gpio.${HALL_PINS[0]}.in,$BOARD.gpio.${HALL_PINS[1]}.in,$BOARD.gpio.${HALL_PINS[2]}.in
-  "$I20" hal --board 7i92t --board-ip "$CARD_IP" --axes 2 --cfg qh --pattern 25 --poles $POLES \
-    --counts-per-rev $COUNTS --max-current 10A --halls "$halls0" --halls "$halls1" \
-    --estop-in "$BOARD.gpio.016.in" -o "$work/generated.hal" 2>"$work/i20.err" ||
+  local -a axes_args
+  if [[ $CARD == 7i96s ]]; then
+    axes_args=(--board 7i96s --axes 1 --halls "$(IFS=,; echo "${HALL_NETS[*]}")"
+      --estop-in "$BOARD.inm.00.input-10")
+  else
+    axes_args=(--board 7i92t --axes 2 --halls "$BOARD.gpio.010.in,$BOARD.gpio.011.in,$BOARD.gpio.012.in"
+      --halls "$(IFS=,; echo "${HALL_NETS[*]}")" --estop-in "$BOARD.gpio.016.in")
+  fi
+  "$I20" hal "${axes_args[@]}" --board-ip "$CARD_IP" --cfg qh --pattern 25 --poles $POLES \
+    --counts-per-rev $COUNTS --max-current 10A -o "$work/generated.hal" 2>"$work/i20.err" ||
     fail "i20 hal failed: $(cat "$work/i20.err")"
   {
-    printf '[KINS]\nKINEMATICS = trivkins coordinates=XY\nJOINTS = 2\n'
+    printf '[KINS]\nKINEMATICS = trivkins coordinates=%s\nJOINTS = %s\n' "$( ((CHANNELS == 1)) && echo X || echo XY)" "$CHANNELS"
     printf '[EMCMOT]\nEMCMOT = motmod\nSERVO_PERIOD = 1000000\n'
-    for j in 0 1; do
+    for ((j = 0; j < CHANNELS; j++)); do
       printf '[JOINT_%s]\nENCODER_SCALE = %s\nP = 0\nI = 0\nD = 0\nFF0 = 0\nFF1 = 0\nFF2 = 0\n' "$j" "$COUNTS"
       printf 'BIAS = 0\nDEADBAND = 0\nFERROR = 1\nMIN_FERROR = 0.5\n'
     done
@@ -315,7 +334,7 @@ check_generated_hal() {
     fail "the HAL i20 hal writes did not load against the virtual card"
   fi
   stop_sim
-  note "i20 hal: the generated HAL (2 axes, motion) loaded and ran, less its $io_lines iocontrol lines;" \
+  note "i20 hal: the generated HAL ($CHANNELS axis/axes, motion) loaded and ran, less its $io_lines iocontrol lines;" \
     "axis $CHANNEL fault.watchdog $(sed -n 's/^watchdog=//p' "$work/load.out")"
 }
 if [[ -n $I20 && -x $I20 ]]; then
