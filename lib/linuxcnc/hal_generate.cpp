@@ -19,7 +19,9 @@ constexpr int kLogicMaxInputs = 16;
 constexpr unsigned kLogicAnd = 0x100, kLogicOr = 0x200, kLogicNor = 0x1000;
 
 std::string two_digits(int n) {
-  return (n < 10 ? "0" : "") + std::to_string(n);
+  std::string digits = n < 10 ? "0" : "";  // apart: GCC 12's -O3 -Wrestrict misfires on `"0" + std::string&&`
+  digits += std::to_string(n);
+  return digits;
 }
 
 std::string hex(unsigned v) {

@@ -13,8 +13,13 @@ namespace i20::linuxcnc {
 namespace {
 
 [[noreturn]] void reject(const std::string& source, const YAML::Node& node, const std::string& problem) {
-  const auto line = node.Mark().is_null() ? std::string() : ":" + std::to_string(node.Mark().line + 1);
-  throw UsageError(source + line + ": " + problem);
+  // Appended apart: GCC 12's -O3 -Wrestrict misfires on `":" + std::string&&`.
+  std::string where = source;
+  if (!node.Mark().is_null()) {
+    where += ':';
+    where += std::to_string(node.Mark().line + 1);
+  }
+  throw UsageError(where + ": " + problem);
 }
 
 YAML::Node required(const std::string& source, const YAML::Node& parent, const char* key) {
