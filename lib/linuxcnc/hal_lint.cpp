@@ -264,16 +264,24 @@ class Linter {
   }
 
   // The pid instances whose output reaches `pin` directly or through a bldc (value -> out).
+  // A file may loop a bldc back on itself (its out netted to its own value): each bldc is
+  // followed once.
   std::vector<std::string> pids_feeding(const std::string& pin) const {
     std::vector<std::string> out;
-    const auto* sig = design_.signal_of(pin);
-    if (sig == nullptr) return out;
-    for (const auto& p : sig->pins) {
-      if (is_pid_output(p.name)) out.push_back(p.name.substr(0, p.name.size() - 7));
-      const auto b = split_bldc(p.name);
-      if (b && b->rest == "out") {
-        const auto via = pids_feeding("bldc." + std::to_string(b->index) + ".value");
-        out.insert(out.end(), via.begin(), via.end());
+    std::set<std::string> followed{pin};
+    std::vector<std::string> pending{pin};
+    while (!pending.empty()) {
+      const auto* sig = design_.signal_of(pending.back());
+      pending.pop_back();
+      if (sig == nullptr) continue;
+      for (const auto& p : sig->pins) {
+        if (is_pid_output(p.name)) out.push_back(p.name.substr(0, p.name.size() - 7));
+        const auto b = split_bldc(p.name);
+        if (!b || b->rest != "out") continue;
+        std::string value = "bldc.";
+        value += std::to_string(b->index);
+        value += ".value";
+        if (followed.insert(value).second) pending.push_back(value);
       }
     }
     return out;

@@ -5,12 +5,15 @@
 
 #include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/exceptions.h>
+#include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/parser.h>
 #include <yaml-cpp/yaml.h>
+
+#include <sstream>
 
 #include <stdexcept>
 #include <string>
 #include <string_view>
-#include <vector>
 
 namespace i20::params {
 
@@ -23,29 +26,84 @@ inline std::string yaml_problem(const YAML::Exception& e) {
   return "not valid YAML: " + e.msg;
 }
 
+// What a pass over a YAML stream's documents saw, without building nodes: whether a
+// document after the first holds anything, and whether the parser stopped advancing.
+// yaml-cpp 0.7's own LoadAll loops for ever on some broken input (a stray ',' makes every
+// "next document" an empty one at the same place), so documents are walked here, with a
+// guard, instead.
+class DocumentWalk final : public YAML::EventHandler {
+ public:
+  struct Finding {
+    enum class Kind { None, SecondDocument, Stuck } kind = Kind::None;
+    int line = 0;  // 0-based, as yaml-cpp counts
+  };
+
+  static Finding walk(const std::string& yaml) {
+    std::istringstream in(yaml);
+    YAML::Parser parser(in);
+    DocumentWalk walk;
+    for (int index = 0;; ++index) {
+      walk.content_ = false;
+      walk.null_at_ = -1;
+      if (!parser.HandleNextDocument(walk)) return {};
+      if (index > 0 && walk.content_) return {Finding::Kind::SecondDocument, walk.start_line_};
+      // An empty document that starts where the last one did: the parser cannot read on.
+      if (!walk.content_ && walk.null_at_ >= 0 && walk.null_at_ == walk.last_null_at_)
+        return {Finding::Kind::Stuck, walk.start_line_};
+      walk.last_null_at_ = walk.null_at_;
+    }
+  }
+
+  void OnDocumentStart(const YAML::Mark& mark) override { start_line_ = mark.line; }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& mark, YAML::anchor_t) override {
+    if (!content_) null_at_ = mark.pos;
+  }
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override { content_ = true; }
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {
+    content_ = true;
+  }
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    content_ = true;
+  }
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    content_ = true;
+  }
+  void OnMapEnd() override {}
+
+ private:
+  bool content_ = false;
+  int start_line_ = 0;
+  int null_at_ = -1;
+  int last_null_at_ = -2;
+};
+
 // Parses `yaml` read from `source`. A syntax error goes to `fail("SOURCE:LINE", problem)`,
 // which throws the loader's own error type.
 // A file holds one document: a second one after `---` (even a broken one) is refused, not
 // silently dropped, so nothing a user wrote goes unread.
 template <class Fail>
 YAML::Node load_yaml(std::string_view yaml, const std::string& source, Fail&& fail) {
-  std::vector<YAML::Node> documents;
+  const std::string text(yaml);
+  const auto where = [&](int line) { return source + ":" + std::to_string(line >= 0 ? line + 1 : 1); };
+  YAML::Node first;
+  DocumentWalk::Finding finding;
   try {
-    documents = YAML::LoadAll(std::string(yaml));
+    finding = DocumentWalk::walk(text);
+    first = YAML::Load(text);
   } catch (const YAML::Exception& e) {
-    fail(source + ":" + std::to_string(e.mark.line + 1), yaml_problem(e));
+    fail(where(e.mark.line), yaml_problem(e));
     throw;  // only if `fail` did not throw
   }
-  // An empty document (a stray `---` at the end) drops nothing; any other is refused.
-  for (std::size_t i = 1; i < documents.size(); ++i) {
-    if (documents[i].IsNull()) continue;
-    const int line = documents[i].Mark().line;
-    fail(
-        source + ":" + std::to_string(line >= 0 ? line + 1 : 1),
-        "a second YAML document (after ---): a file holds one; split it into files, or remove the extra one");
-    throw std::logic_error("load_yaml: fail() returned");
-  }
-  return documents.empty() ? YAML::Node() : documents.front();
+  using Kind = DocumentWalk::Finding::Kind;
+  if (finding.kind == Kind::SecondDocument)
+    fail(where(finding.line),
+         "a second YAML document (after ---): a file holds one; split it into files, or remove the extra one");
+  if (finding.kind == Kind::Stuck)
+    fail(where(finding.line), "not valid YAML: the parser cannot read past this line (a stray ',' or similar)");
+  if (finding.kind != Kind::None) throw std::logic_error("load_yaml: fail() returned");
+  return first;
 }
 
 }  // namespace i20::params

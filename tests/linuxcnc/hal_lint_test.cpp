@@ -157,6 +157,18 @@ TEST(HalLint, AHugeBldcInstanceNumberIsJustANameNotACrash) {
             std::vector<int>{2});
 }
 
+// A bldc whose out is netted back to its own value (or two bldcs feeding each other) is a
+// loop in the file, not in the linter: the 8I20's current is still traced to its pid.
+TEST(HalLint, ABldcLoopedOnItselfIsFollowedOnce) {
+  const std::string looped = good_axis() + "net loop bldc.0.out bldc.0.value\n";
+  std::vector<LintFinding> findings;
+  ASSERT_NO_THROW(findings = lint_text(looped, {10.0, std::nullopt}));
+  const std::string two =
+      "loadrt bldc cfg=qh,qh\nnet a bldc.0.out bldc.1.value\nnet b bldc.1.out bldc.0.value pid.0.output\n"
+      "net c bldc.0.out\nsetp pid.0.maxoutput 0\n";
+  EXPECT_NO_THROW(lint_text(two, {10.0, std::nullopt}));
+}
+
 TEST(HalLint, BldcNamesAreNotJudgedWhenTheCfgComesFromTheIniFile) {
   EXPECT_TRUE(lint_text("loadrt bldc cfg=[BLDC]CFG\nnet i bldc.0.init\nnet r bldc.1.rawcounts\n").empty());
 }
