@@ -3,11 +3,13 @@
 // i20 hal lint FILE...: checks LinuxCNC HAL files for the 8I20 mistakes old sample configs
 // and PnCconf carry. Both are offline: no card is opened.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
 #include "context.hpp"
+#include "hal_load_run.hpp"
 #include "linuxcnc/hal_design.hpp"
 #include "linuxcnc/hal_generate.hpp"
 #include "linuxcnc/hal_lint.hpp"
@@ -65,6 +67,8 @@ struct LintCliOptions {
   std::string max_current;
   std::string profile;
   std::optional<int> pattern;
+  bool load = false;
+  std::string ini;
 };
 
 app::Json finding_json(const L::LintFinding& f) {
@@ -74,16 +78,44 @@ app::Json finding_json(const L::LintFinding& f) {
   return j.set("rule", f.rule).set("message", f.message).set("fix", f.fix);
 }
 
+// --load: the files run in halrun against the virtual card; halcmd's complaints join the
+// findings, in file and line order.
+void add_load_findings(const std::vector<L::HalSource>& sources, const LintCliOptions& o,
+                       std::vector<L::LintFinding>& findings) {
+  const auto ini =
+      o.ini.empty() ? std::optional<std::string>() : std::optional<std::string>(read_file(o.ini));
+  const auto loaded = load_in_halrun(sources, ini);
+  findings.insert(findings.end(), loaded.findings.begin(), loaded.findings.end());
+  const auto order = [&](const L::LintFinding& f) {
+    const auto it =
+        std::find_if(sources.begin(), sources.end(), [&](const auto& s) { return s.file == f.at.file; });
+    return std::pair{it - sources.begin(), f.at.line};
+  };
+  std::stable_sort(findings.begin(), findings.end(),
+                   [&](const auto& a, const auto& b) { return order(a) < order(b); });
+  std::cerr << "i20: loaded in halrun against " << loaded.ran << ": " << loaded.findings.size() << " name"
+            << (loaded.findings.size() == 1 ? "" : "s") << " halcmd rejected";
+  if (!loaded.left_out.empty())
+    std::cerr << "; " << loaded.left_out.size() << " line" << (loaded.left_out.size() == 1 ? "" : "s")
+              << " left out (they need a running LinuxCNC), first "
+              << params::printable(loaded.left_out.front());
+  std::cerr << "\n";
+}
+
 void run_lint(Context& ctx, const LintCliOptions& o) {
   L::LintOptions options;
   options.max_current = max_current(ctx, o.max_current, o.profile);
   options.pattern = o.pattern;
+  std::vector<L::HalSource> sources;
   std::vector<L::Statement> statements;
   for (const auto& file : o.files) {
-    auto s = L::read_hal(read_file(file), file);  // HalSyntaxError: exit 2, FILE:LINE named
+    std::string text = read_file(file);
+    auto s = L::read_hal(text, file);  // HalSyntaxError: exit 2, FILE:LINE named
     statements.insert(statements.end(), s.begin(), s.end());
+    sources.push_back({file, std::move(text), std::move(s)});
   }
-  const auto findings = L::lint(statements, options);
+  auto findings = L::lint(statements, options);
+  if (o.load) add_load_findings(sources, o, findings);
   if (ctx.options.json) {
     auto list = app::Json::array();
     for (const auto& f : findings) list.push(finding_json(f));
@@ -209,6 +241,14 @@ void register_hal_commands(CLI::App& app, Context& ctx) {
       ->excludes("--max-current");
   lint->add_option("--pattern", lo->pattern,
                    "The Hall pattern commissioning found: report every bldc with Halls that uses another");
+  lint->add_flag(
+      "--load", lo->load,
+      "Also run the files in LinuxCNC's halrun against a virtual 7I96S or 7I92T (i20sim, in network "
+      "namespaces of its own: needs root and linuxcnc-uspace) and report every pin, parameter or "
+      "function halcmd says does not exist on its line. Lines that need a running LinuxCNC "
+      "(loadusr, iocontrol, halui, GUI pins) are left out and counted");
+  lint->add_option("--ini", lo->ini, "The configuration's INI file, for --load of files that read INI values")
+      ->needs("--load");
   lint->callback([&ctx, lo] { run_lint(ctx, *lo); });
 }
 

@@ -562,23 +562,10 @@ void write_new_file(const std::string& file, const std::string& text, bool overw
   write_file_atomically(file, text, overwrite);
 }
 
-// The YAML of a saved card, proved to load back to exactly the values read before anyone
-// relies on it.
-std::string saved_yaml(const Profile& saved, const params::ParamDb& db, const std::string& file) {
-  const std::string yaml = profile::to_yaml(saved, db);
-  const Profile again = profile::load_profile_string(yaml, file, db);
-  for (std::size_t i = 0; i < saved.settings.size(); ++i)
-    if (again.settings.at(i).raw != saved.settings[i].raw)
-      throw Error("the saved profile does not read back to the values read from the card");
-  return yaml;
-}
-
 // Refused before the link opens: an existing file, a name not in the database or read-only.
 void check_save_request(const SaveCliOptions& o, const params::ParamDb& db) {
   check_output_file(o.file, o.overwrite);
-  for (const auto& n : o.names)
-    if (!db.get(n).writable())
-      throw UsageError(n + " is read-only: a profile holds settings that can be written back");
+  ops::check_save_names(o.names, db);
 }
 
 void run_save(Context& ctx, const SaveCliOptions& o) {
@@ -590,8 +577,7 @@ void run_save(Context& ctx, const SaveCliOptions& o) {
               : o.file == "-" ? "saved"
                               : std::filesystem::path(o.file).stem().string();
   save.notes = "Saved with `i20 profile save`. Apply this file to write these values back.";
-  const Profile saved = ops::save_profile(*card, o.names, save);
-  const std::string yaml = saved_yaml(saved, card->db(), o.file);
+  const auto [saved, yaml] = ops::save_card(*card, o.names, save, o.file);
   if (o.file == "-") {
     std::cout << yaml;
     return;

@@ -13,12 +13,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path own_executable() {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? fs::path() : exe;
-}
-
 void add_unique(std::vector<profile::SearchDir>& dirs, const fs::path& dir, const std::string& origin) {
   if (dir.empty()) return;
   const fs::path normal = dir.lexically_normal();
@@ -39,6 +33,12 @@ void add_environment(std::vector<profile::SearchDir>& dirs) {
 }
 
 }  // namespace
+
+fs::path own_executable() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? fs::path() : exe;
+}
 
 std::vector<profile::SearchDir> profile_search_dirs() {
   std::vector<profile::SearchDir> dirs;

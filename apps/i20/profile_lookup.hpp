@@ -5,11 +5,16 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <vector>
 
 #include "profile/locate.hpp"
 
 namespace i20::cli {
+
+// This program's own path (/proc/self/exe), empty when unknown: installed files are found
+// relative to it.
+std::filesystem::path own_executable();
 
 // The directories in search order, for this process (environment and executable location).
 std::vector<profile::SearchDir> profile_search_dirs();

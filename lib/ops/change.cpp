@@ -5,7 +5,9 @@
 #include "ops/read.hpp"
 #include "ops/undo.hpp"
 #include "params/value.hpp"
+#include "profile/loader.hpp"
 #include "profile/validate.hpp"
+#include "profile/writer.hpp"
 
 namespace i20::ops {
 namespace {
@@ -82,6 +84,23 @@ profile::Profile save_profile(Card& card, const std::vector<std::string>& names,
   auto with_origin = options;
   with_origin.origin = origin_of(card);
   return profile::profile_from_values(values, saved, card.db(), card.describe(), with_origin);
+}
+
+void check_save_names(const std::vector<std::string>& names, const params::ParamDb& db) {
+  for (const auto& n : names)
+    if (!db.get(n).writable())
+      throw UsageError(n + " is read-only: a profile holds settings that can be written back");
+}
+
+SavedCard save_card(Card& card, const std::vector<std::string>& names, const profile::SaveOptions& options,
+                    const std::string& source) {
+  SavedCard saved{save_profile(card, names, options), {}};
+  saved.yaml = profile::to_yaml(saved.profile, card.db());
+  const auto again = profile::load_profile_string(saved.yaml, source, card.db());
+  for (std::size_t i = 0; i < saved.profile.settings.size(); ++i)
+    if (again.settings.at(i).raw != saved.profile.settings[i].raw)
+      throw Error("the saved profile does not read back to the values read from the card");
+  return saved;
 }
 
 }  // namespace i20::ops

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "device/amp.hpp"
-#include "params/param_db.hpp"
 #include "ops/card.hpp"
+#include "params/param_db.hpp"
 #include "profile/profile.hpp"
 #include "profile/save.hpp"
 
@@ -21,11 +21,11 @@ enum class ValueSyntax {
 
 // "NAME=VALUE" strings (i20 set) into a profile whose entries target the space each name
 // names. Throws UsageError / UnknownParameter / ValueError (bad input, nothing sent).
-profile::Profile profile_from_assignments(const std::vector<std::string>& assignments, const params::ParamDb& db,
-                                          ValueSyntax syntax);
+profile::Profile profile_from_assignments(const std::vector<std::string>& assignments,
+                                          const params::ParamDb& db, ValueSyntax syntax);
 // One name and value (wpd).
-profile::Profile profile_from_value(const std::string& name, const std::string& value, const params::ParamDb& db,
-                                    ValueSyntax syntax);
+profile::Profile profile_from_value(const std::string& name, const std::string& value,
+                                    const params::ParamDb& db, ValueSyntax syntax);
 
 // The rules that need no card, for every cell of the profile: read-only, known address,
 // range, guard, the card's fixed limits. Throws SafetyError (exit 3) naming the first
@@ -37,5 +37,18 @@ void precheck(const profile::Profile& profile, const params::ParamDb& db, const 
 // is not confirmed for its firmware is refused (SafetyError), not saved as a guess.
 profile::Profile save_profile(Card& card, const std::vector<std::string>& names,
                               const profile::SaveOptions& options);
+
+// Refused before the link opens: a name that is read-only (a saved profile holds settings
+// that can be written back). Throws UsageError.
+void check_save_names(const std::vector<std::string>& names, const params::ParamDb& db);
+
+// A saved card: the profile and its YAML, proved to load back to exactly the values read
+// before anyone relies on it (Error otherwise). `source` names the file in messages.
+struct SavedCard {
+  profile::Profile profile;
+  std::string yaml;
+};
+SavedCard save_card(Card& card, const std::vector<std::string>& names, const profile::SaveOptions& options,
+                    const std::string& source);
 
 }  // namespace i20::ops

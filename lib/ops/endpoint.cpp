@@ -2,11 +2,13 @@
 #include "ops/endpoint.hpp"
 
 #include <filesystem>
+#include <map>
 #include <set>
+#include <stdexcept>
 
+#include "error/error.hpp"
 #include "eth/passthrough_link.hpp"
 #include "eth/target.hpp"
-#include "error/error.hpp"
 #include "link/serial_link.hpp"
 #include "ops/link_options.hpp"
 #include "sim/param_map.hpp"
@@ -43,6 +45,7 @@ Endpoint eth_endpoint(const eth::EthTarget& target, std::string text) {
   e.kind = Endpoint::Kind::Eth;
   e.text = std::move(text);
   e.eth_url = target.url();
+  e.eth = target;
   // The channels of one Ethernet card share its UDP port and its SSLBP engine: one line.
   e.line_key = "eth:" + target.card.describe();
   return e;
@@ -174,7 +177,7 @@ std::unique_ptr<link::Link> open_link(const Endpoint& e, const params::ParamDb& 
       return std::make_unique<link::PipelinedLink>(std::move(stream), link_options);
     }
     case Endpoint::Kind::Eth: {
-      return eth::SslbpPassthroughLink::open(eth::parse_target(e.eth_url), passthrough_options(s, retry));
+      return eth::SslbpPassthroughLink::open(e.eth_target(), passthrough_options(s, retry));
     }
     case Endpoint::Kind::Serial: {
       link::SerialOptions serial;
@@ -183,6 +186,23 @@ std::unique_ptr<link::Link> open_link(const Endpoint& e, const params::ParamDb& 
     }
   }
   throw UsageError("unknown target kind");
+}
+
+const eth::EthTarget& Endpoint::eth_target() const {
+  if (!eth) throw std::logic_error("Endpoint::eth_target: " + text + " is not an Ethernet target");
+  return *eth;
+}
+
+std::vector<std::vector<std::size_t>> group_by_line(const std::vector<Endpoint>& targets, bool with_eth) {
+  std::vector<std::vector<std::size_t>> groups;
+  std::map<std::string, std::size_t> group_of;
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    if (targets[i].is_eth() && !with_eth) continue;
+    const auto [it, fresh] = group_of.try_emplace(targets[i].line_key, groups.size());
+    if (fresh) groups.emplace_back();
+    groups[it->second].push_back(i);
+  }
+  return groups;
 }
 
 }  // namespace i20::ops

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "eth/target.hpp"
 #include "link/link.hpp"
 #include "link/ports.hpp"
 #include "params/param_db.hpp"
@@ -25,15 +26,18 @@ namespace i20::ops {
 struct Endpoint {
   enum class Kind { Serial, Sim, Eth };
   Kind kind = Kind::Sim;
-  std::string text;      // as the user named it, for tables and messages
-  std::string path;      // Serial: the device (COMn mapped); Sim: the EEPROM image file, may be empty
-  std::string eth_url;   // Eth: the canonical eth:// URL
-  std::string line_key;  // endpoints with the same key share one physical line
+  std::string text;     // as the user named it, for tables and messages
+  std::string path;     // Serial: the device (COMn mapped); Sim: the EEPROM image file, may be empty
+  std::string eth_url;  // Eth: the canonical eth:// URL
+  std::optional<eth::EthTarget> eth;  // Eth: the URL parsed, once
+  std::string line_key;               // endpoints with the same key share one physical line
 
   // The global options that name this endpoint, for advice lines: "--port /dev/ttyUSB0",
   // "--sim --sim-eeprom a.eeprom", "--port eth://10.0.0.2/port0/ch1".
   std::string flags() const;
   bool is_eth() const { return kind == Kind::Eth; }
+  // The Ethernet target; std::logic_error for another kind (a caller's bug).
+  const eth::EthTarget& eth_target() const;
 };
 
 // The forms, for help texts and error messages.
@@ -41,6 +45,11 @@ extern const char* const kEndpointForms;
 
 // One target string. `index` makes every plain `sim` its own line. Throws UsageError.
 Endpoint parse_endpoint(const std::string& text, std::size_t index = 0);
+
+// Targets that share a line (a serial port, a simulator image, an Ethernet card) are worked
+// one after another, lines side by side: the indices into `targets` per line, in order.
+// Ethernet targets are left out unless `with_eth` (the fleet batches them per SSERIAL port).
+std::vector<std::vector<std::size_t>> group_by_line(const std::vector<Endpoint>& targets, bool with_eth);
 
 // The global flags: exactly one of port, sim, eth (port may be an eth:// URL or COMn).
 struct TargetFlags {

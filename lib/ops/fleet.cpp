@@ -11,19 +11,6 @@
 namespace i20::ops {
 namespace {
 
-// Targets that share a serial line or an in-process simulator run one after another.
-std::vector<std::vector<std::size_t>> by_line(const std::vector<Endpoint>& targets) {
-  std::vector<std::vector<std::size_t>> groups;
-  std::map<std::string, std::size_t> group_of;
-  for (std::size_t i = 0; i < targets.size(); ++i) {
-    if (targets[i].is_eth()) continue;
-    const auto [it, fresh] = group_of.try_emplace(targets[i].line_key, groups.size());
-    if (fresh) groups.emplace_back();
-    groups[it->second].push_back(i);
-  }
-  return groups;
-}
-
 // The channels of one SSERIAL port: one PassthroughPort serves them all, and their
 // commands share DOITs (SSLBP's channel mask), so they run side by side.
 struct EthPort {
@@ -41,7 +28,7 @@ std::vector<EthPort> by_port(const std::vector<Endpoint>& targets) {
   std::vector<EthPort> ports;
   for (std::size_t i = 0; i < targets.size(); ++i) {
     if (!targets[i].is_eth()) continue;
-    const auto t = eth::parse_target(targets[i].eth_url);
+    const auto t = targets[i].eth_target();
     auto it = std::find_if(ports.begin(), ports.end(), [&](const EthPort& p) {
       return p.card == t.card && p.sserial_port == t.sserial_port;
     });
@@ -78,7 +65,7 @@ void for_each_target(const std::vector<Endpoint>& targets, const params::ParamDb
   auto ports = by_port(targets);
   open_ports(ports, open);
   std::vector<std::thread> threads;
-  for (const auto& line : by_line(targets))
+  for (const auto& line : group_by_line(targets, false))
     threads.emplace_back([&, line] {
       for (const std::size_t i : line) task(i, [&, i] { return Card::open(targets[i], db, open, cancel); });
     });
@@ -88,7 +75,7 @@ void for_each_target(const std::vector<Endpoint>& targets, const params::ParamDb
         task(i, [&p]() -> std::unique_ptr<Card> { throw Error(p.error, p.kind, p.advice); });
         continue;
       }
-      const unsigned channel = eth::parse_target(targets[i].eth_url).channel;
+      const unsigned channel = targets[i].eth_target().channel;
       threads.emplace_back([&, i, channel, port = p.port] {
         task(i, [&, i, channel, port] {
           return Card::attach(port->link(channel), targets[i], db, open.retry, cancel);

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "ops/inventory.hpp"
 
-#include <map>
 #include <thread>
 
 #include "device/errors.hpp"
@@ -11,22 +10,9 @@
 namespace i20::ops {
 namespace {
 
-// Targets that share a line (a serial port, a simulator image, an Ethernet card) are read
-// one after another; lines run side by side.
-std::vector<std::vector<std::size_t>> by_line(const std::vector<Endpoint>& targets) {
-  std::vector<std::vector<std::size_t>> groups;
-  std::map<std::string, std::size_t> group_of;
-  for (std::size_t i = 0; i < targets.size(); ++i) {
-    const auto [it, fresh] = group_of.try_emplace(targets[i].line_key, groups.size());
-    if (fresh) groups.emplace_back();
-    groups[it->second].push_back(i);
-  }
-  return groups;
-}
-
 std::string linuxcnc_name_of(const Endpoint& target) {
   if (!target.is_eth()) return {};
-  const auto t = eth::parse_target(target.eth_url);
+  const auto t = target.eth_target();
   return "8i20." + std::to_string(t.sserial_port) + "." + std::to_string(t.channel);
 }
 
@@ -106,7 +92,7 @@ std::vector<profile::DiffRow> diff_card(Card& card, const profile::Profile& prof
 std::vector<InventoryRow> read_inventory(const std::vector<Endpoint>& targets, const InventoryJob& job) {
   std::vector<InventoryRow> rows(targets.size());
   std::vector<std::thread> threads;
-  for (const auto& line : by_line(targets))
+  for (const auto& line : group_by_line(targets, true))
     threads.emplace_back([&, line] {
       for (const std::size_t i : line) rows[i] = read_one(targets[i], job);
     });

@@ -62,7 +62,7 @@ bool is_eth_target(const Session& session) {
 
 std::unique_ptr<LiveSource> make_live_source(Session& session, LiveMode mode) {
   if (mode == LiveMode::NormalModeOnEthernet && is_eth_target(session))
-    return std::make_unique<NormalModeSource>(eth::parse_target(session.endpoint().eth_url),
+    return std::make_unique<NormalModeSource>(session.endpoint().eth_target(),
                                               session.options().link.take_over);
   return std::make_unique<RegisterSource>(session);
 }

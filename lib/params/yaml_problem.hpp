@@ -4,13 +4,12 @@
 #pragma once
 
 #include <yaml-cpp/depthguard.h>
-#include <yaml-cpp/exceptions.h>
 #include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/exceptions.h>
 #include <yaml-cpp/parser.h>
 #include <yaml-cpp/yaml.h>
 
 #include <sstream>
-
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -63,7 +62,8 @@ class DocumentWalk final : public YAML::EventHandler {
   void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {
     content_ = true;
   }
-  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {
     content_ = true;
   }
   void OnSequenceEnd() override {}
@@ -98,10 +98,12 @@ YAML::Node load_yaml(std::string_view yaml, const std::string& source, Fail&& fa
   }
   using Kind = DocumentWalk::Finding::Kind;
   if (finding.kind == Kind::SecondDocument)
-    fail(where(finding.line),
-         "a second YAML document (after ---): a file holds one; split it into files, or remove the extra one");
+    fail(
+        where(finding.line),
+        "a second YAML document (after ---): a file holds one; split it into files, or remove the extra one");
   if (finding.kind == Kind::Stuck)
-    fail(where(finding.line), "not valid YAML: the parser cannot read past this line (a stray ',' or similar)");
+    fail(where(finding.line),
+         "not valid YAML: the parser cannot read past this line (a stray ',' or similar)");
   if (finding.kind != Kind::None) throw std::logic_error("load_yaml: fail() returned");
   return first;
 }

@@ -12,7 +12,9 @@
 #   - hostmot2's encoder position equals the simulator's rotor angle;
 #   - with the wrong encoder sign in bldc (scale negated), and with a wrong Hall pattern, the
 #     motor does NOT follow: the check above can fail;
-#   - the HAL `i20 hal` writes for the card's two axes loads against it (every name real).
+#   - the HAL `i20 hal` writes for the card's axes loads against it (every name real), and,
+#     enabled (the test standing in for LinuxCNC's task and E-stop loop), its pid turns the
+#     motor both ways and the machine drops out of E-stop when the 8I20 latches a fault.
 # The namespaces, the simulator and halrun come from rig.sh.
 #
 # usage: axis_test.sh I20SIM MOTOR_FILE [I20]     exit 0 pass, 1 fail, 77 skipped
@@ -24,6 +26,10 @@ I20=${3:-}
 # shellcheck source=rig.sh
 source "$(dirname "${BASH_SOURCE[0]}")/rig.sh"
 TORQUE_A=0.08 # 36 mNm with Kt 0.45 Nm/A against 20 mNm of Coulomb friction
+
+# A reading in halrun's output as "NAME=value": a pin or parameter (getp), a signal (gets).
+report() { printf 'loadusr -w %s %s\ngetp %s\n' "$work/label" "$1" "$2"; }
+report_signal() { printf 'loadusr -w %s %s\ngets %s\n' "$work/label" "$1" "$2"; }
 
 # The experiment as one HAL file: the axis with the motor's true configuration (`extra`
 # appended: a deliberate mistake), then the torque steps and the readings as halcmd lines,
@@ -37,7 +43,6 @@ write_axis_hal() {
   chmod 755 "$work/label" "$work/hold"
   rm -f "$work/release"
   mkfifo -m 666 "$work/release"
-  report() { printf 'loadusr -w %s %s\ngetp %s\n' "$work/label" "$1" "$2"; }
   torque_for() { printf 'sets torque-cmd %s\nloadusr -w sleep %s\n' "$1" "$2"; }
   {
     printf '%s\n' \
@@ -181,22 +186,70 @@ check_generated_hal() {
   # change loop) are left out of the load and reported.
   grep -v 'iocontrol\.0\.' "$work/generated.hal" >"$work/loadable.hal"
   io_lines=$(grep -c 'iocontrol\.0\.' "$work/generated.hal")
+  local estop_pin rawcounts=$BOARD.encoder.$ENC.rawcounts pid=pid.$CHANNEL sig=j$CHANNEL-
+  estop_pin=$(sed -n 's/^net estop-ext \([^ ]*\) => .*/\1/p' "$work/generated.hal")
+  [[ -n $estop_pin ]] || fail "i20 hal did not net --estop-in to estop-ext"
   {
     # The linuxcnc start script loads these before the HAL files (2.9: motmod needs them).
     printf 'loadrt homemod\nloadrt tpmod\nsource %s\n' "$work/loadable.hal"
+    # No task runs here to take the machine out of E-stop and turn it on: the test stands in
+    # for it (the joint's amp-enable-out) and for a closed E-stop loop (the input pin).
+    printf 'unlinkp joint.%s.amp-enable-out\nunlinkp %s\n' "$CHANNEL" "$estop_pin"
+    # This host's servo thread is not realtime: tolerate its late DOITs as the experiment
+    # above does (a real machine's thread keeps time; the generated file leaves fault-lim be).
+    printf 'setp %s.sserial.port-0.fault-lim 1000000\n' "$BOARD"
+    printf 'sets estop-ext TRUE\nsets %senable TRUE\n' "$sig"
     printf 'start\nloadusr -w sleep 1\n'
-    printf 'loadusr -w %s watchdog\ngetp %s.fault.watchdog\n' "$work/label" "$AMP"
+    report ok_before i20-estop-ok.and # the estop-ok signal: its iocontrol end is left out
+    report watchdog "$AMP.fault.watchdog"
+    report start "$rawcounts"
+    # With the INI's gains at 0 the pid's output is its bias: a torque command in amps.
+    printf 'setp %s.bias %s\nloadusr -w sleep 0.6\n' "$pid" "$TORQUE_A"
+    report forward "$rawcounts"
+    printf 'setp %s.bias -%s\nloadusr -w sleep 1.2\n' "$pid" "$TORQUE_A"
+    report back "$rawcounts"
+    printf 'setp %s.bias 0\n' "$pid"
+    # The test makes the simulator latch an overcurrent now, then lets HAL read on.
+    printf 'loadusr -w %s fault_now\nloadusr -w echo\nloadusr -w %s\nloadusr -w sleep 0.5\n' "$work/label" "$work/hold"
+    report_signal fault_after "${sig}8i20-fault"
+    report ok_after i20-estop-ok.and
+    printf 'loadusr -w %s done\n' "$work/label"
   } >"$work/load.hal"
   chmod 644 "$work/loadable.hal" "$work/axis.ini" "$work/load.hal"
+  rm -f "$work/release"
+  mkfifo -m 666 "$work/release"
   start_sim
-  if ! hal env INI_FILE_NAME="$work/axis.ini" timeout 60 halrun -i "$work/axis.ini" -f "$work/load.hal" \
-    >"$work/load.out" 2>&1; then
-    grep -v "IO Pin" "$work/load.out" | tail -20
+  hal env INI_FILE_NAME="$work/axis.ini" timeout 60 halrun -i "$work/axis.ini" -f "$work/load.hal" \
+    >"$work/hal.out" 2>&1 &
+  hal_pid=$!
+  for _ in $(seq 300); do
+    grep -q '^fault_now=' "$work/hal.out" && break
+    kill -0 "$hal_pid" 2>/dev/null || break
+    sleep 0.1
+  done
+  grep -q '^fault_now=' "$work/hal.out" || {
+    grep -v "IO Pin" "$work/hal.out" | tail -20
     fail "the HAL i20 hal writes did not load against the virtual card"
-  fi
+  }
+  [[ $(sim_ask "ch $CHANNEL fault overcurrent on") == ok ]] || fail "the simulator did not take the fault"
+  echo >"$work/release"
+  timeout 30 tail --pid="$hal_pid" -f /dev/null || fail "halrun did not exit"
+  hal_pid=""
   stop_sim
+  grep -q '^done=' "$work/hal.out" || {
+    grep -v "IO Pin" "$work/hal.out" | tail -20
+    fail "halrun stopped before the end of the generated configuration's run"
+  }
+  moved_forward=$(($(value forward) - $(value start)))
+  moved_back=$(($(value forward) - $(value back)))
   note "i20 hal: the generated HAL ($CHANNELS axis/axes, motion) loaded and ran, less its $io_lines iocontrol lines;" \
-    "axis $CHANNEL fault.watchdog $(sed -n 's/^watchdog=//p' "$work/load.out")"
+    "enabled: i20-estop-ok.and $(value ok_before), fault.watchdog $(value watchdog); bias +/-$TORQUE_A A moved" \
+    "$moved_forward / $moved_back counts; after an overcurrent: ${sig}8i20-fault $(value fault_after)," \
+    "i20-estop-ok.and $(value ok_after)"
+  [[ $(value ok_before) == TRUE ]] || fail "the generated configuration was not out of E-stop with no fault"
+  follows || fail "the generated configuration's torque command did not turn the motor (forward $moved_forward, back $moved_back counts)"
+  [[ $(value fault_after) == TRUE ]] || fail "the 8I20's overcurrent did not reach ${sig}8i20-fault"
+  [[ $(value ok_after) == FALSE ]] || fail "the machine did not drop out (estop-ok stayed TRUE) on the 8I20's fault"
 }
 if [[ -n $I20 && -x $I20 ]]; then
   check_generated_hal

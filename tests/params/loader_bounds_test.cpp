@@ -84,7 +84,8 @@ TEST(ParamDbBounds, DeepNestingIsOneLineOfError) {
 // yaml-cpp 0.7 cannot read past a stray ',' and its LoadAll then returns empty documents
 // for ever (the fuzzer's timeout): the loader says where it stuck, and returns.
 TEST(ParamDbBounds, AStrayCommaIsRefusedNotLoopedOn) {
-  EXPECT_EQ(error_of("\n,\n"), "bad.yaml:2: not valid YAML: the parser cannot read past this line (a stray ',' or similar)");
+  EXPECT_EQ(error_of("\n,\n"),
+            "bad.yaml:2: not valid YAML: the parser cannot read past this line (a stray ',' or similar)");
   EXPECT_EQ(error_of("parameters: []\n,\n").rfind("bad.yaml:", 0), 0u);
   EXPECT_EQ(error_of("parameters: []\n---\n---\n"), error_of("parameters: []\n"))
       << "empty documents drop nothing";

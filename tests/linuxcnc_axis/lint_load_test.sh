@@ -1,0 +1,56 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-or-later
+# `i20 hal lint --load` against the virtual card: the HAL `i20 hal` writes loads with no name
+# halcmd rejects (its iocontrol lines left out and counted), and a name no component creates
+# (an encoder the 7I96S does not have) becomes a finding on its own line, which the lint
+# alone cannot see.
+#
+# usage: lint_load_test.sh I20      exit 0 pass, 1 fail, 77 skipped
+set -u
+I20=${1:?usage: lint_load_test.sh I20}
+fail() {
+  echo "FAIL: $*"
+  exit 1
+}
+[[ $EUID -eq 0 ]] || { echo "SKIPPED: needs root (network namespaces)" && exit 77; }
+command -v halrun >/dev/null || { echo "SKIPPED: LinuxCNC's halrun is not installed" && exit 77; }
+ip netns list >/dev/null 2>&1 || { echo "SKIPPED: 'ip netns' is not available" && exit 77; }
+work=$(mktemp -d /tmp/i20-lint-load.XXXXXX)
+trap 'rm -rf "$work"' EXIT
+chmod 755 "$work"
+ip=192.168.1.121
+
+"$I20" hal --board 7i96s --axes 1 --board-ip $ip --cfg qh --pattern 25 --poles 8 --counts-per-rev 10000 \
+  --max-current 10A --halls hm2_7i96s.0.inm.00.input-00,hm2_7i96s.0.inm.00.input-01,hm2_7i96s.0.inm.00.input-02 \
+  -o "$work/axis.hal" 2>/dev/null || fail "i20 hal failed"
+printf '[KINS]\nKINEMATICS = trivkins coordinates=X\nJOINTS = 1\n[EMCMOT]\nEMCMOT = motmod\nSERVO_PERIOD = 1000000\n' >"$work/axis.ini"
+printf '[JOINT_0]\nENCODER_SCALE = 10000\nP = 0\nI = 0\nD = 0\nFF0 = 0\nFF1 = 0\nFF2 = 0\nBIAS = 0\nDEADBAND = 0\n' >>"$work/axis.ini"
+
+# 1. What i20 hal writes: clean.
+"$I20" hal lint --load --ini "$work/axis.ini" "$work/axis.hal" >"$work/clean.out" 2>"$work/clean.err"
+status=$?
+cat "$work/clean.err"
+((status == 0)) || fail "the generated HAL did not load clean (exit $status): $(cat "$work/clean.out")"
+grep -q "against a virtual 7I96S at $ip: 0 names halcmd rejected" "$work/clean.err" || fail "no load summary"
+grep -q "left out (they need a running LinuxCNC)" "$work/clean.err" || fail "the iocontrol lines were not counted"
+
+# 2. A name the 7I96S does not create, on a known line; and a GUI's pins, left out.
+cp "$work/axis.hal" "$work/bad.hal"
+printf 'net spindle-fb hm2_7i96s.0.encoder.07.position\n' >>"$work/bad.hal"
+bad_line=$(wc -l <"$work/bad.hal")
+printf 'loadusr -W hal_manualtoolchange\nnet tool-change hal_manualtoolchange.change => hm2_7i96s.0.ssr.00.out-00\n' >>"$work/bad.hal"
+"$I20" hal lint "$work/bad.hal" >/dev/null 2>&1 || fail "the lint alone already complains: the test shows nothing"
+"$I20" hal lint --load --ini "$work/axis.ini" "$work/bad.hal" >"$work/bad.out" 2>"$work/bad.err"
+status=$?
+cat "$work/bad.out" "$work/bad.err"
+((status == 1)) || fail "exit $status, not 1 (findings)"
+grep -q "^$work/bad.hal:$bad_line: error: halcmd: .*hm2_7i96s.0.encoder.07.position" "$work/bad.out" ||
+  fail "the missing encoder pin is not a finding on line $bad_line"
+chmod 644 "$work"/*
+(($(wc -l <"$work/bad.out") == 1)) || fail "more findings than the one wrong name"
+
+# 3. Without root's namespaces it says why, exit 2.
+runuser -u nobody -- "$I20" hal lint --load "$work/axis.hal" >/dev/null 2>"$work/user.err"
+status=$?
+((status == 2)) && grep -q "needs root" "$work/user.err" || fail "as a user: exit $status, $(cat "$work/user.err")"
+echo "lint_load_test: passed"
