@@ -45,7 +45,7 @@ class DocumentWalk final : public YAML::EventHandler {
       walk.content_ = false;
       walk.null_at_ = -1;
       if (!parser.HandleNextDocument(walk)) return {};
-      if (index > 0 && walk.content_) return {Finding::Kind::SecondDocument, walk.start_line_};
+      if (index > 0 && walk.content_) return {Finding::Kind::SecondDocument, walk.content_line_};
       // An empty document that starts where the last one did: the parser cannot read on.
       if (!walk.content_ && walk.null_at_ >= 0 && walk.null_at_ == walk.last_null_at_)
         return {Finding::Kind::Stuck, walk.start_line_};
@@ -58,22 +58,31 @@ class DocumentWalk final : public YAML::EventHandler {
   void OnNull(const YAML::Mark& mark, YAML::anchor_t) override {
     if (!content_) null_at_ = mark.pos;
   }
-  void OnAlias(const YAML::Mark&, YAML::anchor_t) override { content_ = true; }
-  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {
-    content_ = true;
+  void OnAlias(const YAML::Mark& mark, YAML::anchor_t) override { content_at(mark); }
+  void OnScalar(const YAML::Mark& mark, const std::string&, YAML::anchor_t, const std::string&) override {
+    content_at(mark);
   }
-  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+  void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
                        YAML::EmitterStyle::value) override {
-    content_ = true;
+    content_at(mark);
   }
   void OnSequenceEnd() override {}
-  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
-    content_ = true;
+  void OnMapStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {
+    content_at(mark);
   }
   void OnMapEnd() override {}
 
  private:
+  // The first node of a document: where a second document is reported.
+  void content_at(const YAML::Mark& mark) {
+    if (content_) return;
+    content_ = true;
+    content_line_ = mark.line;
+  }
+
   bool content_ = false;
+  int content_line_ = 0;
   int start_line_ = 0;
   int null_at_ = -1;
   int last_null_at_ = -2;
