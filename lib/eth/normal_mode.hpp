@@ -91,6 +91,19 @@ struct LiveStatus {
   const ChannelSample* channel(unsigned ch) const;
 };
 
+// The start every normal-mode user shares: identify the card, read its HostMot2 map, refuse
+// a running host (unless options.running_host.take_over), stop the port, normal-start
+// `mask` and read each channel's unit number. DiscoveryError (the port stopped again) when
+// a channel does not start. The port refers to `bus`, which must outlive it.
+struct NormalStart {
+  HostMot2Info hostmot2;
+  std::unique_ptr<SslbpPort> port;
+  std::vector<std::pair<unsigned, std::uint32_t>> unit_numbers;
+  HostActivity activity;
+};
+NormalStart start_normal_mode(Lbp16Transport& bus, unsigned sserial_port, std::uint8_t mask,
+                              const NormalModeOptions& options);
+
 class NormalModeSession {
  public:
   // One channel, from the target.
