@@ -84,10 +84,7 @@ std::chrono::microseconds DoitStats::worst() const {
 
 std::unique_ptr<DriveLoop> DriveLoop::open(const EthTarget& target, NormalModeOptions options) {
   auto bus = std::make_unique<UdpClient>(target.card.ip, target.card.port, options.udp);
-  const auto mask = target.channel_mask();
-  unsigned channel = 0;
-  while (channel < 8 && !(mask & (1u << channel))) ++channel;
-  return std::make_unique<DriveLoop>(std::move(bus), target.sserial_port, channel, options);
+  return std::make_unique<DriveLoop>(std::move(bus), target.sserial_port, target.channel, options);
 }
 
 DriveLoop::DriveLoop(std::unique_ptr<Lbp16Transport> bus, unsigned sserial_port, unsigned channel,
