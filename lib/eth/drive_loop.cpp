@@ -190,7 +190,12 @@ DriveReading DriveLoop::cycle(DriveSetpoint setpoint) {
     ++stats_.late;
     return reading;
   }
-  ++stats_.doits;
+  if (stats_.doits++ == 0) {
+    // Before the first DOIT completes, INTERFACE0/1 still hold the unit number and the
+    // card name, not bus voltage and FAULT.
+    reading.fresh = false;
+    reading.bus_voltage = reading.fault = reading.status = 0;
+  }
   if (last_doit_)
     stats_.gaps.push_back(std::chrono::duration_cast<std::chrono::microseconds>(reading.taken - *last_doit_));
   last_doit_ = reading.taken;

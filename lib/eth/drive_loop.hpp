@@ -61,7 +61,9 @@ struct EncoderReading {
 
 struct DriveReading {
   std::chrono::steady_clock::time_point taken{};
-  bool fresh = true;  // false: the previous DOIT had not finished, so these are old data
+  // false: INTERFACE0/1 are not this DOIT's (the previous DOIT had not finished, or this is
+  // the first one); the feedback registers are current either way.
+  bool fresh = true;
   std::uint16_t bus_voltage = 0;  // 10 mV
   std::uint16_t fault = 0;
   std::uint16_t status = 0;

@@ -61,6 +61,9 @@ struct CommissionOptions {
   double sweep_turns = 3.0;   // electrical turns each way
   double turns_per_s = 1.5;   // electrical turns per second
   double time_limit_s = 60;   // the whole run
+  // Without --poles or --counts-per-rev: how far the sweep may go looking for a second
+  // index pulse (electrical turns; a motor of up to this many pole pairs less one).
+  double search_turns = 12;
   // A runaway: the rotor faster than this many times the sweep speed.
   double runaway_factor = 4.0;
   // The rotor may be this far (electrical turns) from where the command puts it.
@@ -90,6 +93,9 @@ struct CommissionPlan {
   double max_electrical_turns = 0;
   std::optional<double> max_mechanical_turns;  // when the pole pairs are known
   double runaway_turns_per_s = 0;               // electrical
+  // Without the pole pairs or the counts per turn the forward sweep goes on until the
+  // index has passed twice, up to this many electrical turns.
+  double search_turns = 0;
   double time_limit_s = 0;
   bool check_only = false;
   // The plan as lines for the user.

@@ -86,7 +86,7 @@ void Motion::unwrap(const eth::DriveReading& reading, Tick& tick) {
 }
 
 void Motion::guard(const eth::DriveReading& reading, const Tick& tick) {
-  if (reading.fault != 0)
+  if (reading.fresh && reading.fault != 0)
     throw Abort(StopReason::Fault, "the 8I20 latched FAULT " + lbp::hex_value(reading.fault, 4) + " (" +
                                        fault_names(reading.fault) + ") " + fixed(tick.t_s, 2) +
                                        " s into the run; it disabled its output");

@@ -117,8 +117,10 @@ CommissionPlan prepare_commission(Session& session, const CommissionOptions& opt
     plan.estimated_s = check_s + 1.0 + options.check_only->poles / 2.0 / options.turns_per_s;
     plan.max_mechanical_turns = plan.max_electrical_turns / (options.check_only->poles / 2.0);
   } else {
-    plan.max_electrical_turns = options.sweep_turns + options.follow_tolerance_turns + 0.5 + kCheckTurns;
-    plan.estimated_s = options.align_s + 2 * options.sweep_turns / options.turns_per_s + check_s;
+    const bool search = !options.pole_pairs && !options.counts_per_turn;
+    plan.search_turns = search ? std::max(options.search_turns, options.sweep_turns) : options.sweep_turns;
+    plan.max_electrical_turns = plan.search_turns + options.follow_tolerance_turns + 0.5 + kCheckTurns;
+    plan.estimated_s = options.align_s + 2 * plan.search_turns / options.turns_per_s + check_s;
     if (options.pole_pairs) plan.max_mechanical_turns = plan.max_electrical_turns / *options.pole_pairs;
   }
   if (plan.estimated_s * 1.5 > plan.time_limit_s)
@@ -135,8 +137,11 @@ std::vector<std::string> CommissionPlan::lines() const {
     out.push_back("align: the current ramps to " + fixed(current_a, 2) + " A in " + fixed(ramp_s, 1) +
                   " s at electrical angle 0 and holds for " + fixed(align_s, 1) + " s (the rotor jumps up to half an "
                   "electrical turn)");
-    out.push_back("sweep: " + fixed(sweep_turns, 1) + " electrical turns forward and back at " +
-                  fixed(turns_per_s, 2) + " turns/s, " + fixed(current_a, 2) + " A");
+    std::string sweep = "sweep: " + fixed(sweep_turns, 1);
+    if (search_turns > sweep_turns)
+      sweep += " to " + fixed(search_turns, 0) + " (on until the index has passed twice: the pole pairs are not given)";
+    sweep += " electrical turns forward and back at " + fixed(turns_per_s, 2) + " turns/s, " + fixed(current_a, 2) + " A";
+    out.push_back(sweep);
   }
   out.push_back("check: closed loop at " + fixed(check_current_a, 2) +
                 " A, one to two electrical turns each way, then two holds");

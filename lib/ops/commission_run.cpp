@@ -80,6 +80,7 @@ class Procedure {
   }
   void align(double at_turns);
   void sweep_to(double from, double to, bool learn_scale);
+  double sweep_forward();
   void learn_scale(std::size_t sweep_start);
   std::vector<std::size_t> choose_halls(std::size_t from);
   std::vector<commission::Sample> samples(std::size_t encoder, const std::vector<std::size_t>& halls) const;
@@ -120,13 +121,32 @@ void Procedure::sweep_to(double from, double to, bool learn) {
   const std::size_t start = m_.ticks().size();
   bool learned = !learn;
   for (command_ = from; (to - command_) * (to > from ? 1 : -1) > 1e-9;) {
-    command_ = to > from ? std::min(to, command_ + step) : std::max(to, command_ - step);
+    command_ = to > from ? std::min(to, command_ + step) : std::max(to, command_ + step);
     m_.hold(plan_.current_a, command_);
     if (!learned && std::abs(command_ - from) >= kScaleTurns) {
       learn_scale(start);
       learned = true;
     }
   }
+}
+
+// Forward until `turns`, and on (up to the plan's search) until the index has latched
+// twice when neither the pole pairs nor the counts per turn are known: two latches a
+// mechanical turn apart give the counts per turn, and with them the pole pairs.
+double Procedure::sweep_forward() {
+  sweep_to(0.0, plan_.sweep_turns, true);
+  if (options_.pole_pairs || options_.counts_per_turn) return plan_.sweep_turns;
+  const auto e = m_.scale()->encoder;
+  auto latches = [&] {
+    return std::count_if(m_.ticks().begin(), m_.ticks().end(), [&](const Tick& t) { return t.index_latch[e].has_value(); });
+  };
+  double end = plan_.sweep_turns;
+  while (latches() < 2 && end < plan_.search_turns) {
+    say("still sweeping forward: the index has not passed twice yet");
+    sweep_to(end, end + 1.0, false);
+    end += 1.0;
+  }
+  return end;
 }
 
 // After the first forward turn: which encoder moved, which way, how many counts per turn;
@@ -214,9 +234,9 @@ void Procedure::commission() {
   align(0.0);
   say("sweeping " + fixed(plan_.sweep_turns, 1) + " electrical turns forward");
   const std::size_t sweep_start = m_.ticks().size();
-  sweep_to(0.0, plan_.sweep_turns, true);
+  const double end = sweep_forward();
   say("sweeping back");
-  sweep_to(plan_.sweep_turns, 0.0, false);
+  sweep_to(end, 0.0, false);
   m_.stop_following();
 
   const auto halls = choose_halls(sweep_start);
@@ -310,7 +330,11 @@ double Procedure::push(const Rotor& rotor, int sign, ClosedLoopCheck& check) {
   double moved = 0;
   for (double t = 0; t < kCheckPushS && std::abs(moved) < kCheckEnoughTurns; t += dt) {
     const double theta = rotor.angle(m_.ticks().back().counts[e]);
-    const auto& tick = m_.drive(sign * plan_.check_current_a, theta, theta);
+    // A governor: no torque while the rotor turns faster than the sweep did.
+    const auto& ticks = m_.ticks();
+    const auto& before = ticks[ticks.size() > 3 ? ticks.size() - 4 : 0];
+    const double speed = std::abs(theta - rotor.angle(before.counts[e])) / std::max(dt, ticks.back().t_s - before.t_s);
+    const auto& tick = m_.drive(speed > plan_.turns_per_s ? 0.0 : sign * plan_.check_current_a, theta, theta);
     const double now = rotor.angle(tick.counts[e]);
     moved = now - start;
     if (rotor.halls_sequence && !rotor.halls.empty()) {
@@ -322,10 +346,9 @@ double Procedure::push(const Rotor& rotor, int sign, ClosedLoopCheck& check) {
         ++check.hall_mismatches;
     }
   }
-  for (double t = 0; t < kCheckRestS; t += dt) {
-    const double theta = rotor.angle(m_.ticks().back().counts[e]);
-    m_.drive(0.0, theta, theta);
-  }
+  // Brake: hold the current vector where the rotor is now, so it stops there.
+  const double stop_at = rotor.angle(m_.ticks().back().counts[e]);
+  for (double t = 0; t < kCheckRestS; t += dt) m_.hold(plan_.check_current_a, stop_at);
   return moved;
 }
 
@@ -351,7 +374,7 @@ ClosedLoopCheck Procedure::closed_loop(const Rotor& rotor) {
   }
   say("checking: holds");
   const double here = rotor.angle(m_.ticks().back().counts[rotor.scale.encoder]);
-  for (double at : {std::round(here) + 0.25, std::round(here) + 0.75})
+  for (double at : {here + 0.15, here - 0.15})  // from each side: friction lags them opposite ways
     check.hold_errors_deg.push_back(hold_error(rotor, at));
   const bool turns = std::all_of(check.directions.begin(), check.directions.end(), [](const auto& d) { return d.passed; });
   const bool holds = std::all_of(check.hold_errors_deg.begin(), check.hold_errors_deg.end(),
