@@ -76,7 +76,8 @@ struct CommissionOptions {
 
 struct Preflight {
   eth::EthTarget target;
-  std::string card;  // "8I20 unit 0x... firmware ..."
+  std::string card;   // "8I20 unit 0x... firmware ..."
+  std::string board;  // the Ethernet card's name: "7I96S", "7I92T"
   double max_current_a = 0;
   double bus_v = 0;
   std::uint16_t fault = 0;
@@ -166,6 +167,14 @@ using CommissionProgress = std::function<void(const std::string& phase)>;
 // the way (that is the report), only UsageError for options the plan did not check.
 CommissionReport run_commission(Session& session, const CommissionPlan& plan, const CommissionOptions& options,
                                 const CommissionProgress& progress = {});
+
+// A HAL fragment for today's LinuxCNC (hostmot2 + bldc) with what the report found: bldc
+// with the cfg letters the motor has (qhi, qh), pattern, poles, scale, encoder-offset; the
+// encoder's rawcounts (and index-enable), the Hall inputs, rotor-angle into the 8I20's
+// angle and bldc's out into its current (amps). Throws Error (Refused) naming what is
+// missing when the report cannot make a working setup (no Halls: bldc's q modes without h
+// align the rotor through bldc's own A/B/C outputs, which an 8I20 does not take).
+std::string commission_hal_fragment(const CommissionReport& report);
 
 // bldc's values of an existing HAL file (its setp lines for one bldc instance). Throws
 // UsageError naming what is missing.

@@ -83,6 +83,7 @@ Preflight read_preflight(Session& session) {
   if (!(p.max_current_a > 0))
     throw Error("MAXCURRENT is 0 A: the 8I20 would drive no current", ErrorKind::Refused);
   eth::UdpClient bus(p.target.card.ip, p.target.card.port);
+  p.board = eth::identify(bus).card_name;
   const auto info = eth::read_hostmot2(bus);
   if (eth::feedback_map(info).encoders.empty())
     throw Error("the card's configuration has no encoder (quadrature counter): commissioning needs one",
