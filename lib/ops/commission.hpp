@@ -81,6 +81,7 @@ struct Preflight {
   double max_current_a = 0;
   double bus_v = 0;
   std::uint16_t fault = 0;
+  std::string note;
 };
 
 struct CommissionPlan {
@@ -94,8 +95,9 @@ struct CommissionPlan {
   double max_electrical_turns = 0;
   std::optional<double> max_mechanical_turns;  // when the pole pairs are known
   double runaway_turns_per_s = 0;               // electrical
-  // Without the pole pairs or the counts per turn the forward sweep goes on until the
-  // index has passed twice, up to this many electrical turns.
+  // The forward sweep goes on until the index has passed this often (twice when the counts
+  // per turn are not given: the distance gives them), up to search_turns electrical turns.
+  int index_passes = 1;
   double search_turns = 0;
   double time_limit_s = 0;
   bool check_only = false;

@@ -65,7 +65,13 @@ Preflight read_preflight(Session& session) {
     p.max_current_a = reading_of(readings, 2, "MAXCURRENT") / 100.0;  // 10 mA
   }
   session.reconnect();  // the passthrough is closed before normal mode starts
-  if (p.fault != 0) {
+  // WATCHDOGFAULT alone is how every normal-mode session ends (the host stops its DOITs: an
+  // earlier run of this command, LinuxCNC's exit); the normal start clears it.
+  constexpr std::uint16_t kWatchdogFault = 0x0001;
+  if (p.fault == kWatchdogFault) {
+    p.note = "FAULT holds only WATCHDOGFAULT: the last host stopped sending DOITs, as every normal-mode session ends; "
+             "the normal start clears it";
+  } else if (p.fault != 0) {
     std::string names;
     for (const auto& bit : faults::decode_fault(p.fault).bits) {
       if (!names.empty()) names += ", ";
@@ -118,8 +124,10 @@ CommissionPlan prepare_commission(Session& session, const CommissionOptions& opt
     plan.estimated_s = check_s + 1.0 + options.check_only->poles / 2.0 / options.turns_per_s;
     plan.max_mechanical_turns = plan.max_electrical_turns / (options.check_only->poles / 2.0);
   } else {
-    const bool search = !options.pole_pairs && !options.counts_per_turn;
-    plan.search_turns = search ? std::max(options.search_turns, options.sweep_turns) : options.sweep_turns;
+    plan.index_passes = options.counts_per_turn ? 1 : 2;
+    // The first pass comes within a mechanical turn, the second one turn later.
+    plan.search_turns = std::max(options.sweep_turns, options.pole_pairs ? plan.index_passes * *options.pole_pairs + 0.5
+                                                                         : options.search_turns);
     plan.max_electrical_turns = plan.search_turns + options.follow_tolerance_turns + 0.5 + kCheckTurns;
     plan.estimated_s = options.align_s + 2 * plan.search_turns / options.turns_per_s + check_s;
     if (options.pole_pairs) plan.max_mechanical_turns = plan.max_electrical_turns / *options.pole_pairs;
@@ -132,15 +140,18 @@ CommissionPlan prepare_commission(Session& session, const CommissionOptions& opt
 
 std::vector<std::string> CommissionPlan::lines() const {
   std::vector<std::string> out;
-  out.push_back("card: " + preflight.card + " at " + preflight.target.url() + "; bus " + fixed(preflight.bus_v, 1) +
-                " V, no latched faults, MAXCURRENT " + fixed(preflight.max_current_a, 2) + " A");
+  out.push_back("card: " + preflight.card + "; bus " + fixed(preflight.bus_v, 1) + " V, " +
+                (preflight.fault == 0 ? "no latched faults" : "only WATCHDOGFAULT latched") + ", MAXCURRENT " +
+                fixed(preflight.max_current_a, 2) + " A");
+  if (!preflight.note.empty()) out.push_back(preflight.note);
   if (!check_only) {
     out.push_back("align: the current ramps to " + fixed(current_a, 2) + " A in " + fixed(ramp_s, 1) +
                   " s at electrical angle 0 and holds for " + fixed(align_s, 1) + " s (the rotor jumps up to half an "
                   "electrical turn)");
     std::string sweep = "sweep: " + fixed(sweep_turns, 1);
     if (search_turns > sweep_turns)
-      sweep += " to " + fixed(search_turns, 0) + " (on until the index has passed twice: the pole pairs are not given)";
+      sweep += " to " + fixed(search_turns, 1) + " (on until the index has passed " +
+               (index_passes == 1 ? std::string("once") : std::string("twice")) + ")";
     sweep += " electrical turns forward and back at " + fixed(turns_per_s, 2) + " turns/s, " + fixed(current_a, 2) + " A";
     out.push_back(sweep);
   }

@@ -27,10 +27,11 @@ constexpr double kScaleTurns = 1.0;
 // Fewer counts than this over that turn: the encoder did not move.
 constexpr std::int64_t kStallCounts = 4;
 // The check: how long each direction may push, and how far it should get.
-constexpr double kCheckPushS = 0.6;
-constexpr double kCheckEnoughTurns = 1.0;
+constexpr double kCheckPushS = 1.5;
+constexpr double kCheckRampS = 1.0;  // the check current from 0 to full
+constexpr double kCheckEnoughTurns = 0.5;
 constexpr double kCheckMinTurns = 0.25;
-constexpr double kCheckRestS = 0.2;
+constexpr double kCheckRestS = 0.3;
 constexpr double kHoldRampS = 0.15;
 constexpr double kHoldS = 0.4;
 // Hall codes off the pattern's sector tolerated in the check (edges blur by hysteresis).
@@ -130,19 +131,18 @@ void Procedure::sweep_to(double from, double to, bool learn) {
   }
 }
 
-// Forward until `turns`, and on (up to the plan's search) until the index has latched
-// twice when neither the pole pairs nor the counts per turn are known: two latches a
-// mechanical turn apart give the counts per turn, and with them the pole pairs.
+// Forward the planned turns, and on (up to the plan's search) until the index has passed
+// as often as the plan needs: once for the offset, twice (a mechanical turn apart) when the
+// exact counts per turn must come from the index.
 double Procedure::sweep_forward() {
   sweep_to(0.0, plan_.sweep_turns, true);
-  if (options_.pole_pairs || options_.counts_per_turn) return plan_.sweep_turns;
   const auto e = m_.scale()->encoder;
   auto latches = [&] {
     return std::count_if(m_.ticks().begin(), m_.ticks().end(), [&](const Tick& t) { return t.index_latch[e].has_value(); });
   };
   double end = plan_.sweep_turns;
-  while (latches() < 2 && end < plan_.search_turns) {
-    say("still sweeping forward: the index has not passed twice yet");
+  while (latches() < plan_.index_passes && end < plan_.search_turns) {
+    say("still sweeping forward: waiting for the index");
     sweep_to(end, end + 1.0, false);
     end += 1.0;
   }
@@ -328,13 +328,17 @@ double Procedure::push(const Rotor& rotor, int sign, ClosedLoopCheck& check) {
   const std::size_t e = rotor.scale.encoder;
   const double start = rotor.angle(m_.ticks().back().counts[e]);
   double moved = 0;
+  double amps = 0;
   for (double t = 0; t < kCheckPushS && std::abs(moved) < kCheckEnoughTurns; t += dt) {
     const double theta = rotor.angle(m_.ticks().back().counts[e]);
-    // A governor: no torque while the rotor turns faster than the sweep did.
+    // A governor: the current creeps up from 0 while the rotor turns slower than the sweep
+    // did, and drops to 0 when it is faster, so a light rotor is not flung (the torque
+    // needed is found, not assumed).
     const auto& ticks = m_.ticks();
     const auto& before = ticks[ticks.size() > 3 ? ticks.size() - 4 : 0];
     const double speed = std::abs(theta - rotor.angle(before.counts[e])) / std::max(dt, ticks.back().t_s - before.t_s);
-    const auto& tick = m_.drive(speed > plan_.turns_per_s ? 0.0 : sign * plan_.check_current_a, theta, theta);
+    amps = speed > 0.5 * plan_.turns_per_s ? 0.0 : std::min(plan_.check_current_a, amps + plan_.check_current_a * dt / kCheckRampS);
+    const auto& tick = m_.drive(sign * amps, theta, theta);
     const double now = rotor.angle(tick.counts[e]);
     moved = now - start;
     if (rotor.halls_sequence && !rotor.halls.empty()) {
@@ -356,9 +360,18 @@ double Procedure::push(const Rotor& rotor, int sign, ClosedLoopCheck& check) {
 // how far the encoder's angle ends up from it, in electrical degrees.
 double Procedure::hold_error(const Rotor& rotor, double at_turns) {
   const double dt = m_.loop().period().count() / 1000.0;
-  for (double t = 0; t < kHoldRampS + kHoldS; t += dt)
-    m_.hold(plan_.check_current_a * std::min(1.0, t / kHoldRampS), at_turns);
-  return wrap_turns(rotor.angle(m_.ticks().back().counts[rotor.scale.encoder]) - at_turns) * 360.0;
+  const std::size_t e = rotor.scale.encoder;
+  // The current ramps up where the rotor is, and the command then moves at the sweep's
+  // speed: no step for the rotor to be flung by.
+  double command = rotor.angle(m_.ticks().back().counts[e]);
+  for (double t = 0; t < kHoldRampS; t += dt) m_.hold(plan_.check_current_a * t / kHoldRampS, command);
+  const double step = plan_.turns_per_s * dt;
+  while (std::abs(at_turns - command) > 1e-9) {
+    command = at_turns > command ? std::min(at_turns, command + step) : std::max(at_turns, command - step);
+    m_.hold(plan_.check_current_a, command);
+  }
+  for (double t = 0; t < kHoldS; t += dt) m_.hold(plan_.check_current_a, at_turns);
+  return wrap_turns(rotor.angle(m_.ticks().back().counts[e]) - at_turns) * 360.0;
 }
 
 ClosedLoopCheck Procedure::closed_loop(const Rotor& rotor) {
