@@ -2,9 +2,9 @@
 // i20 commission: find an 8I20 axis's commutation over Ethernet, check it in closed loop and
 // write bldc's setup. Parses options, prints the plan and asks, renders the report: every
 // decision is lib/ops/commission's.
-#include <CLI/CLI.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include <CLI/CLI.hpp>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -52,8 +52,8 @@ template <class T>
 void finding(YAML::Emitter& y, const char* key, const std::optional<commission::Finding<T>>& f) {
   if (!f) return;
   y << YAML::Key << key << YAML::Value << YAML::BeginMap << YAML::Key << "value" << YAML::Value << f->value
-    << YAML::Key << "uncertainty" << YAML::Value << f->uncertainty << YAML::Key << "how" << YAML::Value << f->how
-    << YAML::EndMap;
+    << YAML::Key << "uncertainty" << YAML::Value << f->uncertainty << YAML::Key << "how" << YAML::Value
+    << f->how << YAML::EndMap;
 }
 
 // The report as one YAML document; --json converts the same tree.
@@ -97,7 +97,8 @@ std::string report_yaml(const ops::CommissionReport& r) {
       << r.check->passed;
     y << YAML::Key << "moved_electrical_turns" << YAML::Value << YAML::Flow << YAML::BeginSeq;
     for (const auto& d : r.check->directions) y << d.moved_electrical_turns;
-    y << YAML::EndSeq << YAML::Key << "hold_errors_deg" << YAML::Value << YAML::Flow << r.check->hold_errors_deg;
+    y << YAML::EndSeq << YAML::Key << "hold_errors_deg" << YAML::Value << YAML::Flow
+      << r.check->hold_errors_deg;
     y << YAML::Key << "bound_deg" << YAML::Value << r.check->bound_deg;
     y << YAML::Key << "how" << YAML::Value << r.check->how << YAML::EndMap;
   }
@@ -144,16 +145,22 @@ void print_text(const ops::CommissionReport& r) {
   std::cout << "commission " << r.plan.preflight.target.url() << ": " << r.message << "\n";
   if (r.bldc) {
     const auto& b = *r.bldc;
-    if (b.pattern) std::cout << "  pattern         " << *b.pattern << "  (Hall inputs " << r.hall_pins[0] << ", " << r.hall_pins[1] << ", " << r.hall_pins[2] << ")\n";
+    if (b.pattern)
+      std::cout << "  pattern         " << *b.pattern << "  (Hall inputs " << r.hall_pins[0] << ", "
+                << r.hall_pins[1] << ", " << r.hall_pins[2] << ")\n";
     if (b.poles) std::cout << "  poles           " << *b.poles << "\n";
-    if (b.scale) std::cout << "  scale           " << *b.scale << "  (encoder " << r.encoder_instance.value_or(0) << ")\n";
+    if (b.scale)
+      std::cout << "  scale           " << *b.scale << "  (encoder " << r.encoder_instance.value_or(0)
+                << ")\n";
     if (b.encoder_offset) std::cout << "  encoder-offset  " << *b.encoder_offset << "\n";
     for (const auto& m : b.missing) std::cout << "  missing: " << m << "\n";
   }
   if (r.result) {
     const auto& f = *r.result;
     auto line = [](const char* what, const auto& opt, const char* unit) {
-      if (opt) std::cout << "  " << what << ": " << opt->value << unit << " +- " << fixed(opt->uncertainty, 2) << " (" << opt->how << ")\n";
+      if (opt)
+        std::cout << "  " << what << ": " << opt->value << unit << " +- " << fixed(opt->uncertainty, 2)
+                  << " (" << opt->how << ")\n";
     };
     line("encoder direction", f.encoder_direction, "");
     line("counts per electrical turn", f.counts_per_electrical_turn, "");
@@ -162,18 +169,24 @@ void print_text(const ops::CommissionReport& r) {
     for (const auto& p : f.problems) std::cout << "  could not tell: " << p.message << "\n";
     for (const auto& n : f.notes) std::cout << "  note: " << n << "\n";
   }
-  if (r.check) std::cout << "  closed-loop check " << (r.check->passed ? "passed" : "FAILED") << ": " << r.check->how << "\n";
+  if (r.check)
+    std::cout << "  closed-loop check " << (r.check->passed ? "passed" : "FAILED") << ": " << r.check->how
+              << "\n";
   for (const auto& n : r.notes) std::cout << "  note: " << n << "\n";
   std::cout << "  " << r.samples << " samples in " << fixed(r.elapsed_s, 1) << " s; DOIT period p50 "
-            << fixed(r.doit.percentile(50).count() / 1000.0, 1) << " ms, p99 " << fixed(r.doit.percentile(99).count() / 1000.0, 1)
-            << " ms, worst " << fixed(r.doit.worst().count() / 1000.0, 1) << " ms\n";
-  std::cout << "  " << (r.current_zeroed ? "current: QSETPOINT 0 sent and the port stopped" : r.zero_note) << "\n";
+            << fixed(r.doit.percentile(50).count() / 1000.0, 1) << " ms, p99 "
+            << fixed(r.doit.percentile(99).count() / 1000.0, 1) << " ms, worst "
+            << fixed(r.doit.worst().count() / 1000.0, 1) << " ms\n";
+  std::cout << "  " << (r.current_zeroed ? "current: QSETPOINT 0 sent and the port stopped" : r.zero_note)
+            << "\n";
 }
 
 void run_commission_command(Context& ctx, Args& a) {
   check_output_file(a.out, a.overwrite);
   if (a.poles) {
-    if (*a.poles < 2 || *a.poles % 2 != 0) throw UsageError("--poles " + std::to_string(*a.poles) + ": an even number (poles, not pole pairs)");
+    if (*a.poles < 2 || *a.poles % 2 != 0)
+      throw UsageError(std::string("--poles ") + std::to_string(*a.poles) +
+                       ": an even number (poles, not pole pairs)");
     a.o.pole_pairs = *a.poles / 2;
   }
   if (!a.halls.empty()) a.o.halls = split_commas(a.halls);
@@ -182,14 +195,14 @@ void run_commission_command(Context& ctx, Args& a) {
   const auto plan = ops::prepare_commission(session, a.o);
   std::cerr << "i20 commission: the plan\n";
   for (const auto& line : plan.lines()) std::cerr << "  " << line << "\n";
-  if (!a.yes && !ctx.confirm("Drive the motor on " + plan.preflight.target.url() + " as planned? Keep clear of the axis")) {
+  if (!a.yes && !ctx.confirm("Drive the motor on " + plan.preflight.target.url() +
+                             " as planned? Keep clear of the axis")) {
     std::cerr << "i20: commission not confirmed; the motor was not driven (pass --yes in scripts)\n";
     ctx.record(ops::Outcome::BadInput);
     return;
   }
-  const auto report = ops::run_commission(session, plan, a.o, [](const std::string& phase) {
-    std::cerr << "i20 commission: " << phase << "\n";
-  });
+  const auto report = ops::run_commission(
+      session, plan, a.o, [](const std::string& phase) { std::cerr << "i20 commission: " << phase << "\n"; });
   const std::string yaml = report_yaml(report);
   if (ctx.options.json)
     ctx.print_json(to_json(YAML::Load(yaml)));
@@ -218,36 +231,51 @@ void register_commission_command(CLI::App& app, Context& ctx) {
   auto a = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
       "commission",
-      "Find an 8I20 axis's commutation and check it: over Ethernet (--eth IP or eth://IP/chN; a 7I96S or 7I92T), "
-      "with the motor free to turn (brake released, nothing it can hit within a few turns). A read-only preflight "
-      "first (card, no other host running it, bus 24..385 V, no latched faults, an encoder); then the plan is "
-      "printed and asked for (--yes in scripts). The 8I20 holds the rotor with a ramped current (by default 20% "
-      "of MAXCURRENT), sweeps its electrical angle slowly several turns forward and back while the encoder, its "
-      "index and the Hall inputs are recorded, and the analysis finds the encoder direction and counts, the pole "
+      "Find an 8I20 axis's commutation and check it: over Ethernet (--eth IP or eth://IP/chN; a 7I96S or "
+      "7I92T), "
+      "with the motor free to turn (brake released, nothing it can hit within a few turns). A read-only "
+      "preflight "
+      "first (card, no other host running it, bus 24..385 V, no latched faults, an encoder); then the plan "
+      "is "
+      "printed and asked for (--yes in scripts). The 8I20 holds the rotor with a ramped current (by default "
+      "20% "
+      "of MAXCURRENT), sweeps its electrical angle slowly several turns forward and back while the encoder, "
+      "its "
+      "index and the Hall inputs are recorded, and the analysis finds the encoder direction and counts, the "
+      "pole "
       "pairs, bldc's Hall pattern and the index's encoder-offset. A closed-loop check with those values at a "
       "smaller current must turn the motor each way as commanded. It stops at once on a runaway, a stall (is "
       "the brake released? the motor connected?), a rotor that does not follow, the travel or time limit, a "
-      "latched fault, another host, or Ctrl-C; every stop ends with QSETPOINT 0 and the port stopped, and the "
+      "latched fault, another host, or Ctrl-C; every stop ends with QSETPOINT 0 and the port stopped, and "
+      "the "
       "8I20's 40 ms watchdog disables it should this program die. Exit 0: found and checked; 3: stopped by a "
       "safety rule or not every value could be told (the report says why); 130: a signal. -o FILE.hal writes "
-      "bldc's setup for LinuxCNC; --check FILE.hal re-runs only the closed-loop check with an existing setup. "
+      "bldc's setup for LinuxCNC; --check FILE.hal re-runs only the closed-loop check with an existing "
+      "setup. "
       "docs/commissioning.md walks through a real axis.");
-  cmd->add_option("--encoder", a->o.encoder, "hostmot2 encoder instance of the axis (default: the one that moves)");
-  cmd->add_option("--halls", a->halls,
-                  "The Hall inputs, Hall 1,2,3, as hostmot2 names them after the board: gpio.010.in,gpio.011.in,"
-                  "gpio.012.in or inm.00.input-00,... (default: the three inputs that change)");
+  cmd->add_option("--encoder", a->o.encoder,
+                  "hostmot2 encoder instance of the axis (default: the one that moves)");
+  cmd->add_option(
+      "--halls", a->halls,
+      "The Hall inputs, Hall 1,2,3, as hostmot2 names them after the board: gpio.010.in,gpio.011.in,"
+      "gpio.012.in or inm.00.input-00,... (default: the three inputs that change)");
   cmd->add_flag("--no-halls", a->o.no_halls, "The motor has no Hall sensors");
   cmd->add_option("--poles", a->poles, "Motor poles when known (bldc's poles: twice the pole pairs)");
-  cmd->add_option("--counts-per-rev", a->o.counts_per_turn, "Encoder counts per motor turn when known (4 x lines)");
-  cmd->add_option("--current", a->o.current_amps, "Sweep current in amps (default 20% of MAXCURRENT; never above it)");
+  cmd->add_option("--counts-per-rev", a->o.counts_per_turn,
+                  "Encoder counts per motor turn when known (4 x lines)");
+  cmd->add_option("--current", a->o.current_amps,
+                  "Sweep current in amps (default 20% of MAXCURRENT; never above it)");
   cmd->add_option("--sweep-turns", a->o.sweep_turns, "Electrical turns each way (default 3)");
-  cmd->add_option("--turns-per-second", a->o.turns_per_s, "Sweep speed in electrical turns per second (default 1.5)");
+  cmd->add_option("--turns-per-second", a->o.turns_per_s,
+                  "Sweep speed in electrical turns per second (default 1.5)");
   cmd->add_option("--time-limit", a->o.time_limit_s, "Stop after this many seconds in all (default 60)");
   cmd->add_flag("--yes,-y", a->yes, "Do not ask before driving the motor (scripts)");
   cmd->add_flag("--yaml", a->yaml, "The report as YAML");
-  cmd->add_option("-o,--output", a->out, "Write bldc's setup as a HAL fragment (hostmot2 + bldc) when all is found and checked");
+  cmd->add_option("-o,--output", a->out,
+                  "Write bldc's setup as a HAL fragment (hostmot2 + bldc) when all is found and checked");
   cmd->add_flag("--overwrite", a->overwrite, "Replace an existing -o file");
-  cmd->add_option("--check", a->check, "Only the closed-loop check, with the bldc setp lines of this HAL file");
+  cmd->add_option("--check", a->check,
+                  "Only the closed-loop check, with the bldc setp lines of this HAL file");
   cmd->callback([&ctx, a] { run_commission_command(ctx, *a); });
 }
 

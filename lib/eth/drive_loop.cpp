@@ -40,9 +40,10 @@ FeedbackMap feedback_map(const HostMot2Info& info) {
   FeedbackMap map;
   if (const auto* enc = info.find(hm2::gtag::kEncoder))
     for (unsigned i = 0; i < enc->instances; ++i)
-      map.encoders.push_back({.instance = i,
-                              .count = enc->register_address(info.idrom, hm2::encoder_reg::kCount, i),
-                              .latch_control = enc->register_address(info.idrom, hm2::encoder_reg::kLatchControl, i)});
+      map.encoders.push_back(
+          {.instance = i,
+           .count = enc->register_address(info.idrom, hm2::encoder_reg::kCount, i),
+           .latch_control = enc->register_address(info.idrom, hm2::encoder_reg::kLatchControl, i)});
   const unsigned width = info.idrom.port_width;
   if (const auto* io = info.find(hm2::gtag::kIoPort); io && width > 0) {
     const std::size_t first = map.input_words.size();
@@ -129,8 +130,8 @@ std::vector<lbp16::Command> DriveLoop::packet(DriveSetpoint setpoint) const {
     p.push_back(lbp16::read_hm2(e.latch_control));
   }
   for (const auto address : map_.input_words) p.push_back(lbp16::read_hm2(address));
-  const std::uint32_t if0 = static_cast<std::uint32_t>(static_cast<std::uint16_t>(setpoint.qsetpoint)) << 16 |
-                            setpoint.angle;
+  const std::uint32_t if0 =
+      static_cast<std::uint32_t>(static_cast<std::uint16_t>(setpoint.qsetpoint)) << 16 | setpoint.angle;
   p.push_back(lbp16::write_hm2(regs.interface0(channel_), if0));
   for (const auto& e : map_.encoders) p.push_back(lbp16::write_hm2(e.latch_control, kArmIndex));
   p.push_back(lbp16::write_hm2(regs.command, sslbp::doit(static_cast<std::uint8_t>(1u << channel_))));

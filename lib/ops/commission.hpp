@@ -39,8 +39,8 @@ namespace i20::ops {
 // An existing bldc setup to check (`--check FILE.hal`): bldc's own values.
 struct BldcSetup {
   std::optional<int> pattern;
-  int poles = 0;              // bldc's `poles`: twice the pole pairs
-  std::int64_t scale = 0;     // counts per mechanical turn, signed: the encoder's direction
+  int poles = 0;           // bldc's `poles`: twice the pole pairs
+  std::int64_t scale = 0;  // counts per mechanical turn, signed: the encoder's direction
   std::int64_t encoder_offset = 0;
   bool has_index = false;  // cfg has i: encoder_offset applies
 };
@@ -58,9 +58,9 @@ struct CommissionOptions {
   double check_current_fraction = 0.5;  // of the sweep current
   double align_s = 0.8;
   double ramp_s = 0.4;
-  double sweep_turns = 3.0;   // electrical turns each way
-  double turns_per_s = 1.5;   // electrical turns per second
-  double time_limit_s = 60;   // the whole run
+  double sweep_turns = 3.0;  // electrical turns each way
+  double turns_per_s = 1.5;  // electrical turns per second
+  double time_limit_s = 60;  // the whole run
   // Without --poles or --counts-per-rev: how far the sweep may go looking for a second
   // index pulse (electrical turns; a motor of up to this many pole pairs less one).
   double search_turns = 12;
@@ -94,7 +94,7 @@ struct CommissionPlan {
   // turn is pole-pairs electrical turns, so never more mechanical turns than this).
   double max_electrical_turns = 0;
   std::optional<double> max_mechanical_turns;  // when the pole pairs are known
-  double runaway_turns_per_s = 0;               // electrical
+  double runaway_turns_per_s = 0;              // electrical
   // The forward sweep goes on until the index has passed this often (twice when the counts
   // per turn are not given: the distance gives them), up to search_turns electrical turns.
   int index_passes = 1;
@@ -111,19 +111,19 @@ struct CommissionPlan {
 CommissionPlan prepare_commission(Session& session, const CommissionOptions& options);
 
 enum class StopReason {
-  Completed,    // swept, analysed and (where possible) checked
+  Completed,     // swept, analysed and (where possible) checked
   CouldNotTell,  // swept, but the analysis could not tell every value (problems say why)
-  CheckFailed,  // the closed-loop check did not pass
+  CheckFailed,   // the closed-loop check did not pass
   Stall,
   Runaway,
   TravelLimit,
   NotFollowing,  // the rotor did not move as the plan said
   TimeLimit,
-  Fault,       // the 8I20 latched a fault
-  OtherHost,   // another host started talking to the card
-  Signal,      // Ctrl-C, SIGTERM, SIGHUP (SIGPIPE: the app's output went away)
-  LinkLost,    // the card stopped answering
-  Error,       // anything else
+  Fault,      // the 8I20 latched a fault
+  OtherHost,  // another host started talking to the card
+  Signal,     // Ctrl-C, SIGTERM, SIGHUP (SIGPIPE: the app's output went away)
+  LinkLost,   // the card stopped answering
+  Error,      // anything else
 };
 std::string_view stop_reason_name(StopReason reason);
 
@@ -167,8 +167,8 @@ using CommissionProgress = std::function<void(const std::string& phase)>;
 
 // Drives the motor per the plan and returns the report; never throws for what happens on
 // the way (that is the report), only UsageError for options the plan did not check.
-CommissionReport run_commission(Session& session, const CommissionPlan& plan, const CommissionOptions& options,
-                                const CommissionProgress& progress = {});
+CommissionReport run_commission(Session& session, const CommissionPlan& plan,
+                                const CommissionOptions& options, const CommissionProgress& progress = {});
 
 // A HAL fragment for today's LinuxCNC (hostmot2 + bldc) with what the report found: bldc
 // with the cfg letters the motor has (qhi, qh), pattern, poles, scale, encoder-offset; the

@@ -74,12 +74,14 @@ void Motion::unwrap(const eth::DriveReading& reading, Tick& tick) {
     const auto& r = reading.encoders[e];
     const std::int64_t previous = first ? 0 : ticks_.back().counts[e];
     const std::int64_t count =
-        first ? r.count : previous + static_cast<std::int16_t>(static_cast<std::uint16_t>(r.count - last16_[e]));
+        first ? r.count
+              : previous + static_cast<std::int16_t>(static_cast<std::uint16_t>(r.count - last16_[e]));
     last16_[e] = r.count;
     tick.counts.push_back(count);
     tick.index_latch.push_back(
         r.index_latched
-            ? std::optional<std::int64_t>(count + static_cast<std::int16_t>(static_cast<std::uint16_t>(r.latched - r.count)))
+            ? std::optional<std::int64_t>(
+                  count + static_cast<std::int16_t>(static_cast<std::uint16_t>(r.latched - r.count)))
             : std::nullopt);
   }
   tick.input_words = reading.input_words;
@@ -87,17 +89,19 @@ void Motion::unwrap(const eth::DriveReading& reading, Tick& tick) {
 
 void Motion::guard(const eth::DriveReading& reading, const Tick& tick) {
   if (reading.fresh && reading.fault != 0)
-    throw Abort(StopReason::Fault, "the 8I20 latched FAULT " + lbp::hex_value(reading.fault, 4) + " (" +
-                                       fault_names(reading.fault) + ") " + fixed(tick.t_s, 2) +
+    throw Abort(StopReason::Fault, std::string("the 8I20 latched FAULT ") + lbp::hex_value(reading.fault, 4) +
+                                       " (" + fault_names(reading.fault) + ") " + fixed(tick.t_s, 2) +
                                        " s into the run; it disabled its output");
   if (tick.t_s > plan_.time_limit_s)
-    throw Abort(StopReason::TimeLimit, "the time limit (" + fixed(plan_.time_limit_s, 0) + " s) ran out");
+    throw Abort(StopReason::TimeLimit,
+                std::string("the time limit (") + fixed(plan_.time_limit_s, 0) + " s) ran out");
   if (++cycles_ % kHostCheckEvery == 0) {
     const auto foreign = loop_.foreign_packets();
     if (foreign > foreign_at_start_ + kForeignPacketLimit)
-      throw Abort(StopReason::OtherHost, "another host sent the card " + std::to_string(foreign - foreign_at_start_) +
-                                             " packet(s) during the run (LinuxCNC?): stopped so that two hosts do "
-                                             "not drive one 8I20");
+      throw Abort(StopReason::OtherHost,
+                  std::string("another host sent the card ") + std::to_string(foreign - foreign_at_start_) +
+                      " packet(s) during the run (LinuxCNC?): stopped so that two hosts do "
+                      "not drive one 8I20");
   }
   guard_motion(tick);
 }
@@ -111,10 +115,12 @@ void Motion::guard_motion(const Tick& tick) {
     const auto changes = input_changes(0, n);
     const unsigned most = changes.empty() ? 0 : *std::max_element(changes.begin(), changes.end());
     double travel = 0;
-    for (std::size_t i = 1; i < n; ++i) travel += std::abs(ticks_[i].command_turns - ticks_[i - 1].command_turns);
+    for (std::size_t i = 1; i < n; ++i)
+      travel += std::abs(ticks_[i].command_turns - ticks_[i - 1].command_turns);
     if (most > 2 * (travel + 1.5) + 2)
-      throw Abort(StopReason::Runaway, "an input changed " + std::to_string(most) + " times while the command moved " +
-                                           fixed(travel, 2) + " electrical turns: the rotor runs away");
+      throw Abort(StopReason::Runaway, std::string("an input changed ") + std::to_string(most) +
+                                           " times while the command moved " + fixed(travel, 2) +
+                                           " electrical turns: the rotor runs away");
     return;
   }
   const auto& s = *scale_;
@@ -122,23 +128,28 @@ void Motion::guard_motion(const Tick& tick) {
   const std::int64_t count = tick.counts[s.encoder];
   const double travel = std::abs(static_cast<double>(count - start_count_)) / cpe;
   if (travel > plan_.max_electrical_turns)
-    throw Abort(StopReason::TravelLimit, "the rotor turned " + fixed(travel, 2) + " electrical turns, beyond the plan's " +
+    throw Abort(StopReason::TravelLimit, std::string("the rotor turned ") + fixed(travel, 2) +
+                                             " electrical turns, beyond the plan's " +
                                              fixed(plan_.max_electrical_turns, 1));
   if (ticks_.size() > kSpeedWindow) {
     const auto& then = ticks_[ticks_.size() - 1 - kSpeedWindow];
-    const double speed = std::abs(static_cast<double>(count - then.counts[s.encoder])) / cpe / (tick.t_s - then.t_s);
+    const double speed =
+        std::abs(static_cast<double>(count - then.counts[s.encoder])) / cpe / (tick.t_s - then.t_s);
     if (speed > plan_.runaway_turns_per_s)
-      throw Abort(StopReason::Runaway, "the rotor turned at " + fixed(speed, 1) + " electrical turns/s, above the limit " +
+      throw Abort(StopReason::Runaway, std::string("the rotor turned at ") + fixed(speed, 1) +
+                                           " electrical turns/s, above the limit " +
                                            fixed(plan_.runaway_turns_per_s, 1) + ": runaway");
   }
   if (follow_) {
     const double expected = follow_count_ + s.direction * cpe * (tick.command_turns - follow_command_);
     const double off = std::abs(static_cast<double>(count) - expected) / cpe;
     if (off > options_.follow_tolerance_turns)
-      throw Abort(StopReason::NotFollowing,
-                  "the rotor is " + fixed(off, 2) + " electrical turns from where the command puts it (limit " +
-                      fixed(options_.follow_tolerance_turns, 2) +
-                      "): it slipped, or something else moves it (a load, a brake dragging, too little current)");
+      throw Abort(
+          StopReason::NotFollowing,
+          std::string("the rotor is ") + fixed(off, 2) +
+              " electrical turns from where the command puts it (limit " +
+              fixed(options_.follow_tolerance_turns, 2) +
+              "): it slipped, or something else moves it (a load, a brake dragging, too little current)");
   }
 }
 

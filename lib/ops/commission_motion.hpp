@@ -29,8 +29,8 @@ class Abort : public std::runtime_error {
 // One recorded cycle.
 struct Tick {
   double t_s = 0;
-  double command_turns = 0;  // where the current vector holds the rotor (the analysis' frame)
-  std::vector<std::int64_t> counts;                      // per encoder instance, unwrapped
+  double command_turns = 0;          // where the current vector holds the rotor (the analysis' frame)
+  std::vector<std::int64_t> counts;  // per encoder instance, unwrapped
   std::vector<std::optional<std::int64_t>> index_latch;  // per encoder instance
   std::vector<std::uint32_t> input_words;
 };
@@ -44,13 +44,16 @@ struct Scale {
 
 class Motion {
  public:
-  Motion(eth::DriveLoop& loop, const CommissionPlan& plan, const CommissionOptions& options, const Cancel& cancel);
+  Motion(eth::DriveLoop& loop, const CommissionPlan& plan, const CommissionOptions& options,
+         const Cancel& cancel);
 
   // One cycle: q current `amps` (signed) at ANGLE `angle_turns` (the 8I20's frame), the
   // guards, the tick recorded. `command_turns` is what the rotor should follow (recorded).
   const Tick& drive(double amps, double angle_turns, double command_turns);
   // Holds the rotor at `command_turns` (current vector there: ANGLE a quarter turn behind).
-  const Tick& hold(double amps, double command_turns) { return drive(amps, command_turns - 0.25, command_turns); }
+  const Tick& hold(double amps, double command_turns) {
+    return drive(amps, command_turns - 0.25, command_turns);
+  }
 
   // Known scale: the guards for travel, speed and following apply from now on. `follow`:
   // the rotor should track the command from the current tick.

@@ -53,7 +53,8 @@ Preflight read_preflight(Session& session) {
   if (!endpoint.is_eth())
     throw UsageError(
         "commission drives the motor, which needs normal mode over Ethernet (a 7I96S or 7I92T: --eth IP or "
-        "eth://IP/chN); setup mode over a 3I21/3I22 serial link drives no motor (W6 down disables the drive)");
+        "eth://IP/chN); setup mode over a 3I21/3I22 serial link drives no motor (W6 down disables the "
+        "drive)");
   Preflight p;
   p.target = eth::parse_target(endpoint.eth_url);
   {
@@ -61,7 +62,7 @@ Preflight read_preflight(Session& session) {
     p.card = card.describe();
     const auto readings = read_values(card, std::vector<std::string>{"FAULT", "BUSV", "MAXCURRENT"});
     p.fault = static_cast<std::uint16_t>(reading_of(readings, 0, "FAULT"));
-    p.bus_v = reading_of(readings, 1, "BUSV") / 100.0;           // 10 mV
+    p.bus_v = reading_of(readings, 1, "BUSV") / 100.0;                // 10 mV
     p.max_current_a = reading_of(readings, 2, "MAXCURRENT") / 100.0;  // 10 mA
   }
   session.reconnect();  // the passthrough is closed before normal mode starts
@@ -69,22 +70,26 @@ Preflight read_preflight(Session& session) {
   // earlier run of this command, LinuxCNC's exit); the normal start clears it.
   constexpr std::uint16_t kWatchdogFault = 0x0001;
   if (p.fault == kWatchdogFault) {
-    p.note = "FAULT holds only WATCHDOGFAULT: the last host stopped sending DOITs, as every normal-mode session ends; "
-             "the normal start clears it";
+    p.note =
+        "FAULT holds only WATCHDOGFAULT: the last host stopped sending DOITs, as every normal-mode session "
+        "ends; "
+        "the normal start clears it";
   } else if (p.fault != 0) {
     std::string names;
     for (const auto& bit : faults::decode_fault(p.fault).bits) {
       if (!names.empty()) names += ", ";
       names += bit.label();
     }
-    throw Error("the 8I20 has latched faults (FAULT " + lbp::hex_value(p.fault, 4) + ": " + names +
+    throw Error(std::string("the 8I20 has latched faults (FAULT ") + lbp::hex_value(p.fault, 4) + ": " +
+                    names +
                     "); find their cause first (i20 faults), then clear them (i20 clear-faults): a normal "
                     "start would clear them unseen",
                 ErrorKind::Refused);
   }
   if (p.bus_v < kMinBusV || p.bus_v > kMaxBusV)
-    throw Error("the motor bus reads " + fixed(p.bus_v, 1) + " V: commissioning needs " + fixed(kMinBusV, 0) +
-                    ".." + fixed(kMaxBusV, 0) + " V (8I20 manual: 24 to 400 V; its brake switches on at 385 V)",
+    throw Error(std::string("the motor bus reads ") + fixed(p.bus_v, 1) + " V: commissioning needs " +
+                    fixed(kMinBusV, 0) + ".." + fixed(kMaxBusV, 0) +
+                    " V (8I20 manual: 24 to 400 V; its brake switches on at 385 V)",
                 ErrorKind::Refused);
   if (!(p.max_current_a > 0))
     throw Error("MAXCURRENT is 0 A: the 8I20 would drive no current", ErrorKind::Refused);
@@ -106,7 +111,8 @@ CommissionPlan prepare_commission(Session& session, const CommissionOptions& opt
   const double max = plan.preflight.max_current_a;
   plan.current_a = std::min(options.current_amps.value_or(options.current_fraction * max), max);
   if (options.current_amps && *options.current_amps > max)
-    throw Error("--current " + fixed(*options.current_amps, 2) + " A is above MAXCURRENT " + fixed(max, 2) + " A",
+    throw Error(std::string("--current ") + fixed(*options.current_amps, 2) + " A is above MAXCURRENT " +
+                    fixed(max, 2) + " A",
                 ErrorKind::Refused);
   plan.check_current_a = plan.current_a * options.check_current_fraction;
   plan.align_s = options.align_s;
@@ -126,44 +132,49 @@ CommissionPlan prepare_commission(Session& session, const CommissionOptions& opt
   } else {
     plan.index_passes = options.counts_per_turn ? 1 : 2;
     // The first pass comes within a mechanical turn, the second one turn later.
-    plan.search_turns = std::max(options.sweep_turns, options.pole_pairs ? plan.index_passes * *options.pole_pairs + 0.5
-                                                                         : options.search_turns);
+    plan.search_turns =
+        std::max(options.sweep_turns,
+                 options.pole_pairs ? plan.index_passes * *options.pole_pairs + 0.5 : options.search_turns);
     plan.max_electrical_turns = plan.search_turns + options.follow_tolerance_turns + 0.5 + kCheckTurns;
     plan.estimated_s = options.align_s + 2 * plan.search_turns / options.turns_per_s + check_s;
     if (options.pole_pairs) plan.max_mechanical_turns = plan.max_electrical_turns / *options.pole_pairs;
   }
   if (plan.estimated_s * 1.5 > plan.time_limit_s)
-    throw UsageError("--time-limit " + fixed(plan.time_limit_s, 0) + " s is too short for the plan (about " +
-                     fixed(plan.estimated_s, 1) + " s)");
+    throw UsageError(std::string("--time-limit ") + fixed(plan.time_limit_s, 0) +
+                     " s is too short for the plan (about " + fixed(plan.estimated_s, 1) + " s)");
   return plan;
 }
 
 std::vector<std::string> CommissionPlan::lines() const {
   std::vector<std::string> out;
   out.push_back("card: " + preflight.card + "; bus " + fixed(preflight.bus_v, 1) + " V, " +
-                (preflight.fault == 0 ? "no latched faults" : "only WATCHDOGFAULT latched") + ", MAXCURRENT " +
-                fixed(preflight.max_current_a, 2) + " A");
+                (preflight.fault == 0 ? "no latched faults" : "only WATCHDOGFAULT latched") +
+                ", MAXCURRENT " + fixed(preflight.max_current_a, 2) + " A");
   if (!preflight.note.empty()) out.push_back(preflight.note);
   if (!check_only) {
-    out.push_back("align: the current ramps to " + fixed(current_a, 2) + " A in " + fixed(ramp_s, 1) +
-                  " s at electrical angle 0 and holds for " + fixed(align_s, 1) + " s (the rotor jumps up to half an "
+    out.push_back(std::string("align: the current ramps to ") + fixed(current_a, 2) + " A in " +
+                  fixed(ramp_s, 1) + " s at electrical angle 0 and holds for " + fixed(align_s, 1) +
+                  " s (the rotor jumps up to half an "
                   "electrical turn)");
-    std::string sweep = "sweep: " + fixed(sweep_turns, 1);
+    std::string sweep = std::string("sweep: ") + fixed(sweep_turns, 1);
     if (search_turns > sweep_turns)
-      sweep += " to " + fixed(search_turns, 1) + " (on until the index has passed " +
+      sweep += std::string(" to ") + fixed(search_turns, 1) + " (on until the index has passed " +
                (index_passes == 1 ? std::string("once") : std::string("twice")) + ")";
-    sweep += " electrical turns forward and back at " + fixed(turns_per_s, 2) + " turns/s, " + fixed(current_a, 2) + " A";
+    sweep += std::string(" electrical turns forward and back at ") + fixed(turns_per_s, 2) + " turns/s, " +
+             fixed(current_a, 2) + " A";
     out.push_back(sweep);
   }
-  out.push_back("check: closed loop at " + fixed(check_current_a, 2) +
+  out.push_back(std::string("check: closed loop at ") + fixed(check_current_a, 2) +
                 " A, one to two electrical turns each way, then two holds");
-  std::string travel = "the rotor may turn at most " + fixed(max_electrical_turns, 1) + " electrical turns";
-  travel += max_mechanical_turns ? " (" + fixed(*max_mechanical_turns, 2) + " mechanical turns)"
+  std::string travel =
+      std::string("the rotor may turn at most ") + fixed(max_electrical_turns, 1) + " electrical turns";
+  travel += max_mechanical_turns ? std::string(" (") + fixed(*max_mechanical_turns, 2) + " mechanical turns)"
                                  : std::string(" (as many mechanical turns for a one-pole-pair motor)");
   out.push_back(travel);
-  out.push_back("stops at once: faster than " + fixed(runaway_turns_per_s, 1) +
-                " electrical turns/s, a rotor that does not follow, a latched fault, another host, a signal; after " +
-                fixed(time_limit_s, 0) + " s in all (about " + fixed(estimated_s, 1) + " s planned)");
+  out.push_back(
+      std::string("stops at once: faster than ") + fixed(runaway_turns_per_s, 1) +
+      " electrical turns/s, a rotor that does not follow, a latched fault, another host, a signal; after " +
+      fixed(time_limit_s, 0) + " s in all (about " + fixed(estimated_s, 1) + " s planned)");
   return out;
 }
 

@@ -10,8 +10,8 @@
 #include "commission/hall_table.hpp"
 #include "device/errors.hpp"
 #include "eth/errors.hpp"
-#include "linuxcnc/hal_file.hpp"
 #include "link/link.hpp"
+#include "linuxcnc/hal_file.hpp"
 #include "ops/commission.hpp"
 #include "ops/commission_motion.hpp"
 
@@ -45,18 +45,23 @@ std::size_t encoder_index(const eth::DriveLoop& loop, unsigned instance) {
   const auto& encoders = loop.feedback().encoders;
   for (std::size_t e = 0; e < encoders.size(); ++e)
     if (encoders[e].instance == instance) return e;
-  throw UsageError("--encoder " + std::to_string(instance) + ": the card has " + std::to_string(encoders.size()) +
-                   " encoder(s), 0.." + std::to_string(encoders.size() - 1));
+  throw UsageError(std::string("--encoder ") + std::to_string(instance) + ": the card has " +
+                   std::to_string(encoders.size()) + " encoder(s), 0.." +
+                   std::to_string(encoders.size() - 1));
 }
 
 std::vector<std::size_t> named_inputs(const eth::DriveLoop& loop, const std::vector<std::string>& names) {
   const auto& inputs = loop.feedback().inputs;
   std::vector<std::size_t> out;
   for (const auto& name : names) {
-    const auto it = std::find_if(inputs.begin(), inputs.end(), [&](const auto& in) { return in.hal_pin == name; });
+    const auto it =
+        std::find_if(inputs.begin(), inputs.end(), [&](const auto& in) { return in.hal_pin == name; });
     if (it == inputs.end()) {
       std::string known;
-      for (const auto& in : inputs) known += (known.empty() ? "" : ", ") + in.hal_pin;
+      for (const auto& in : inputs) {
+        if (!known.empty()) known += ", ";
+        known += in.hal_pin;
+      }
       throw UsageError("--halls: " + name + " is not an input of this card (" + known + ")");
     }
     out.push_back(static_cast<std::size_t>(it - inputs.begin()));
@@ -109,7 +114,7 @@ class Procedure {
 };
 
 void Procedure::align(double at_turns) {
-  say("aligning: ramping to " + fixed(plan_.current_a, 2) + " A at electrical angle 0");
+  say(std::string("aligning: ramping to ") + fixed(plan_.current_a, 2) + " A at electrical angle 0");
   command_ = at_turns;
   const double dt = m_.loop().period().count() / 1000.0;
   for (double t = 0; t < plan_.align_s; t += dt)
@@ -138,7 +143,8 @@ double Procedure::sweep_forward() {
   sweep_to(0.0, plan_.sweep_turns, true);
   const auto e = m_.scale()->encoder;
   auto latches = [&] {
-    return std::count_if(m_.ticks().begin(), m_.ticks().end(), [&](const Tick& t) { return t.index_latch[e].has_value(); });
+    return std::count_if(m_.ticks().begin(), m_.ticks().end(),
+                         [&](const Tick& t) { return t.index_latch[e].has_value(); });
   };
   double end = plan_.sweep_turns;
   while (latches() < plan_.index_passes && end < plan_.search_turns) {
@@ -166,15 +172,20 @@ void Procedure::learn_scale(std::size_t sweep_start) {
   if (std::abs(moved) < kStallCounts) {
     const auto changes = m_.input_changes(sweep_start, ticks.size());
     const bool inputs_moved = std::any_of(changes.begin(), changes.end(), [](unsigned c) { return c > 0; });
-    const std::string encoder = "encoder " + std::to_string(m_.loop().feedback().encoders[e].instance);
+    const std::string encoder =
+        std::string("encoder ") + std::to_string(m_.loop().feedback().encoders[e].instance);
     if (inputs_moved)
-      throw Abort(StopReason::Stall, "inputs changed but " + encoder + " did not count through a full electrical turn "
-                                         "of command: is the encoder connected, and is it that one (--encoder)?");
+      throw Abort(StopReason::Stall,
+                  "inputs changed but " + encoder +
+                      " did not count through a full electrical turn "
+                      "of command: is the encoder connected, and is it that one (--encoder)?");
     throw Abort(StopReason::Stall, "the rotor did not move through a full electrical turn of command at " +
-                                       fixed(plan_.current_a, 2) + " A (" + encoder + " and every input still): is "
+                                       fixed(plan_.current_a, 2) + " A (" + encoder +
+                                       " and every input still): is "
                                        "the brake released, the motor connected, the current enough?");
   }
-  Scale scale{.encoder = e, .direction = moved > 0 ? 1 : -1,
+  Scale scale{.encoder = e,
+              .direction = moved > 0 ? 1 : -1,
               .counts_per_electrical_turn = std::abs(static_cast<double>(moved)) / kScaleTurns};
   if (options_.pole_pairs && options_.counts_per_turn)
     scale.counts_per_electrical_turn = static_cast<double>(*options_.counts_per_turn) / *options_.pole_pairs;
@@ -192,25 +203,32 @@ std::vector<std::size_t> Procedure::choose_halls(std::size_t from) {
     if (changes[k] >= plan_.sweep_turns) changed.push_back(k);  // a Hall changes ~4x per turn there and back
   const auto& inputs = m_.loop().feedback().inputs;
   std::string names;
-  for (auto k : changed) names += (names.empty() ? "" : ", ") + inputs[k].hal_pin;
+  for (auto k : changed) {
+    if (!names.empty()) names += ", ";
+    names += inputs[k].hal_pin;
+  }
   if (changed.size() == 3) return changed;
   if (changed.empty())
-    report_.notes.push_back("no input changed during the sweep: the motor has no Hall sensors on this card's inputs "
-                            "(or name them with --halls)");
+    report_.notes.push_back(
+        "no input changed during the sweep: the motor has no Hall sensors on this card's inputs "
+        "(or name them with --halls)");
   else
-    report_.notes.push_back(std::to_string(changed.size()) + " input(s) changed during the sweep (" + names +
-                            "), not three: name the Hall inputs with --halls (a sensor may be stuck or missing)");
+    report_.notes.push_back(
+        std::to_string(changed.size()) + " input(s) changed during the sweep (" + names +
+        "), not three: name the Hall inputs with --halls (a sensor may be stuck or missing)");
   return {};
 }
 
 commission::HallCode Procedure::hall_code(const Tick& tick, const std::vector<std::size_t>& halls) const {
   commission::HallCode code = 0;
   for (std::size_t h = 0; h < halls.size(); ++h)
-    if (m_.input_bit(tick, halls[h])) code = static_cast<commission::HallCode>(code | commission::hall_bit(int(h) + 1));
+    if (m_.input_bit(tick, halls[h]))
+      code = static_cast<commission::HallCode>(code | commission::hall_bit(int(h) + 1));
   return code;
 }
 
-std::vector<commission::Sample> Procedure::samples(std::size_t encoder, const std::vector<std::size_t>& halls) const {
+std::vector<commission::Sample> Procedure::samples(std::size_t encoder,
+                                                   const std::vector<std::size_t>& halls) const {
   std::vector<commission::Sample> out;
   for (const auto& tick : m_.ticks()) {
     commission::Sample s;
@@ -232,7 +250,7 @@ void Procedure::commission() {
   if (!options_.halls.empty()) named_inputs(m_.loop(), options_.halls);
   if (options_.encoder) encoder_index(m_.loop(), *options_.encoder);
   align(0.0);
-  say("sweeping " + fixed(plan_.sweep_turns, 1) + " electrical turns forward");
+  say(std::string("sweeping ") + fixed(plan_.sweep_turns, 1) + " electrical turns forward");
   const std::size_t sweep_start = m_.ticks().size();
   const double end = sweep_forward();
   say("sweeping back");
@@ -248,18 +266,20 @@ void Procedure::commission() {
   analysis.pole_pairs = options_.pole_pairs;
   analysis.counts_per_turn = options_.counts_per_turn;
   analysis.hall_sensors_expected = !halls.empty();
-  say("analysing " + std::to_string(report_.samples) + " samples");
+  say(std::string("analysing ") + std::to_string(report_.samples) + " samples");
   const auto result = commission::analyse(report_.recorded, analysis);
   report_.result = result;
   report_.bldc = commission::bldc_settings(result);
 
   if (!result.encoder_direction || !result.counts_per_electrical_turn || !result.encoder_offset_counts) {
     report_.stop = StopReason::CouldNotTell;
-    report_.message = "the analysis could not tell every value the closed-loop check needs (see the problems)";
+    report_.message =
+        "the analysis could not tell every value the closed-loop check needs (see the problems)";
     return;
   }
   Rotor rotor;
-  rotor.scale = Scale{.encoder = e, .direction = result.encoder_direction->value,
+  rotor.scale = Scale{.encoder = e,
+                      .direction = result.encoder_direction->value,
                       .counts_per_electrical_turn = result.counts_per_electrical_turn->value};
   const auto latch = std::find_if(report_.recorded.rbegin(), report_.recorded.rend(),
                                   [](const auto& s) { return s.index_seen; });
@@ -281,7 +301,8 @@ void Procedure::commission() {
 
 void Procedure::check_only(const BldcSetup& setup) {
   if (!setup.has_index)
-    throw UsageError("--check needs a setup with an index (bldc cfg qi or qhi: encoder-offset) to know the rotor angle");
+    throw UsageError(
+        "--check needs a setup with an index (bldc cfg qi or qhi: encoder-offset) to know the rotor angle");
   Rotor rotor;
   rotor.scale.encoder = encoder_index(m_.loop(), options_.encoder.value_or(0));
   rotor.scale.direction = setup.scale > 0 ? 1 : -1;
@@ -290,9 +311,11 @@ void Procedure::check_only(const BldcSetup& setup) {
   if (setup.pattern) {
     for (const auto& row : commission::hall_table())
       if (row.bldc_pattern == setup.pattern) rotor.halls_sequence = row.sequence;
-    rotor.halls = options_.halls.empty() ? std::vector<std::size_t>{} : named_inputs(m_.loop(), options_.halls);
+    rotor.halls =
+        options_.halls.empty() ? std::vector<std::size_t>{} : named_inputs(m_.loop(), options_.halls);
     for (auto k : rotor.halls) report_.hall_pins.push_back(m_.loop().feedback().inputs[k].hal_pin);
-    if (rotor.halls.empty()) report_.notes.push_back("the Hall codes were not checked: name the inputs with --halls");
+    if (rotor.halls.empty())
+      report_.notes.push_back("the Hall codes were not checked: name the inputs with --halls");
   }
   // The index: turn open loop forward until it latches (at most one mechanical turn).
   align(0.0);
@@ -307,8 +330,9 @@ void Procedure::check_only(const BldcSetup& setup) {
   m_.stop_following();
   if (!latch) {
     report_.stop = StopReason::CheckFailed;
-    report_.message = "no index latched in a mechanical turn and more: the encoder's index is not connected, or the "
-                      "setup's poles and scale are wrong";
+    report_.message =
+        "no index latched in a mechanical turn and more: the encoder's index is not connected, or the "
+        "setup's poles and scale are wrong";
     return;
   }
   rotor.zero_count = *latch + setup.encoder_offset;
@@ -336,8 +360,11 @@ double Procedure::push(const Rotor& rotor, int sign, ClosedLoopCheck& check) {
     // needed is found, not assumed).
     const auto& ticks = m_.ticks();
     const auto& before = ticks[ticks.size() > 3 ? ticks.size() - 4 : 0];
-    const double speed = std::abs(theta - rotor.angle(before.counts[e])) / std::max(dt, ticks.back().t_s - before.t_s);
-    amps = speed > 0.5 * plan_.turns_per_s ? 0.0 : std::min(plan_.check_current_a, amps + plan_.check_current_a * dt / kCheckRampS);
+    const double speed =
+        std::abs(theta - rotor.angle(before.counts[e])) / std::max(dt, ticks.back().t_s - before.t_s);
+    amps = speed > 0.5 * plan_.turns_per_s
+               ? 0.0
+               : std::min(plan_.check_current_a, amps + plan_.check_current_a * dt / kCheckRampS);
     const auto& tick = m_.drive(sign * amps, theta, theta);
     const double now = rotor.angle(tick.counts[e]);
     moved = now - start;
@@ -346,7 +373,8 @@ double Procedure::push(const Rotor& rotor, int sign, ClosedLoopCheck& check) {
       const double nearest = std::floor(sectors + 0.5);
       const auto k = static_cast<std::size_t>(((static_cast<long>(nearest) % 6) + 6) % 6);
       ++check.hall_samples;
-      if (std::abs(sectors - nearest) < 0.25 && hall_code(tick, rotor.halls) != rotor.halls_sequence->code_at_sector[k])
+      if (std::abs(sectors - nearest) < 0.25 &&
+          hall_code(tick, rotor.halls) != rotor.halls_sequence->code_at_sector[k])
         ++check.hall_mismatches;
     }
   }
@@ -389,20 +417,23 @@ ClosedLoopCheck Procedure::closed_loop(const Rotor& rotor) {
   const double here = rotor.angle(m_.ticks().back().counts[rotor.scale.encoder]);
   for (double at : {here + 0.15, here - 0.15})  // from each side: friction lags them opposite ways
     check.hold_errors_deg.push_back(hold_error(rotor, at));
-  const bool turns = std::all_of(check.directions.begin(), check.directions.end(), [](const auto& d) { return d.passed; });
+  const bool turns =
+      std::all_of(check.directions.begin(), check.directions.end(), [](const auto& d) { return d.passed; });
   const bool holds = std::all_of(check.hold_errors_deg.begin(), check.hold_errors_deg.end(),
                                  [&](double e) { return std::abs(e) <= check.bound_deg; });
-  const bool halls = check.hall_samples == 0 ||
-                     static_cast<double>(check.hall_mismatches) <= kHallMismatchLimit * static_cast<double>(check.hall_samples);
+  const bool halls =
+      check.hall_samples == 0 || static_cast<double>(check.hall_mismatches) <=
+                                     kHallMismatchLimit * static_cast<double>(check.hall_samples);
   check.passed = turns && holds && halls;
-  check.how = "positive torque moved " + fixed(check.directions[0].moved_electrical_turns, 2) +
+  check.how = std::string("positive torque moved ") + fixed(check.directions[0].moved_electrical_turns, 2) +
               " electrical turns, negative " + fixed(check.directions[1].moved_electrical_turns, 2) +
               " (each must move at least " + fixed(kCheckMinTurns, 2) + " its own way); holds off by " +
-              fixed(check.hold_errors_deg[0], 1) + " and " + fixed(check.hold_errors_deg[1], 1) + " electrical degrees (bound " +
-              fixed(check.bound_deg, 1) + ")";
+              fixed(check.hold_errors_deg[0], 1) + " and " + fixed(check.hold_errors_deg[1], 1) +
+              " electrical degrees (bound " + fixed(check.bound_deg, 1) + ")";
   if (check.hall_samples > 0)
-    check.how += "; Hall codes off the pattern's sector in " + std::to_string(check.hall_mismatches) + " of " +
-                 std::to_string(check.hall_samples) + " samples";
+    check.how += std::string("; Hall codes off the pattern's sector in ") +
+                 std::to_string(check.hall_mismatches) + " of " + std::to_string(check.hall_samples) +
+                 " samples";
   return check;
 }
 
@@ -418,8 +449,8 @@ eth::NormalModeOptions loop_options(const CommissionOptions& options, const Sess
 
 }  // namespace
 
-CommissionReport run_commission(Session& session, const CommissionPlan& plan, const CommissionOptions& options,
-                                const CommissionProgress& progress) {
+CommissionReport run_commission(Session& session, const CommissionPlan& plan,
+                                const CommissionOptions& options, const CommissionProgress& progress) {
   CommissionReport report;
   report.plan = plan;
   std::unique_ptr<eth::DriveLoop> loop;
@@ -527,8 +558,11 @@ BldcSetup read_bldc_setup(const std::string& hal_text, const std::string& file) 
     if (ends_with(name, ".encoder-offset")) offset = number(st);
   }
   if (!poles || !scale)
-    throw UsageError(file + ": no `setp bldc.N.poles` and `setp bldc.N.scale` lines: --check needs bldc's poles and scale");
-  if (*poles < 2 || *poles % 2 != 0) throw UsageError(file + ": bldc poles " + std::to_string(*poles) + " is not an even number");
+    throw UsageError(
+        file +
+        ": no `setp bldc.N.poles` and `setp bldc.N.scale` lines: --check needs bldc's poles and scale");
+  if (*poles < 2 || *poles % 2 != 0)
+    throw UsageError(file + ": bldc poles " + std::to_string(*poles) + " is not an even number");
   if (*scale == 0) throw UsageError(file + ": bldc scale 0");
   setup.poles = *poles;
   setup.scale = *scale;

@@ -38,14 +38,16 @@ TEST(CommissionCli, ASerialTargetIsAUsageErrorThatSaysWhy) {
 
 TEST(CommissionCli, BadOptionsAreRefusedBeforeTheCardIsAsked) {
   EXPECT_EQ(commission({"--eth", "127.0.0.1:1"}, {"--yes", "--poles", "7"}).exit_code, 2);
-  EXPECT_EQ(commission({"--eth", "127.0.0.1:1"}, {"--yes", "--halls", "gpio.010.in,gpio.011.in"}).exit_code, 2);
+  EXPECT_EQ(commission({"--eth", "127.0.0.1:1"}, {"--yes", "--halls", "gpio.010.in,gpio.011.in"}).exit_code,
+            2);
   EXPECT_EQ(commission({"--eth", "127.0.0.1:1"}, {"--yes", "--halls", "a,b,c", "--no-halls"}).exit_code, 2);
   EXPECT_EQ(commission({"--eth", "127.0.0.1:1"}, {"--yes", "--check", "/nonexistent/axis.hal"}).exit_code, 2);
 }
 
 class CommissionCliSim : public ::testing::Test {
  protected:
-  SimProcess card{{"--card", "7i92t-servo", "--channels", "2", "--motor", kMotor}, SimProcess::Transport::Eth};
+  SimProcess card{{"--card", "7i92t-servo", "--channels", "2", "--motor", kMotor},
+                  SimProcess::Transport::Eth};
   std::vector<std::string> target() const { return {"--eth", card.port(), "--channel", "1"}; }
   std::vector<std::string> quick() const {
     return {"--poles", "8", "--counts-per-rev", "10000", "--sweep-turns", "2", "--turns-per-second", "4"};
@@ -68,12 +70,14 @@ TEST_F(CommissionCliSim, JsonReportAndTheHalFragment) {
   full.push_back("--json");
   const auto r = commission(full, args);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  for (const char* key : {"\"stop\": \"completed\"", "\"pattern\": 25", "\"poles\": 8", "\"scale\": 10000",
-                          "\"encoder-offset\": ", "\"current_zeroed\": true", "\"passed\": true", "\"encoder\": 1"})
+  for (const char* key :
+       {"\"stop\": \"completed\"", "\"pattern\": 25", "\"poles\": 8", "\"scale\": 10000",
+        "\"encoder-offset\": ", "\"current_zeroed\": true", "\"passed\": true", "\"encoder\": 1"})
     EXPECT_NE(r.out.find(key), std::string::npos) << key << "\n" << r.out;
   const auto text = read(hal);
   for (const char* line : {"loadrt bldc cfg=qhi\n", "setp bldc.0.pattern 25\n", "setp bldc.0.poles 8\n",
-                           "setp bldc.0.scale 10000\n", "net bldc0-rotor-angle bldc.0.rotor-angle => hm2_7i92.0.8i20.0.1.angle\n",
+                           "setp bldc.0.scale 10000\n",
+                           "net bldc0-rotor-angle bldc.0.rotor-angle => hm2_7i92.0.8i20.0.1.angle\n",
                            "net bldc0-current bldc.0.out => hm2_7i92.0.8i20.0.1.current\n",
                            "net bldc0-rawcounts hm2_7i92.0.encoder.01.rawcounts => bldc.0.rawcounts\n",
                            "net bldc0-hall1 hm2_7i92.0.gpio.013.in => bldc.0.hall1\n"})

@@ -9,9 +9,8 @@
 #include <random>
 #include <thread>
 
-#include "sim/bits.hpp"
-
 #include "ops/outcome.hpp"
+#include "sim/bits.hpp"
 #include "virtual_axis.hpp"
 
 using namespace i20;
@@ -106,17 +105,19 @@ TEST(CommissionRun, RandomMotorsMatchTheTruth) {
     spec.load_nm = pick(0.0, 0.01, -0.01);
     spec.cogging_nm = pick(0.0, 0.005);
     std::string inputs = pick(std::string("[0, 1, 2]"), std::string("[1, 2, 0]"), std::string("[2, 1, 0]"));
-    spec.halls = "  placement: " + std::to_string(pick(120, 60)) + "\n  offset: " +
-                 std::to_string(pick(0, 15, 30, 45, 90, 200)) + "deg\n  polarity: " +
-                 pick(std::string("active-high"), std::string("active-low")) + "\n  inputs: " + inputs + "\n";
-    SCOPED_TRACE("run " + std::to_string(run) + ":\n" + spec.yaml());
+    spec.halls = std::string("  placement: ") + std::to_string(pick(120, 60)) +
+                 "\n  offset: " + std::to_string(pick(0, 15, 30, 45, 90, 200)) +
+                 "deg\n  polarity: " + pick(std::string("active-high"), std::string("active-low")) +
+                 "\n  inputs: " + inputs + "\n";
+    SCOPED_TRACE(std::string("run ") + std::to_string(run) + ":\n" + spec.yaml());
     VirtualAxis axis(spec);
     auto options = quick_options();
     options.turns_per_s = 6.0;
     options.pole_pairs = spec.pole_pairs;
     options.counts_per_turn = spec.counts_per_turn;
     const auto r = commission(axis, options).report;
-    EXPECT_TRUE(r.stop == ops::StopReason::Completed || r.stop == ops::StopReason::CouldNotTell) << describe(r);
+    EXPECT_TRUE(r.stop == ops::StopReason::Completed || r.stop == ops::StopReason::CouldNotTell)
+        << describe(r);
     expect_truth(axis, r);
     if (r.check) {
       EXPECT_TRUE(r.check->passed) << describe(r);
@@ -128,7 +129,8 @@ TEST(CommissionRun, RandomMotorsMatchTheTruth) {
 
 // --- aborts: each ends with QSETPOINT 0, the port stopped, and says why -----------------
 
-void expect_stopped(VirtualAxis& axis, const ops::CommissionReport& r, ops::StopReason reason, const std::string& says) {
+void expect_stopped(VirtualAxis& axis, const ops::CommissionReport& r, ops::StopReason reason,
+                    const std::string& says) {
   EXPECT_EQ(r.stop, reason) << describe(r);
   EXPECT_NE(r.message.find(says), std::string::npos) << describe(r);
   EXPECT_TRUE(r.current_zeroed) << r.zero_note;
@@ -159,7 +161,8 @@ TEST(CommissionRun, AFaultLatchedMidRunStopsIt) {
   std::thread fault([&] {
     std::this_thread::sleep_for(700ms);
     axis.server().with_card([&](ethsim::VirtualCard& card) {
-      axis.server().amplifier(card, 0, 0)->amplifier().world().settings().forced_faults = sim::fault::kOverTemp;
+      axis.server().amplifier(card, 0, 0)->amplifier().world().settings().forced_faults =
+          sim::fault::kOverTemp;
     });
   });
   const auto r = commission(axis, quick_options()).report;
@@ -214,8 +217,9 @@ TEST(CommissionRun, ReadsTheBldcSetupOfAHalFile) {
   EXPECT_EQ(setup.scale, -4000);
   EXPECT_EQ(setup.encoder_offset, 123);
   EXPECT_TRUE(setup.has_index);
-  EXPECT_THROW(ops::read_bldc_setup("loadrt bldc cfg=qh\nsetp bldc.0.poles 7\nsetp bldc.0.scale 10\n", "y.hal"),
-               UsageError);
+  EXPECT_THROW(
+      ops::read_bldc_setup("loadrt bldc cfg=qh\nsetp bldc.0.poles 7\nsetp bldc.0.scale 10\n", "y.hal"),
+      UsageError);
   EXPECT_THROW(ops::read_bldc_setup("loadrt bldc cfg=qh\n", "z.hal"), UsageError);
 }
 

@@ -29,16 +29,17 @@ struct MotorSpec {
   std::string extra;
 
   std::string yaml() const {
-    std::string y = "name: test\npole_pairs: " + std::to_string(pole_pairs);
+    std::string y = std::string("name: test\npole_pairs: ") + std::to_string(pole_pairs);
     y += "\nresistance: 1.9ohm\ninductance: 6.2mH\ntorque_constant: 0.45Nm/A\ninertia: 0.6kgcm^2\n";
     y += "friction:\n  viscous: 0.05mNm/(rad/s)\n  coulomb: 0.02Nm\n";
-    if (cogging_nm > 0) y += "cogging:\n  torque: " + std::to_string(cogging_nm) + "Nm\n  periods_per_turn: 36\n";
-    y += "load: " + std::to_string(load_nm) + "Nm\n";
+    if (cogging_nm > 0)
+      y += std::string("cogging:\n  torque: ") + std::to_string(cogging_nm) + "Nm\n  periods_per_turn: 36\n";
+    y += std::string("load: ") + std::to_string(load_nm) + "Nm\n";
     y += "brake:\n  torque: 3Nm\n  engaged: ";
     y += brake ? "true\n" : "false\n";
-    y += "channel: 0\nencoder:\n  counts_per_turn: " + std::to_string(counts_per_turn);
-    y += "\n  direction: " + std::to_string(direction);
-    y += "\n  index_angle: " + std::to_string(index_deg) + "deg\n";
+    y += std::string("channel: 0\nencoder:\n  counts_per_turn: ") + std::to_string(counts_per_turn);
+    y += std::string("\n  direction: ") + std::to_string(direction);
+    y += std::string("\n  index_angle: ") + std::to_string(index_deg) + "deg\n";
     if (!halls.empty()) y += "halls:\n" + halls;
     y += extra;
     return y;
@@ -82,7 +83,7 @@ class VirtualAxis {
 
   ops::SessionOptions session_options() const {
     ops::SessionOptions so;
-    so.target.eth = "127.0.0.1:" + std::to_string(server_->address().port);
+    so.target.eth = std::string("127.0.0.1:") + std::to_string(server_->address().port);
     return so;
   }
   ethsim::CardServer& server() { return *server_; }
@@ -90,7 +91,8 @@ class VirtualAxis {
   // The q current the 8I20 drives now (amps, from its last QSETPOINT).
   double qsetpoint() {
     return server_->with_card([&](ethsim::VirtualCard& card) {
-      return static_cast<double>(static_cast<std::int16_t>(server_->amplifier(card, 0, 0)->amplifier().value("QSETPOINT")));
+      return static_cast<double>(
+          static_cast<std::int16_t>(server_->amplifier(card, 0, 0)->amplifier().value("QSETPOINT")));
     });
   }
 
