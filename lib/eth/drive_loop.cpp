@@ -60,9 +60,13 @@ FeedbackMap feedback_map(const HostMot2Info& info) {
   if (const auto* inm = info.find(hm2::gtag::kInm)) {
     const std::size_t w = map.input_words.size();
     map.input_words.push_back(inm->register_address(info.idrom, hm2::inm_reg::kFilteredData, 0));
+    map.inm_word = w;
+    map.inm_control = inm->register_address(info.idrom, hm2::inm_reg::kControl, 0);
     for (const auto& pin : info.pins)
-      if (pin.secondary_tag == hm2::gtag::kInm && pin.secondary_unit == 0) {
-        const unsigned input = pin.secondary_pin & 0x7F;
+      // Secondary pin numbers count from 1 (as an encoder's A, B, index are 1, 2, 3).
+      if (pin.secondary_tag == hm2::gtag::kInm && pin.secondary_unit == 0 &&
+          (pin.secondary_pin & 0x7F) >= 1) {
+        const unsigned input = (pin.secondary_pin & 0x7Fu) - 1;
         std::string name = "inm.00.input-";
         name += padded(input, 2);
         map.inputs.push_back({.word = w, .bit = input, .hal_pin = name});
@@ -130,6 +134,7 @@ std::vector<lbp16::Command> DriveLoop::packet(DriveSetpoint setpoint) const {
     p.push_back(lbp16::read_hm2(e.latch_control));
   }
   for (const auto address : map_.input_words) p.push_back(lbp16::read_hm2(address));
+  if (map_.inm_word) p.push_back(lbp16::read_hm2(map_.inm_control));
   const std::uint32_t if0 =
       static_cast<std::uint32_t>(static_cast<std::uint16_t>(setpoint.qsetpoint)) << 16 | setpoint.angle;
   p.push_back(lbp16::write_hm2(regs.interface0(channel_), if0));
@@ -158,6 +163,8 @@ DriveReading DriveLoop::decode(const std::vector<lbp::Bytes>& parts) {
     r.encoders.push_back(reading);
   }
   for (std::size_t w = 0; w < map_.input_words.size(); ++w) r.input_words.push_back(word(parts[i++]));
+  if (map_.inm_word && !(word(parts[i++]) & hm2::inm_reg::kGlobalInvert))
+    r.input_words[*map_.inm_word] = ~r.input_words[*map_.inm_word];
   return r;
 }
 

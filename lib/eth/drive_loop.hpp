@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,11 @@ struct FeedbackMap {
   std::vector<Encoder> encoders;
   std::vector<std::uint16_t> input_words;  // IOPort data and InM filtered-data registers
   std::vector<Input> inputs;               // GPIO pins no module owns, and InM inputs
+  // The InM word and its control register: hostmot2 sets the control's global invert so
+  // that an active input reads 1 (docs/virtual-feedback.md, "7I96S: the isolated inputs");
+  // without it set, the data is inverted here so the inputs read as hostmot2 shows them.
+  std::optional<std::size_t> inm_word;
+  std::uint16_t inm_control = 0;
 };
 
 // Builds the map. IOPort pins that a module owns (an encoder's A/B/Z, SSERIAL, InM) are

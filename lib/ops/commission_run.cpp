@@ -293,7 +293,8 @@ void Procedure::commission() {
     report_.message = "the closed-loop check with the found values failed: " + report_.check->how;
     return;
   }
-  const bool complete = result.problems.empty();
+  // Halls looked for but not told apart (report_.notes says why) leave the pattern open.
+  const bool complete = result.problems.empty() && (options_.no_halls || !halls.empty());
   report_.stop = complete ? StopReason::Completed : StopReason::CouldNotTell;
   report_.message = complete ? "commutation found and checked in closed loop"
                              : "checked in closed loop, but some values could not be told (see the problems)";
@@ -485,6 +486,7 @@ CommissionReport run_commission(Session& session, const CommissionPlan& plan,
     report.message = "stopped by " + session.cancel().cause();
   }
   if (loop) {
+    session.cancel().acknowledge("setting the current to 0 and stopping the SSERIAL port");
     try {
       loop->stop();
       report.current_zeroed = true;

@@ -5,6 +5,7 @@
 // each abort ending with zero current and an honest report.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <csignal>
 #include <random>
 #include <thread>
@@ -205,6 +206,32 @@ TEST(CommissionRun, ASerialTargetIsRefusedBeforeAnythingMoves) {
   so.target.sim = true;
   ops::Session session(so);
   EXPECT_THROW(ops::prepare_commission(session, quick_options()), UsageError);
+}
+
+// The Hall candidates are named as hostmot2 names its pins: InM inputs on the 7I96S (its
+// pin descriptors number them from 1), plain GPIO on the 7I92T servo layout; pins a module
+// owns (encoder A/B/Z) are no candidates.
+TEST(CommissionRun, FeedbackMapNamesTheInputsAsHostmot2Does) {
+  auto info_of = [](const ethsim::CardConfig& c) {
+    eth::HostMot2Info info;
+    info.idrom = c.idrom;
+    info.modules = c.modules;
+    info.pins = c.pins;
+    return info;
+  };
+  const auto i96 = eth::feedback_map(info_of(ethsim::CardConfig::preset(ethsim::CardKind::I7i96s)));
+  ASSERT_FALSE(i96.inputs.empty());
+  const auto first_inm = std::find_if(i96.inputs.begin(), i96.inputs.end(),
+                                      [](const auto& in) { return in.hal_pin == "inm.00.input-00"; });
+  ASSERT_NE(first_inm, i96.inputs.end());
+  EXPECT_EQ(first_inm->bit, 0u);
+  EXPECT_EQ(i96.encoders.size(), 1u);
+  const auto servo = eth::feedback_map(info_of(ethsim::CardConfig::preset_7i92t_servo()));
+  EXPECT_EQ(servo.encoders.size(), 4u);
+  std::vector<std::string> names;
+  for (const auto& in : servo.inputs) names.push_back(in.hal_pin);
+  EXPECT_NE(std::find(names.begin(), names.end(), "gpio.010.in"), names.end());
+  EXPECT_EQ(std::find(names.begin(), names.end(), "gpio.004.in"), names.end());  // encoder 0's A
 }
 
 TEST(CommissionRun, ReadsTheBldcSetupOfAHalFile) {
