@@ -6,6 +6,7 @@
 
 #include "commission/format.hpp"
 #include "faults/decode.hpp"
+#include "hostmot2/hostmot2.hpp"
 #include "lbp/bytes.hpp"
 
 namespace i20::ops::commission_detail {
@@ -88,6 +89,13 @@ void Motion::unwrap(const eth::DriveReading& reading, Tick& tick) {
 }
 
 void Motion::guard(const eth::DriveReading& reading, const Tick& tick) {
+  // After a start INTERFACE1 holds the card's name, not FAULT and STATUS: someone else
+  // started the channel again under us.
+  const std::uint32_t interface1 = static_cast<std::uint32_t>(reading.fault) << 16 | reading.status;
+  if (reading.fresh && interface1 == lbp::hm2::sslbp::kName8i20)
+    throw Abort(StopReason::OtherHost,
+                "the 8I20's channel was started again under this run (INTERFACE1 reads its name, "
+                "\"8I20\"): another host (LinuxCNC?) took the card");
   if (reading.fresh && reading.fault != 0)
     throw Abort(StopReason::Fault, std::string("the 8I20 latched FAULT ") + lbp::hex_value(reading.fault, 4) +
                                        " (" + fault_names(reading.fault) + ") " + fixed(tick.t_s, 2) +
