@@ -11,7 +11,8 @@
 // 40 ms watchdog SSLBP programs into the 8I20), so the caller's own pace (printing,
 // terminal) never lets the watchdog bite. One packet per cycle: read COMMAND, DATA,
 // INTERFACE0/1 and CS of every channel (the data of the previous DOIT), write INTERFACE0
-// = 0 (QSETPOINT 0, ANGLE 0: this tool never drives a motor), write COMMAND = 0x1000 |
+// = 0 (QSETPOINT 0, ANGLE 0: watch and faults never drive a motor; only `i20 commission`
+// does, through DriveLoop in drive_loop.hpp), write COMMAND = 0x1000 |
 // mask. Cycle packets are never resent: the next cycle replaces a lost one; a run of
 // lost cycles fails the session.
 //

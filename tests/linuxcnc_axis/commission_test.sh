@@ -34,6 +34,7 @@ chmod 644 "$work/axis.hal"
 
 # --- 2. LinuxCNC loads the fragment as written and turns the motor with it ----------------
 # Readings come out as "NAME=value" lines in halrun's output.
+# shellcheck disable=SC2016  # $1 is the label script's own argument
 printf '#!/bin/sh\nprintf "%%s=" "$1"\n' >"$work/label"
 chmod 755 "$work/label"
 reading() { printf 'loadusr -w %s %s\ngetp %s\n' "$work/label" "$1" "$2"; }
