@@ -39,6 +39,41 @@ struct NormalModeSession::Cycle {
   std::vector<lbp16::Command> packet;
 };
 
+NormalStart start_normal_mode(Lbp16Transport& bus, unsigned sserial_port, std::uint8_t mask,
+                              const NormalModeOptions& options) {
+  NormalStart out;
+  const CardIdentity card = identify(bus);
+  out.hostmot2 = read_hostmot2(bus);
+  const SserialPort port = find_sserial_port(out.hostmot2, sserial_port);
+  out.port = std::make_unique<SslbpPort>(bus, port, card.has_timer_space(), options.sslbp);
+  out.activity = require_no_running_host(bus, std::span(&port, 1), options.running_host,
+                                         "stop and normal-start SSERIAL port " + std::to_string(port.index));
+  out.port->stop_all();
+  const std::uint8_t failed = out.port->start_normal(mask);
+  const auto regs = out.port->read_channels(mask);
+  const auto channels = channels_of(mask);
+  std::string problems;
+  for (std::size_t i = 0; i < channels.size(); ++i) {
+    if (failed & (1u << channels[i])) {
+      // Appended piece by piece: GCC 12's -Wrestrict misfires on `const char* + std::string`
+      // chains in optimised builds.
+      if (!problems.empty()) problems += "; ";
+      problems += "ch " + std::to_string(channels[i]);
+      problems += " (CS " + lbp::hex_value(regs[i].cs, 8) + ": " + regs[i].status().describe() + ")";
+    }
+    out.unit_numbers.emplace_back(channels[i], regs[i].interface0);
+  }
+  if (!problems.empty()) {
+    try {
+      out.port->stop_all();
+    } catch (const Error&) {
+      // The start failure is the news; a failing stop would only hide it.
+    }
+    throw DiscoveryError("normal start failed on " + out.port->describe() + ": " + problems);
+  }
+  return out;
+}
+
 std::unique_ptr<NormalModeSession> NormalModeSession::open(const EthTarget& target,
                                                            NormalModeOptions options) {
   return open(target.card, target.sserial_port, target.channel_mask(), options);
@@ -57,35 +92,10 @@ NormalModeSession::NormalModeSession(std::unique_ptr<Lbp16Transport> bus, unsign
   if (mask_ == 0) throw UsageError("a normal-mode session needs at least one channel");
   if (options_.period.count() <= 0 || options_.period > std::chrono::milliseconds{20})
     throw UsageError("the DOIT period must be 1..20 ms to keep the 8I20's 40 ms watchdog fed");
-  const CardIdentity card = identify(*bus_);
-  const HostMot2Info info = read_hostmot2(*bus_);
-  const SserialPort port = find_sserial_port(info, sserial_port);
-  port_ = std::make_unique<SslbpPort>(*bus_, port, card.has_timer_space(), options_.sslbp);
-  activity_ = require_no_running_host(*bus_, std::span(&port, 1), options_.running_host,
-                                      "stop and normal-start SSERIAL port " + std::to_string(port.index));
-  port_->stop_all();
-  const std::uint8_t failed = port_->start_normal(mask_);
-  const auto regs = port_->read_channels(mask_);
-  const auto channels = channels_of(mask_);
-  std::string problems;
-  for (std::size_t i = 0; i < channels.size(); ++i) {
-    if (failed & (1u << channels[i])) {
-      // Appended piece by piece: GCC 12's -Wrestrict misfires on `const char* + std::string`
-      // chains in optimised builds.
-      if (!problems.empty()) problems += "; ";
-      problems += "ch " + std::to_string(channels[i]);
-      problems += " (CS " + lbp::hex_value(regs[i].cs, 8) + ": " + regs[i].status().describe() + ")";
-    }
-    unit_numbers_.emplace_back(channels[i], regs[i].interface0);
-  }
-  if (!problems.empty()) {
-    try {
-      port_->stop_all();
-    } catch (const Error&) {
-      // The start failure is the news; a failing stop would only hide it.
-    }
-    throw DiscoveryError("normal start failed on " + port_->describe() + ": " + problems);
-  }
+  auto started = start_normal_mode(*bus_, sserial_port, mask_, options_);
+  port_ = std::move(started.port);
+  unit_numbers_ = std::move(started.unit_numbers);
+  activity_ = started.activity;
   thread_ = std::thread([this] { worker(); });
 }
 

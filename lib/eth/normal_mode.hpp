@@ -11,7 +11,8 @@
 // 40 ms watchdog SSLBP programs into the 8I20), so the caller's own pace (printing,
 // terminal) never lets the watchdog bite. One packet per cycle: read COMMAND, DATA,
 // INTERFACE0/1 and CS of every channel (the data of the previous DOIT), write INTERFACE0
-// = 0 (QSETPOINT 0, ANGLE 0: this tool never drives a motor), write COMMAND = 0x1000 |
+// = 0 (QSETPOINT 0, ANGLE 0: watch and faults never drive a motor; only `i20 commission`
+// does, through DriveLoop in drive_loop.hpp), write COMMAND = 0x1000 |
 // mask. Cycle packets are never resent: the next cycle replaces a lost one; a run of
 // lost cycles fails the session.
 //
@@ -90,6 +91,19 @@ struct LiveStatus {
 
   const ChannelSample* channel(unsigned ch) const;
 };
+
+// The start every normal-mode user shares: identify the card, read its HostMot2 map, refuse
+// a running host (unless options.running_host.take_over), stop the port, normal-start
+// `mask` and read each channel's unit number. DiscoveryError (the port stopped again) when
+// a channel does not start. The port refers to `bus`, which must outlive it.
+struct NormalStart {
+  HostMot2Info hostmot2;
+  std::unique_ptr<SslbpPort> port;
+  std::vector<std::pair<unsigned, std::uint32_t>> unit_numbers;
+  HostActivity activity;
+};
+NormalStart start_normal_mode(Lbp16Transport& bus, unsigned sserial_port, std::uint8_t mask,
+                              const NormalModeOptions& options);
 
 class NormalModeSession {
  public:

@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// `i20 commission` end to end: against `i20sim --eth --card 7i92t-servo --motor`, and the
+// refusals that must come before anything is driven.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "harness.hpp"
+
+using namespace i20::test;
+
+namespace {
+
+const std::string kMotor = std::string(I20_TEST_SOURCE_DIR) + "/motors/servo-halls-index.yaml";
+
+Result commission(const std::vector<std::string>& target, std::vector<std::string> args) {
+  args.insert(args.begin(), "commission");
+  args.insert(args.begin(), target.begin(), target.end());
+  args.insert(args.begin(), "--no-user-params");
+  return run("i20", args);
+}
+
+std::string read(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(CommissionCli, ASerialTargetIsAUsageErrorThatSaysWhy) {
+  const auto r = commission({"--sim"}, {"--yes"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("3I21/3I22"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("drives no motor"), std::string::npos) << r.err;
+}
+
+TEST(CommissionCli, BadOptionsAreRefusedBeforeTheCardIsAsked) {
+  EXPECT_EQ(commission({"--eth", "127.0.0.1:1"}, {"--yes", "--poles", "7"}).exit_code, 2);
+  EXPECT_EQ(commission({"--eth", "127.0.0.1:1"}, {"--yes", "--halls", "gpio.010.in,gpio.011.in"}).exit_code,
+            2);
+  EXPECT_EQ(commission({"--eth", "127.0.0.1:1"}, {"--yes", "--halls", "a,b,c", "--no-halls"}).exit_code, 2);
+  EXPECT_EQ(commission({"--eth", "127.0.0.1:1"}, {"--yes", "--check", "/nonexistent/axis.hal"}).exit_code, 2);
+}
+
+class CommissionCliSim : public ::testing::Test {
+ protected:
+  SimProcess card{{"--card", "7i92t-servo", "--channels", "2", "--motor", kMotor},
+                  SimProcess::Transport::Eth};
+  std::vector<std::string> target() const { return {"--eth", card.port(), "--channel", "1"}; }
+  std::vector<std::string> quick() const {
+    return {"--poles", "8", "--counts-per-rev", "10000", "--sweep-turns", "2", "--turns-per-second", "4"};
+  }
+};
+
+TEST_F(CommissionCliSim, WithoutATerminalItAsksAndDrivesNothing) {
+  const auto r = commission(target(), quick());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("not confirmed"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("the rotor may turn at most"), std::string::npos) << r.err;  // the plan was shown
+}
+
+TEST_F(CommissionCliSim, JsonReportAndTheHalFragment) {
+  TempDir dir;
+  const auto hal = dir / "axis1.hal";
+  auto args = quick();
+  args.insert(args.end(), {"--yes", "-o", hal.string()});
+  auto full = target();
+  full.push_back("--json");
+  const auto r = commission(full, args);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  for (const char* key :
+       {"\"stop\": \"completed\"", "\"pattern\": 25", "\"poles\": 8", "\"scale\": 10000",
+        "\"encoder-offset\": ", "\"current_zeroed\": true", "\"passed\": true", "\"encoder\": 1"})
+    EXPECT_NE(r.out.find(key), std::string::npos) << key << "\n" << r.out;
+  const auto text = read(hal);
+  for (const char* line : {"loadrt bldc cfg=qhi\n", "setp bldc.0.pattern 25\n", "setp bldc.0.poles 8\n",
+                           "setp bldc.0.scale 10000\n",
+                           "net bldc0-rotor-angle bldc.0.rotor-angle => hm2_7i92.0.8i20.0.1.angle\n",
+                           "net bldc0-current bldc.0.out => hm2_7i92.0.8i20.0.1.current\n",
+                           "net bldc0-rawcounts hm2_7i92.0.encoder.01.rawcounts => bldc.0.rawcounts\n",
+                           "net bldc0-hall1 hm2_7i92.0.gpio.013.in => bldc.0.hall1\n"})
+    EXPECT_NE(text.find(line), std::string::npos) << line << "\n" << text;
+  EXPECT_EQ(text.find("bldc.0.phase-angle"), std::string::npos);  // the 8I20 adds its own lead
+
+  // --check re-runs only the closed-loop check with the file as written.
+  auto check = target();
+  const auto c = commission(check, {"--yes", "--check", hal.string(), "--encoder", "1", "--halls",
+                                    "gpio.013.in,gpio.014.in,gpio.015.in", "--turns-per-second", "4"});
+  EXPECT_EQ(c.exit_code, 0) << c.out << c.err;
+  EXPECT_NE(c.out.find("closed-loop check passed"), std::string::npos) << c.out;
+
+  // An existing -o file is refused before anything is driven.
+  const auto again = commission(target(), {"--yes", "-o", hal.string()});
+  EXPECT_EQ(again.exit_code, 2) << again.err;
+}
+
+}  // namespace

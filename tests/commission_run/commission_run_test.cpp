@@ -1,0 +1,253 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// `i20 commission` as a use case on the virtual axis (a virtual 7I92T servo card over
+// loopback UDP, a virtual 8I20 driving a simulated motor): seeded random motors where every
+// value found equals the simulator's truth or the report says why it could not tell, and
+// each abort ending with zero current and an honest report.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <csignal>
+#include <random>
+#include <thread>
+
+#include "ops/outcome.hpp"
+#include "sim/bits.hpp"
+#include "virtual_axis.hpp"
+
+using namespace i20;
+using namespace i20::test;
+using namespace std::chrono_literals;
+
+namespace {
+
+struct Run {
+  ops::CommissionPlan plan;
+  ops::CommissionReport report;
+};
+
+Run commission(VirtualAxis& axis, const ops::CommissionOptions& options) {
+  ops::Session session(axis.session_options());
+  Run run;
+  run.plan = ops::prepare_commission(session, options);
+  run.report = ops::run_commission(session, run.plan, options);
+  return run;
+}
+
+std::string describe(const ops::CommissionReport& r) {
+  std::string s = std::string(ops::stop_reason_name(r.stop)) + ": " + r.message;
+  if (r.result)
+    for (const auto& p : r.result->problems) s += "\n  problem: " + p.message;
+  for (const auto& n : r.notes) s += "\n  note: " + n;
+  if (r.check) s += "\n  check: " + r.check->how;
+  return s;
+}
+
+double angle_diff_deg(double a, double b) {
+  return std::abs(std::remainder(a - b, 360.0));
+}
+
+// Every value equals the truth, or a problem says why it is absent.
+void expect_truth(const VirtualAxis& axis, const ops::CommissionReport& r) {
+  const auto& p = axis.params();
+  ASSERT_TRUE(r.result) << describe(r);
+  ASSERT_TRUE(r.bldc);
+  const auto& b = *r.bldc;
+  if (b.poles) {
+    EXPECT_EQ(*b.poles, 2 * p.pole_pairs) << describe(r);
+  } else {
+    EXPECT_FALSE(b.missing.empty()) << describe(r);
+  }
+  if (b.scale) {
+    EXPECT_EQ(*b.scale, p.encoder->direction * p.encoder->counts_per_turn) << describe(r);
+  }
+  const auto pattern = true_pattern(p);
+  if (b.pattern) {
+    EXPECT_EQ(b.pattern, pattern) << describe(r);
+  } else {
+    EXPECT_FALSE(r.result->problems.empty() && r.notes.empty()) << describe(r);
+  }
+  ASSERT_TRUE(r.result->index_electrical_angle_deg) << describe(r);
+  EXPECT_LT(angle_diff_deg(r.result->index_electrical_angle_deg->value, true_index_electrical_deg(p)), 3.0)
+      << describe(r);
+}
+
+TEST(CommissionRun, FindsAndChecksTheServo) {
+  VirtualAxis axis(MotorSpec{});
+  const auto run = commission(axis, quick_options());
+  const auto& r = run.report;
+  EXPECT_EQ(r.stop, ops::StopReason::Completed) << describe(r);
+  EXPECT_EQ(r.outcome(), ops::Outcome::Done);
+  expect_truth(axis, r);
+  ASSERT_TRUE(r.check);
+  EXPECT_TRUE(r.check->passed) << describe(r);
+  EXPECT_EQ(r.encoder_instance, 0u);
+  EXPECT_EQ(r.hall_pins, (std::vector<std::string>{"gpio.010.in", "gpio.011.in", "gpio.012.in"}));
+  EXPECT_TRUE(r.current_zeroed);
+  EXPECT_EQ(axis.qsetpoint(), 0.0);
+  EXPECT_LT(r.doit.worst(), 40ms);
+}
+
+// Seeded random motors, the pole pairs and counts given (as a user who read the
+// nameplate would): every value equals the simulator's truth or the report says why not,
+// and the closed-loop check passes with what was found.
+TEST(CommissionRun, RandomMotorsMatchTheTruth) {
+  std::mt19937_64 rng(20261204);
+  auto pick = [&](auto... values) {
+    const std::array<std::common_type_t<decltype(values)...>, sizeof...(values)> all{values...};
+    return all[std::uniform_int_distribution<std::size_t>(0, all.size() - 1)(rng)];
+  };
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int run = 0; run < 5; ++run) {
+    MotorSpec spec;
+    spec.pole_pairs = pick(1, 2, 3, 4, 5);
+    spec.counts_per_turn = pick(2000, 4000, 8000, 10000);
+    spec.direction = pick(1, -1);
+    spec.index_deg = std::floor(unit(rng) * 3600) / 10;
+    spec.load_nm = pick(0.0, 0.01, -0.01);
+    spec.cogging_nm = pick(0.0, 0.005);
+    std::string inputs = pick(std::string("[0, 1, 2]"), std::string("[1, 2, 0]"), std::string("[2, 1, 0]"));
+    spec.halls = std::string("  placement: ") + std::to_string(pick(120, 60)) +
+                 "\n  offset: " + std::to_string(pick(0, 15, 30, 45, 90, 200)) +
+                 "deg\n  polarity: " + pick(std::string("active-high"), std::string("active-low")) +
+                 "\n  inputs: " + inputs + "\n";
+    SCOPED_TRACE(std::string("run ") + std::to_string(run) + ":\n" + spec.yaml());
+    VirtualAxis axis(spec);
+    auto options = quick_options();
+    options.turns_per_s = 6.0;
+    options.pole_pairs = spec.pole_pairs;
+    options.counts_per_turn = spec.counts_per_turn;
+    const auto r = commission(axis, options).report;
+    EXPECT_TRUE(r.stop == ops::StopReason::Completed || r.stop == ops::StopReason::CouldNotTell)
+        << describe(r);
+    expect_truth(axis, r);
+    if (r.check) {
+      EXPECT_TRUE(r.check->passed) << describe(r);
+    }
+    EXPECT_TRUE(r.current_zeroed);
+    EXPECT_EQ(axis.qsetpoint(), 0.0);
+  }
+}
+
+// --- aborts: each ends with QSETPOINT 0, the port stopped, and says why -----------------
+
+void expect_stopped(VirtualAxis& axis, const ops::CommissionReport& r, ops::StopReason reason,
+                    const std::string& says) {
+  EXPECT_EQ(r.stop, reason) << describe(r);
+  EXPECT_NE(r.message.find(says), std::string::npos) << describe(r);
+  EXPECT_TRUE(r.current_zeroed) << r.zero_note;
+  EXPECT_EQ(axis.qsetpoint(), 0.0);
+  EXPECT_NE(r.outcome(), ops::Outcome::Done);
+}
+
+TEST(CommissionRun, BrakeEngagedIsAStall) {
+  MotorSpec spec;
+  spec.brake = true;
+  VirtualAxis axis(spec);
+  const auto r = commission(axis, quick_options()).report;
+  expect_stopped(axis, r, ops::StopReason::Stall, "is the brake released");
+  EXPECT_EQ(r.outcome(), ops::Outcome::Refused);
+  EXPECT_FALSE(r.bldc);
+}
+
+TEST(CommissionRun, AnOverhaulingLoadIsARunaway) {
+  MotorSpec spec;
+  spec.load_nm = -2.0;  // drives the rotor backward harder than the sweep current holds it
+  VirtualAxis axis(spec);
+  const auto r = commission(axis, quick_options()).report;
+  expect_stopped(axis, r, ops::StopReason::Runaway, "runs away");
+}
+
+TEST(CommissionRun, AFaultLatchedMidRunStopsIt) {
+  VirtualAxis axis(MotorSpec{});
+  std::thread fault([&] {
+    std::this_thread::sleep_for(700ms);
+    axis.server().with_card([&](ethsim::VirtualCard& card) {
+      axis.server().amplifier(card, 0, 0)->amplifier().world().settings().forced_faults =
+          sim::fault::kOverTemp;
+    });
+  });
+  const auto r = commission(axis, quick_options()).report;
+  fault.join();
+  expect_stopped(axis, r, ops::StopReason::Fault, "OVERTEMPFAULT");
+}
+
+TEST(CommissionRun, AnotherHostAppearingStopsIt) {
+  VirtualAxis axis(MotorSpec{});
+  std::thread host([&] {
+    std::this_thread::sleep_for(700ms);
+    axis.server().start_host(ethsim::HostOptions{});
+  });
+  const auto r = commission(axis, quick_options()).report;
+  host.join();
+  axis.server().stop_host();
+  EXPECT_EQ(r.stop, ops::StopReason::OtherHost) << describe(r);
+  EXPECT_NE(r.message.find("another host"), std::string::npos) << describe(r);
+  EXPECT_EQ(r.outcome(), ops::Outcome::Refused);
+}
+
+TEST(CommissionRun, ASignalStopsItAndSaysSo) {
+  VirtualAxis axis(MotorSpec{});
+  ops::Session session(axis.session_options());
+  const auto options = quick_options();
+  const auto plan = ops::prepare_commission(session, options);
+  std::thread signal([] {
+    std::this_thread::sleep_for(600ms);
+    std::raise(SIGTERM);
+  });
+  const auto r = ops::run_commission(session, plan, options);
+  signal.join();
+  expect_stopped(axis, r, ops::StopReason::Signal, "SIGTERM");
+  EXPECT_EQ(r.outcome(), ops::Outcome::Interrupted);
+  EXPECT_EQ(ops::exit_code(r.outcome()), 130);
+}
+
+TEST(CommissionRun, ASerialTargetIsRefusedBeforeAnythingMoves) {
+  ops::SessionOptions so;
+  so.target.sim = true;
+  ops::Session session(so);
+  EXPECT_THROW(ops::prepare_commission(session, quick_options()), UsageError);
+}
+
+// The Hall candidates are named as hostmot2 names its pins: InM inputs on the 7I96S (its
+// pin descriptors number them from 1), plain GPIO on the 7I92T servo layout; pins a module
+// owns (encoder A/B/Z) are no candidates.
+TEST(CommissionRun, FeedbackMapNamesTheInputsAsHostmot2Does) {
+  auto info_of = [](const ethsim::CardConfig& c) {
+    eth::HostMot2Info info;
+    info.idrom = c.idrom;
+    info.modules = c.modules;
+    info.pins = c.pins;
+    return info;
+  };
+  const auto i96 = eth::feedback_map(info_of(ethsim::CardConfig::preset(ethsim::CardKind::I7i96s)));
+  ASSERT_FALSE(i96.inputs.empty());
+  const auto first_inm = std::find_if(i96.inputs.begin(), i96.inputs.end(),
+                                      [](const auto& in) { return in.hal_pin == "inm.00.input-00"; });
+  ASSERT_NE(first_inm, i96.inputs.end());
+  EXPECT_EQ(first_inm->bit, 0u);
+  EXPECT_EQ(i96.encoders.size(), 1u);
+  const auto servo = eth::feedback_map(info_of(ethsim::CardConfig::preset_7i92t_servo()));
+  EXPECT_EQ(servo.encoders.size(), 4u);
+  std::vector<std::string> names;
+  for (const auto& in : servo.inputs) names.push_back(in.hal_pin);
+  EXPECT_NE(std::find(names.begin(), names.end(), "gpio.010.in"), names.end());
+  EXPECT_EQ(std::find(names.begin(), names.end(), "gpio.004.in"), names.end());  // encoder 0's A
+}
+
+TEST(CommissionRun, ReadsTheBldcSetupOfAHalFile) {
+  const auto setup = ops::read_bldc_setup(
+      "loadrt bldc cfg=qhi\nsetp bldc.0.pattern 17\nsetp bldc.0.poles 8\nsetp bldc.0.scale -4000\n"
+      "setp bldc.0.encoder-offset 123\n",
+      "x.hal");
+  EXPECT_EQ(setup.pattern, 17);
+  EXPECT_EQ(setup.poles, 8);
+  EXPECT_EQ(setup.scale, -4000);
+  EXPECT_EQ(setup.encoder_offset, 123);
+  EXPECT_TRUE(setup.has_index);
+  EXPECT_THROW(
+      ops::read_bldc_setup("loadrt bldc cfg=qh\nsetp bldc.0.poles 7\nsetp bldc.0.scale 10\n", "y.hal"),
+      UsageError);
+  EXPECT_THROW(ops::read_bldc_setup("loadrt bldc cfg=qh\n", "z.hal"), UsageError);
+}
+
+}  // namespace
