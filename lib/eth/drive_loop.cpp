@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "eth/drive_loop.hpp"
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <thread>
@@ -227,6 +230,22 @@ void DriveLoop::stop() {
   port_->wait_idle();  // the last DOIT may still be running; a stop written now would be ignored
   port_->stop_all();
   if (failure) std::rethrow_exception(failure);
+}
+
+RealtimePriority::RealtimePriority() {
+  sched_param old{};
+  if (pthread_getschedparam(pthread_self(), &old_policy_, &old) != 0) return;
+  old_priority_ = old.sched_priority;
+  sched_param fifo{};
+  fifo.sched_priority = 10;
+  granted_ = pthread_setschedparam(pthread_self(), SCHED_FIFO, &fifo) == 0;
+}
+
+RealtimePriority::~RealtimePriority() {
+  if (!granted_) return;
+  sched_param old{};
+  old.sched_priority = old_priority_;
+  pthread_setschedparam(pthread_self(), old_policy_, &old);
 }
 
 }  // namespace i20::eth

@@ -89,6 +89,25 @@ struct DoitStats {
   std::chrono::microseconds worst() const;
 };
 
+// While it lives, the calling thread runs SCHED_FIFO at a low priority (10), as LinuxCNC runs
+// its servo thread, where the system allows it (root, or CAP_SYS_NICE): a loaded machine
+// then still sends the DOITs on time, well inside the 8I20's 40 ms watchdog. Elsewhere it
+// changes nothing and granted() says so. The loop sleeps every period, so it cannot starve
+// the machine.
+class RealtimePriority {
+ public:
+  RealtimePriority();
+  ~RealtimePriority();
+  RealtimePriority(const RealtimePriority&) = delete;
+  RealtimePriority& operator=(const RealtimePriority&) = delete;
+  bool granted() const { return granted_; }
+
+ private:
+  int old_policy_ = 0;
+  int old_priority_ = 0;
+  bool granted_ = false;
+};
+
 class DriveLoop {
  public:
   // Over any transport; starts `channel` of SSERIAL `sserial_port` (start_normal_mode).

@@ -456,6 +456,11 @@ CommissionReport run_commission(Session& session, const CommissionPlan& plan,
   report.plan = plan;
   std::unique_ptr<eth::DriveLoop> loop;
   const auto started = std::chrono::steady_clock::now();
+  const eth::RealtimePriority realtime;
+  if (!realtime.granted())
+    report.notes.push_back(
+        "the drive loop ran without realtime priority (needs root or CAP_SYS_NICE): on a "
+        "loaded machine a late DOIT may let the 8I20's watchdog stop the run");
   try {
     loop = eth::DriveLoop::open(plan.preflight.target, loop_options(options, session));
     Motion motion(*loop, plan, options, session.cancel());
