@@ -3,6 +3,7 @@
 // lib/ops). It opens the card first, prints the one URL with its token, and serves until
 // Ctrl-C, after which the card is settled as after any other command.
 #include <CLI/CLI.hpp>
+#include <boost/asio/ip/address.hpp>
 #include <boost/system/system_error.hpp>
 #include <filesystem>
 #include <iostream>
@@ -51,6 +52,9 @@ void run_console(Context& ctx, const ConsoleOptions& o) {
     message += e.code().message();
     throw UsageError(message);
   }
+  if (!boost::asio::ip::make_address(o.address).is_loopback())
+    std::cerr << "i20: warning: the console is reachable from other hosts on " << o.address
+              << " (plain HTTP): whoever learns the token can write to and reset this card\n";
   std::cout << "i20 console for " << card.describe() << "\n"
             << "  open " << server->url() << "\n"
             << "  (the token in this URL is the only way in; Ctrl-C stops the console and leaves the card "

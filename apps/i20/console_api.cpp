@@ -190,10 +190,7 @@ console::Response ConsoleApi::change(const console::Request& request, bool dry_r
   const auto job = ops::make_apply_job(
       {.profile = &profile, .db = &card.db(), .dry_run = dry_run, .cancel = card.cancel()});
   const auto run = ops::run_apply_on(card, job);
-  auto j = app::render::run_json(run);
-  j.set("summary", app::render::outcome_line(run));
-  if (!run.ok()) j.set("error", app::render::error_line(run));
-  return json_response(status_of(run.outcome), j, request);
+  return json_response(status_of(run.outcome), app::render::run_json(run), request);
 }
 
 console::Response ConsoleApi::clear(const console::Request& request) {

@@ -57,6 +57,20 @@ async function loadOverview() {
   $('overview-pending').textContent = data.pending.length ? data.pending.join(', ') + ' (a reset makes them live)' : 'none';
 }
 
+// The server judges what a reset would make live by the write rules and refuses an unsafe
+// one (nothing but reads sent); the question here only guards against a stray click.
+async function resetCard() {
+  if (!window.confirm('Reset the 8I20? Its NV values become the working values.')) return;
+  const { status, data } = await api('/api/reset', '');
+  const box = el('div', { class: 'result ' + (status === 200 ? 'ok' : 'refused') });
+  box.append(el('p', {}, data.reset ? 'Reset; now live: ' + (data.made_live.join(', ') || 'nothing was pending')
+    : data.findings ? 'Refused: no reset was sent (only reads)' : failureText(data)));
+  for (const f of data.findings || []) box.append(el('p', { class: f.severity }, f.severity + ': ' + f.message));
+  $('reset-result').textContent = '';
+  $('reset-result').append(box);
+  await loadOverview();
+}
+
 // ------------------------------------------------------------------ parameters
 async function loadParams() {
   const { status, data } = await api('/api/params');
@@ -284,6 +298,7 @@ function show(page) {
 
 document.addEventListener('DOMContentLoaded', () => {
   for (const tab of document.querySelectorAll('.tab')) tab.addEventListener('click', () => show(tab.dataset.page));
+  $('reset').addEventListener('click', resetCard);
   $('preview').addEventListener('click', preview);
   $('apply').addEventListener('click', apply);
   $('reload-params').addEventListener('click', loadParams);

@@ -23,8 +23,10 @@ using testing::cat;
 // A console on a simulator whose EEPROM lives in a file, so its writes outlive it.
 class ConsoleProcess {
  public:
-  explicit ConsoleProcess(const std::string& eeprom) {
-    child_ = test::start("i20", {"--sim", "--sim-eeprom", eeprom, "console", "--listen-port", "0"});
+  // `world`: simulator control lines (--sim-control), e.g. a bus above its threshold.
+  explicit ConsoleProcess(const std::string& eeprom, const std::string& world = "temp 35") {
+    child_ = test::start(
+        "i20", {"--sim", "--sim-eeprom", eeprom, "--sim-control", world, "console", "--listen-port", "0"});
     std::string out;
     const std::regex url(R"(http://127\.0\.0\.1:(\d+)/\?token=([0-9a-f]{32}))");
     std::smatch m;
@@ -86,6 +88,36 @@ std::string get_raw(const std::string& eeprom, const std::string& name) {
   return eq == std::string::npos ? r.out : r.out.substr(eq + 3, r.out.find('\n') - eq - 3);
 }
 
+// JSON without the whitespace between tokens, so the CLI's indented output compares with
+// the API's compact one.
+std::string compact(const std::string& json) {
+  std::string out;
+  bool in_string = false, escaped = false;
+  for (const char c : json) {
+    if (in_string) {
+      if (escaped)
+        escaped = false;
+      else if (c == '\\')
+        escaped = true;
+      else if (c == '"')
+        in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == ' ' || c == '\n') {
+      continue;
+    }
+    out += c;
+  }
+  return out;
+}
+
+// The "fault" member of an `i20 faults --json` document.
+std::string fault_member(const std::string& json) {
+  const auto start = json.find(R"("fault":{)");
+  const auto end = json.find(R"(,"status":{)", start);
+  return start == std::string::npos || end == std::string::npos ? "absent" : json.substr(start, end - start);
+}
+
 class ConsoleApi : public ::testing::Test {
  protected:
   std::string eeprom() const { return (dir_ / "card.eeprom").string(); }
@@ -119,8 +151,12 @@ TEST_F(ConsoleApi, AnAppliedEditLandsInTheCard) {
   EXPECT_NE(applied.body.find(R"("outcome":"done")"), std::string::npos) << applied.body;
   EXPECT_NE(applied.body.find(R"("cell":"NVKQP")"), std::string::npos);
   EXPECT_EQ(raw_of(console.get("/api/params").body, "KQP"), "73");  // the working value, in RAM
-  EXPECT_EQ(console.stop(), 130);                                   // Ctrl-C, the card settled
-  EXPECT_EQ(get_raw(eeprom(), "NVKQP"), "72");                      // in the EEPROM
+  const auto reset = console.post("/api/reset", "");                // makes the EEPROM's 72 live
+  ASSERT_EQ(reset.status, 200) << reset.body;
+  EXPECT_NE(reset.body.find(R"("made_live":["NVKQP"])"), std::string::npos) << reset.body;
+  EXPECT_EQ(raw_of(console.get("/api/params").body, "KQP"), "72");
+  EXPECT_EQ(console.stop(), 130);               // Ctrl-C, the card settled
+  EXPECT_EQ(get_raw(eeprom(), "NVKQP"), "72");  // in the EEPROM
 }
 
 TEST_F(ConsoleApi, ARefusedValueWritesNothing) {
@@ -156,6 +192,22 @@ TEST_F(ConsoleApi, OverviewAndFaultsExplainTheCard) {
   EXPECT_EQ(cleared.status, 200) << cleared.body;
   EXPECT_NE(cleared.body.find(R"("outcome":"done")"), std::string::npos) << cleared.body;
   EXPECT_EQ(console.get("/api/nothing").status, 404);
+}
+
+TEST_F(ConsoleApi, ExplainsFaultsAsIFaultsDoes) {
+  const std::string world = "busv 410";  // above BUSOVERV: the card latches its over-voltage faults
+  const auto cli = test::run("i20", {"--sim", "--sim-control", world, "faults", "--json"});
+  ConsoleProcess console(eeprom(), world);
+  ASSERT_TRUE(console.up());
+  const auto api = console.get("/api/faults");
+  ASSERT_EQ(api.status, 200);
+  const auto expected = fault_member(compact(cli.out));
+  EXPECT_NE(expected.find("BUSHIVFAULT"), std::string::npos) << cli.out;
+  EXPECT_EQ(fault_member(api.body), expected);
+  // The cause is still there, so clearing leaves the fault latched: said, with its status.
+  const auto cleared = console.post("/api/clear-faults", "");
+  EXPECT_EQ(cleared.status, 200);
+  EXPECT_NE(cleared.body.find(R"("outcome":"faults-remain")"), std::string::npos) << cleared.body;
 }
 
 }  // namespace
