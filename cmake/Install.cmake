@@ -27,7 +27,7 @@ install(FILES ${PROJECT_SOURCE_DIR}/docs/README.md ${PROJECT_SOURCE_DIR}/docs/fa
               ${PROJECT_SOURCE_DIR}/docs/motor-model.md
               ${PROJECT_SOURCE_DIR}/docs/commissioning-analysis.md
               ${PROJECT_SOURCE_DIR}/docs/linuxcnc-hal.md
-              ${PROJECT_SOURCE_DIR}/docs/virtual-feedback.md DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)
+              ${PROJECT_SOURCE_DIR}/docs/virtual-feedback.md ${PROJECT_SOURCE_DIR}/docs/console.md DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)
 install(FILES ${PROJECT_SOURCE_DIR}/motors/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR}/motors)
 install(FILES ${PROJECT_SOURCE_DIR}/profiles/README.md ${PROJECT_SOURCE_DIR}/profiles/TUNING.md
         DESTINATION ${CMAKE_INSTALL_DOCDIR}/profiles)
