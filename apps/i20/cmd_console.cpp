@@ -71,8 +71,10 @@ void register_console_command(CLI::App& app, Context& ctx) {
   auto* console = app.add_subcommand(
       "console",
       "Local web console: overview, parameters (edit, preview, apply), faults, and a live plot of bus "
-      "voltage, temperature and FAULT/STATUS, in the browser. Serves on 127.0.0.1 only and prints one URL "
-      "with a one-time token; every read and write goes through the same checks as the commands");
+      "voltage, temperature and FAULT/STATUS, in the browser. Serves on 127.0.0.1 (unless --listen says "
+      "otherwise) "
+      "and prints one URL with a token for this run; every read and write goes through the same checks as "
+      "the commands");
   console
       ->add_option("--listen", options->address,
                    "Address to serve on (default 127.0.0.1). Another address EXPOSES the console, and "
