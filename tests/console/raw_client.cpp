@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 
 namespace i20::console::testing {
 namespace {
@@ -52,7 +53,9 @@ Reply ask(unsigned short port, const std::string& request, const std::string& un
   }
   std::string data;
   char buffer[4096];
-  for (;;) {
+  // A deadline for the whole reply: a WebSocket that was wrongly accepted keeps sending.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (std::chrono::steady_clock::now() < deadline) {
     const auto n = ::recv(s.fd, buffer, sizeof buffer, 0);
     if (n <= 0) break;
     data.append(buffer, static_cast<std::size_t>(n));
