@@ -61,5 +61,6 @@ void register_scan_command(CLI::App& app, Context& ctx);      // scan (Ethernet)
 void register_report_command(CLI::App& app, Context& ctx);    // report (field service)
 void register_hal_commands(CLI::App& app, Context& ctx);      // hal, hal lint (LinuxCNC HAL files)
 void register_commission_command(CLI::App& app, Context& ctx);  // commission (Ethernet)
+void register_console_command(CLI::App& app, Context& ctx);   // console (web console, lib/console)
 
 }  // namespace i20::cli
