@@ -17,6 +17,7 @@
 namespace i20::console {
 namespace {
 
+using test::SimProcess;
 using testing::ask;
 using testing::cat;
 
@@ -24,9 +25,12 @@ using testing::cat;
 class ConsoleProcess {
  public:
   // `world`: simulator control lines (--sim-control), e.g. a bus above its threshold.
-  explicit ConsoleProcess(const std::string& eeprom, const std::string& world = "temp 35") {
-    child_ = test::start(
-        "i20", {"--sim", "--sim-eeprom", eeprom, "--sim-control", world, "console", "--listen-port", "0"});
+  explicit ConsoleProcess(const std::string& eeprom, const std::string& world = "temp 35")
+      : ConsoleProcess(std::vector<std::string>{"--sim", "--sim-eeprom", eeprom, "--sim-control", world}) {}
+  // On any target: `target` holds its global options (--port PTY, --eth IP:PORT ...).
+  explicit ConsoleProcess(std::vector<std::string> target) {
+    for (const char* word : {"console", "--listen-port", "0"}) target.emplace_back(word);
+    child_ = test::start("i20", target);
     std::string out;
     const std::regex url(R"(http://127\.0\.0\.1:(\d+)/\?token=([0-9a-f]{32}))");
     std::smatch m;
@@ -208,6 +212,36 @@ TEST_F(ConsoleApi, ExplainsFaultsAsIFaultsDoes) {
   const auto cleared = console.post("/api/clear-faults", "");
   EXPECT_EQ(cleared.status, 200);
   EXPECT_NE(cleared.body.find(R"("outcome":"faults-remain")"), std::string::npos) << cleared.body;
+}
+
+// The same console on a card behind a serial line (i20sim on a pty) and behind a virtual
+// 7I96S/7I92T (i20sim --eth, SSLBP passthrough): it reads what the card holds, writes what
+// it is asked to (the simulator's own value proves the write reached the card), and clears
+// a fault whose cause is gone.
+TEST(ConsoleOnCards, ReadsChangesAndClearsFaultsOnAPtyCardAndAVirtualEthernetCard) {
+  for (const auto transport : {SimProcess::Transport::Pty, SimProcess::Transport::Eth}) {
+    const bool eth = transport == SimProcess::Transport::Eth;
+    SCOPED_TRACE(eth ? "virtual Ethernet card" : "pty card");
+    SimProcess card({"--enable", "off"}, transport);  // NOENABLEFAULT latched
+    ASSERT_EQ(card.control("enable on"), "ok");       // its cause gone, the fault stays latched
+    ASSERT_EQ(card.control("set NVKQP 63"), "ok");
+    const auto target = eth ? std::vector<std::string>{"--eth", card.port(), "--channel", "0"}
+                            : std::vector<std::string>{"--port", card.port()};
+    ConsoleProcess console(target);
+    ASSERT_TRUE(console.up());
+    EXPECT_EQ(raw_of(console.get("/api/params").body, "NVKQP"), "63");
+    const auto applied = console.post("/api/apply", "NVKQP=64");
+    ASSERT_EQ(applied.status, 200) << applied.body;
+    EXPECT_NE(applied.body.find(R"("outcome":"done")"), std::string::npos) << applied.body;
+    EXPECT_EQ(card.control("get NVKQP"), "64");
+    const auto faults = console.get("/api/faults");
+    EXPECT_NE(faults.body.find("NOENABLEFAULT"), std::string::npos) << faults.body;
+    const auto cleared = console.post("/api/clear-faults", "");
+    EXPECT_EQ(cleared.status, 200) << cleared.body;
+    EXPECT_NE(cleared.body.find(R"("outcome":"done")"), std::string::npos) << cleared.body;
+    EXPECT_EQ(card.control("get FAULT"), "0");
+    EXPECT_EQ(console.stop(), 130);
+  }
 }
 
 }  // namespace
