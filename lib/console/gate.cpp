@@ -158,7 +158,7 @@ std::optional<Response> Gate::judge_common(const Request& request, bool needs_or
   }
   if (!cookie_valid(request))
     return error_response(http::status::unauthorized,
-                          "no token: open the URL `i20 console` printed (it carries a one-time token)",
+                          "no token: open the URL `i20 console` printed (it carries the token of this run)",
                           request);
   return std::nullopt;
 }
