@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "browser_open.hpp"
 #include "console/server.hpp"
 #include "console/static_files.hpp"
 #include "console_api.hpp"
@@ -23,6 +24,7 @@ struct ConsoleOptions {
   std::string address = "127.0.0.1";
   unsigned short port = 0;
   unsigned interval_ms = 100;
+  bool no_browser = false;
 };
 
 void run_console(Context& ctx, const ConsoleOptions& o) {
@@ -60,6 +62,9 @@ void run_console(Context& ctx, const ConsoleOptions& o) {
             << "  (the token in this URL is the only way in; Ctrl-C stops the console and leaves the card "
                "settled)\n"
             << std::flush;
+  BrowserLauncher browser;
+  if (!o.no_browser && BrowserLauncher::desktop_present() && !browser.open(server->url()))
+    std::cerr << "i20: could not start xdg-open: open the URL above yourself\n";
   server->run([&session] { return session.stop_requested(); });
   ctx.record(session.stop_requested() ? ops::Outcome::Interrupted : ops::Outcome::Done);
 }
@@ -85,6 +90,10 @@ void register_console_command(CLI::App& app, Context& ctx) {
   console->add_option("--interval", options->interval_ms, "Live sample interval, ms")
       ->check(CLI::Range(20, 10000))
       ->capture_default_str();
+  console->add_flag("--no-browser", options->no_browser,
+                    "Do not open the page in the desktop's browser (it opens by xdg-open when a desktop "
+                    "and a terminal are present; the token goes through a private file, never a command "
+                    "line)");
   console->footer("Exit 130 after Ctrl-C (the card settled), 1 card not reached, 2 cannot listen.");
   console->callback([&ctx, options] { run_console(ctx, *options); });
 }
