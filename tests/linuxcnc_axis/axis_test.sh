@@ -195,9 +195,10 @@ check_generated_hal() {
     # No task runs here to take the machine out of E-stop and turn it on: the test stands in
     # for it (the joint's amp-enable-out) and for a closed E-stop loop (the input pin).
     printf 'unlinkp joint.%s.amp-enable-out\nunlinkp %s\n' "$CHANNEL" "$estop_pin"
-    # This host's servo thread is not realtime: tolerate its late DOITs as the experiment
-    # above does (a real machine's thread keeps time; the generated file leaves fault-lim be).
-    printf 'setp %s.sserial.port-0.fault-lim 1000000\n' "$BOARD"
+    # This host's servo thread is not realtime: tolerate its late DOITs and replies as the
+    # experiment above does (a real machine's thread keeps time; the generated file leaves
+    # fault-lim and packet-read-timeout be).
+    printf 'setp %s.sserial.port-0.fault-lim 1000000\nsetp %s.packet-read-timeout 20000000\n' "$BOARD" "$BOARD"
     printf 'sets estop-ext TRUE\nsets %senable TRUE\n' "$sig"
     printf 'start\nloadusr -w sleep 1\n'
     report ok_before i20-estop-ok.and # the estop-ok signal: its iocontrol end is left out
