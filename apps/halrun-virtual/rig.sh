@@ -104,6 +104,11 @@ cleanup() {
   fi
   # rtapi_app outlives a killed halrun; halrun -U stops it and frees HAL's memory.
   ip netns exec "$ns_host" runuser -u "$HAL_USER" -- env HOME="$hal_home" timeout 20 halrun -U >/dev/null 2>&1
+  # ... and only when it has gone is HAL's shared memory free for the next halrun.
+  for _ in $(seq 100); do
+    pgrep -x rtapi_app >/dev/null || break # setuid root: any, not the HAL user's
+    sleep 0.1
+  done
   if [[ -n $sim_pid ]]; then
     kill "$sim_pid" 2>/dev/null
     timeout 5 tail --pid="$sim_pid" -f /dev/null

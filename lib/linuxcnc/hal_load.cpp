@@ -167,6 +167,12 @@ HalrunReading read_halrun_output(std::string_view output, const std::map<std::st
   std::stringstream in{std::string(output)};
   for (std::string line; std::getline(in, line);) {
     if (line.empty() || line.rfind("Note: Using POSIX", 0) == 0) continue;
+    // LinuxCNC's realtime not starting is this machine's trouble, not a line of the file.
+    if (line.find("rtapi_app") != std::string::npos) {
+      r.realtime_failed = true;
+      r.other.push_back(line);
+      continue;
+    }
     std::smatch m;
     const auto copy = std::regex_match(line, m, kAt) ? copies.find(m[1].str()) : copies.end();
     if (copy == copies.end()) {

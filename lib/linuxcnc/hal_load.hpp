@@ -50,6 +50,7 @@ LoadPlan plan_load(const std::vector<HalSource>& sources);
 struct HalrunReading {
   std::vector<LintFinding> findings;
   std::vector<std::string> other;
+  bool realtime_failed = false;  // LinuxCNC's rtapi_app did not start: no file was judged
 };
 HalrunReading read_halrun_output(std::string_view output, const std::map<std::string, std::string>& copies);
 

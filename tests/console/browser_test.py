@@ -21,6 +21,7 @@ try:
     from selenium.webdriver.chrome.options import Options
     from selenium.webdriver.chrome.service import Service
     from selenium.webdriver.common.by import By
+    from selenium.common.exceptions import StaleElementReferenceException
     from selenium.webdriver.support.ui import WebDriverWait
 except ImportError:
     print("SKIP: python3-selenium is not installed (scripts/install-deps --ci)")
@@ -83,7 +84,9 @@ def main():
                  "--user-data-dir=" + os.path.join(workdir, "profile")):
         options.add_argument(flag)
     browser = webdriver.Chrome(service=Service(driver_path), options=options)
-    wait = WebDriverWait(browser, 15)
+    # The page re-renders what it shows: an element found a moment ago may be replaced (stale)
+    # by the time it is read; a wait looks again instead of failing.
+    wait = WebDriverWait(browser, 15, ignored_exceptions=[StaleElementReferenceException])
     started = time.time()
     try:
         browser.get(url)

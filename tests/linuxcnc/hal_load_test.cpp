@@ -109,3 +109,11 @@ TEST(HalLoad, HalcmdMessagesLandOnTheFilesTheCopiesStandFor) {
   EXPECT_EQ(r.other, (std::vector<std::string>{"hm2_eth: no board at 10.10.10.10",
                                                "/tmp/elsewhere.hal:2: something"}));
 }
+
+// LinuxCNC's realtime not starting is said as such, never as a finding on a line of the file.
+TEST(HalLoad, RealtimeThatDidNotStartIsNoFinding) {
+  const auto r = read_halrun_output("/tmp/x/0-axis.hal:4: /usr/bin/rtapi_app exited without becoming ready\n",
+                                    {{"/tmp/x/0-axis.hal", "axis.hal"}});
+  EXPECT_TRUE(r.findings.empty());
+  EXPECT_TRUE(r.realtime_failed);
+}
