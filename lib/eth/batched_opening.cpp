@@ -46,9 +46,8 @@ bool tables_from(const lbp::Bytes& block, HostMot2Info& info) {
   return true;
 }
 
-std::uint32_t word(const lbp::Bytes& bytes) {
-  return static_cast<std::uint32_t>(lbp::read_le(bytes));
-}
+// A register's value from its reply bytes.
+constexpr auto word = lbp::read_le32;
 
 }  // namespace
 

@@ -21,9 +21,8 @@ std::vector<unsigned> channels_of(std::uint8_t mask) {
   return out;
 }
 
-std::uint32_t word(const lbp::Bytes& bytes) {
-  return static_cast<std::uint32_t>(lbp::read_le(bytes));
-}
+// A register's value from its reply bytes.
+constexpr auto word = lbp::read_le32;
 
 }  // namespace
 

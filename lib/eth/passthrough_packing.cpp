@@ -26,9 +26,8 @@ constexpr std::size_t kTagReplyBytes = 2 + 2 + 2;
 // and a remote that is always slower than its estimate is better reported than chased.
 constexpr unsigned kMaxReplays = 16;
 
-std::uint32_t word(const lbp::Bytes& bytes) {
-  return static_cast<std::uint32_t>(lbp::read_le(bytes));
-}
+// A register's value from its reply bytes.
+constexpr auto word = lbp::read_le32;
 
 // Indexes into `channels` (ascending channel numbers) grouped into runs of neighbours, so
 // that the registers of channels 2, 3, 4 move in one block access.

@@ -15,9 +15,8 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-std::uint32_t word(const lbp::Bytes& bytes) {
-  return static_cast<std::uint32_t>(lbp::read_le(bytes));
-}
+// A register's value from its reply bytes.
+constexpr auto word = lbp::read_le32;
 
 }  // namespace
 

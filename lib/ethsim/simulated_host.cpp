@@ -14,9 +14,8 @@ namespace sslbp = lbp::hm2::sslbp;
 
 namespace {
 
-std::uint32_t word(const lbp::Bytes& bytes) {
-  return static_cast<std::uint32_t>(lbp::read_le(bytes));
-}
+// A register's value from its reply bytes.
+constexpr auto word = lbp::read_le32;
 
 }  // namespace
 
