@@ -22,7 +22,9 @@ inline std::uint64_t read_le(ByteView bytes) {
 }
 
 // A 32-bit register (hostmot2's and SSLBP's words over LBP16) from its little-endian bytes.
-inline std::uint32_t read_le32(ByteView bytes) { return static_cast<std::uint32_t>(read_le(bytes)); }
+inline std::uint32_t read_le32(ByteView bytes) {
+  return static_cast<std::uint32_t>(read_le(bytes));
+}
 
 // `count` bytes of `value`, least significant first; past 8 bytes, zeros (the value
 // zero-extended: shifting a 64-bit value by 64 or more is undefined).
