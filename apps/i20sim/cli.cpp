@@ -10,6 +10,7 @@
 #include "motor/error.hpp"
 #include "motor/loader.hpp"
 #include "params/param_db.hpp"
+#include "params/text.hpp"
 #include "parse_error.hpp"
 #include "sim/control.hpp"
 #include "sim/param_map.hpp"
@@ -255,7 +256,7 @@ std::optional<int> parse_command_line(int argc, char** argv, Invocation& out) {
   } catch (const CLI::ParseError& e) {
     return i20::app::report_parse_error(app, e, "i20sim");
   } catch (const Error& e) {  // unreadable --params / --address-map, bad map
-    std::cerr << "i20sim: " << e.what() << std::endl;
+    std::cerr << "i20sim: " << params::printable(e.what()) << std::endl;
     return 2;
   }
   return std::nullopt;

@@ -13,6 +13,7 @@
 #include "control_fifo.hpp"
 #include "ethsim/card_control.hpp"
 #include "ethsim/server.hpp"
+#include "params/text.hpp"
 
 namespace i20::sim::app {
 namespace {
@@ -48,7 +49,7 @@ void control(ethsim::CardServer& server, const std::string& line) {
   try {
     answer = ethsim::apply_card_control(server, line);
   } catch (const Error& e) {
-    answer = std::string("error: ") + e.what();
+    answer = std::string("error: ") + params::printable(e.what());
   }
   if (!answer.empty()) std::cout << answer << (answer.back() == '\n' ? "" : "\n") << std::flush;
 }

@@ -7,6 +7,7 @@
 #include "cli.hpp"
 #include "error/error.hpp"
 #include "lbp/rpc.hpp"
+#include "params/text.hpp"
 #include "sim/control.hpp"
 #include "sim/rpc_table.hpp"
 #include "sim/virtual_8i20.hpp"
@@ -55,7 +56,7 @@ int main(int argc, char** argv) {
       card.set_trace([](const std::string& line) { std::cerr << "i20sim: " << line << std::endl; });
     return sim::app::serve(card, inv.sim.wire, inv.server);
   } catch (const Error& e) {
-    std::cerr << "i20sim: " << e.what() << std::endl;
+    std::cerr << "i20sim: " << params::printable(e.what()) << std::endl;
     return 1;
   }
 }

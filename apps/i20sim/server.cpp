@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "control_fifo.hpp"
+#include "params/text.hpp"
 #include "pty.hpp"
 #include "sim/control.hpp"
 #include "sim/error.hpp"
@@ -88,7 +89,7 @@ class ControlReader {
     try {
       reply = apply_control(card, line, Clock::now());
     } catch (const ControlError& e) {
-      reply = std::string("error: ") + e.what();
+      reply = std::string("error: ") + params::printable(e.what());
     }
     if (!reply.empty()) std::cout << reply << (reply.back() == '\n' ? "" : "\n") << std::flush;
   }

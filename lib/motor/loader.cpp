@@ -191,7 +191,11 @@ void flatten(const YAML::Node& node, const std::string& prefix, std::vector<Entr
   };
   if (!node.IsMap()) throw MotorError(where(node) + ": expected 'key: value' lines");
   for (const auto& item : node) {
-    const std::string key = prefix + item.first.as<std::string>();
+    // A complex key (`? [a, b]`) is valid YAML but no motor key; as<string> would throw YAML's
+    // own exception past the loader's contract.
+    if (!item.first.IsScalar())
+      throw MotorError(where(item.first) + ": a key must be a name, not a list or map");
+    const std::string key = prefix + item.first.Scalar();
     const YAML::Node& value = item.second;
     if (value.IsMap()) {
       flatten(value, key + ".", out, origin);
@@ -201,11 +205,11 @@ void flatten(const YAML::Node& node, const std::string& prefix, std::vector<Entr
         if (!element.IsScalar())
           throw MotorError(where(element) + ": " + key + ": expected a list of numbers");
         if (!text.empty()) text += ',';  // apart: GCC 12's -O3 -Wrestrict misfires on `"," + std::string&&`
-        text += element.as<std::string>();
+        text += element.Scalar();
       }
       out.push_back({key, text, value.Mark().line + 1});
     } else if (value.IsScalar()) {
-      out.push_back({key, value.as<std::string>(), value.Mark().line + 1});
+      out.push_back({key, value.Scalar(), value.Mark().line + 1});
     } else {
       throw MotorError(where(item.first) + ": " + key + ": has no value");
     }
@@ -215,6 +219,13 @@ void flatten(const YAML::Node& node, const std::string& prefix, std::vector<Entr
 }  // namespace
 
 void set_motor_key(MotorParams& params, std::string_view key, std::string_view value, bool live) {
+  // Keys and values are printed back (errors, the motor's name in every status line), so a
+  // control character is refused here, for the file and the live `motor KEY VALUE` alike.
+  if (const auto c = params::control_character(key))
+    throw MotorError(params::printable(key) + ": a key holds the control character " + params::escaped(*c));
+  if (const auto c = params::control_character(value))
+    throw MotorError(std::string(key) + ": holds the control character " + params::escaped(*c) +
+                     "; remove it");
   try {
     const Key& k = find_key(key);
     if (live && key == "channel") throw MotorError("the channel of an attached motor cannot change");
@@ -239,7 +250,7 @@ MotorParams parse_motor(std::string_view text, std::string_view origin) {
   std::set<std::string> seen;
   for (const auto& e : entries) {
     const std::string where = std::string(origin) + ":" + std::to_string(e.line) + ": ";
-    if (!seen.insert(e.key).second) throw MotorError(where + e.key + ": given twice");
+    if (!seen.insert(e.key).second) throw MotorError(where + params::printable(e.key) + ": given twice");
     try {
       set_motor_key(params, e.key, e.value);
     } catch (const MotorError& error) {

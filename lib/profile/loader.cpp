@@ -155,7 +155,7 @@ void read_motor(const Reader& r, const YAML::Node& node, MotorInfo& motor) {
 
 void read_supply(const Reader& r, const YAML::Node& node, SupplyInfo& supply) {
   if (node.IsScalar()) {
-    supply.description = trim(node.Scalar());
+    supply.description = trim(r.text(node, "supply"));
     return;
   }
   if (!node.IsMap())

@@ -128,3 +128,21 @@ TEST(MotorFile, LiveKeysChangeOneValueOrNothing) {
     EXPECT_EQ(std::string(e.what()), "inertia: 0kgm^2: must be positive");
   }
 }
+
+// Valid YAML that is no motor file gets the loader's one clear line, never YAML's own
+// exception (a complex key once escaped as YAML::TypedBadConversion and aborted i20sim).
+TEST(MotorFile, AComplexKeyIsRefusedWithItsLine) {
+  EXPECT_EQ(error_of(std::string(kSmall) + "? [a, b]\n: 3\n"),
+            "m.yaml:6: a key must be a name, not a list or map");
+}
+
+// Keys and values are printed back (errors, the motor's name on every status line): a
+// control character is refused, and the key shown escaped.
+TEST(MotorFile, ControlCharactersAreRefusedAndNeverPrintedRaw) {
+  EXPECT_EQ(error_of(std::string(kSmall) + "name: \"axis\\x1b[2J\"\n"),
+            "m.yaml:6: name: holds the control character \\x1B; remove it");
+  EXPECT_EQ(error_of(std::string(kSmall) + "\"na\\x07me\": x\n"),
+            "m.yaml:6: na\\x07me: a key holds the control character \\x07");
+  MotorParams live = parse_motor(kSmall, "m.yaml");
+  EXPECT_THROW(set_motor_key(live, "load", "0.1Nm\r", true), MotorError);
+}

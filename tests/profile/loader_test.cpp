@@ -71,6 +71,29 @@ TEST(ProfileLoader, SupplyMayBeJustADescription) {
   EXPECT_FALSE(p.supply.bus_voltage_v);
 }
 
+// Every free text a profile holds is printed somewhere (show, diff, the console), so a
+// control character is refused in each of them, whichever YAML form carries it. The
+// short form of supply once skipped the check; the fuzzer found it when the saved copy
+// would not load again.
+TEST(ProfileLoader, ControlCharactersAreRefusedInEveryTextField) {
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"name: \"a\\x01b\"\nparameters:\n  NVKQP: 50\n", "name"},
+      {with_params("  NVKQP: 50\n", "description: \"a\\x1bb\"\n"), "description"},
+      {with_params("  NVKQP: 50\n", "supply: \"48 V\\x0f\"\n"), "supply"},
+      {with_params("  NVKQP: 50\n", "supply: {description: \"x\\x01\"}\n"), "description"},
+      {with_params("  NVKQP: 50\n", "motor: {make: \"x\\x01\"}\n"), "make"},
+      {with_params("  NVKQP: 50\n", "motor: {model: \"x\\r\"}\n"), "model"},
+      {with_params("  NVKQP: 50\n", "origin: {card: \"x\\x01\"}\n"), "card"},
+      {with_params("  NVKQP: 50\n", "notes: \"x\\x07\"\n"), "notes"},
+  };
+  for (const auto& [text, key] : cases) {
+    SCOPED_TRACE(text);
+    const auto e = load_error(text);
+    EXPECT_EQ(e.key(), key);
+    EXPECT_NE(std::string(e.what()).find("control character"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ProfileLoader, TargetsResolveToCells) {
   const auto& d = db();
   // Default: the space the key names.
