@@ -3,11 +3,15 @@
 // refusals that must come before anything is driven.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "harness.hpp"
+#include "spawn.hpp"
 
 using namespace i20::test;
 
@@ -94,6 +98,50 @@ TEST_F(CommissionCliSim, JsonReportAndTheHalFragment) {
   // An existing -o file is refused before anything is driven.
   const auto again = commission(target(), {"--yes", "-o", hal.string()});
   EXPECT_EQ(again.exit_code, 2) << again.err;
+}
+
+// kill -9 cannot be caught: the tool cannot zero the current then. The 8I20's 40 ms watchdog
+// (manual, "NORMAL MODE OPERATION") is the backstop the plan promises: with no DOIT the card
+// turns its output off and latches WATCHDOG, and no NV access or RPC memory mode is left on
+// (normal mode never enters them).
+TEST_F(CommissionCliSim, KilledMidMoveTheWatchdogTurnsTheOutputOff) {
+  std::vector<std::string> args{"--no-user-params"};
+  for (const auto& a : target()) args.push_back(a);
+  args.push_back("commission");
+  for (const auto& a : quick()) args.push_back(a);
+  args.push_back("--yes");
+  Spawned run("i20", args);
+  const auto until = [&](const std::string& line, const std::string& needle,
+                         std::chrono::milliseconds limit) {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    std::string answer;
+    while (std::chrono::steady_clock::now() < deadline) {
+      answer = card.control(line);
+      if (answer.find(needle) != std::string::npos) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return answer;
+  };
+  // Driving: the align current flows (the idle card's output is on with no current).
+  const auto current_d = [](const std::string& motor) {
+    const auto at = motor.find(" id=");
+    return at == std::string::npos ? 0.0 : std::stod(motor.substr(at + 4));
+  };
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  std::string driving = card.control("ch 1 motor");
+  while (std::abs(current_d(driving)) < 0.5 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    driving = card.control("ch 1 motor");
+  }
+  ASSERT_GE(std::abs(current_d(driving)), 0.5) << driving << run.err();
+  const auto killed = run.finish(SIGKILL);
+  EXPECT_EQ(killed.exit_code, 128 + SIGKILL);
+  // 40 ms after the last DOIT; a second is margin for a loaded machine, not the figure.
+  const auto after = until("ch 1 show", "output=off", std::chrono::seconds(1));
+  EXPECT_NE(after.find("output=off"), std::string::npos) << after;
+  EXPECT_NE(after.find("fault=0x0001"), std::string::npos) << "WATCHDOG (FAULT bit 0) latched: " << after;
+  EXPECT_NE(after.find("nv_access=ram"), std::string::npos) << after;
+  EXPECT_NE(after.find("rpcmem=off"), std::string::npos) << after;
 }
 
 }  // namespace
