@@ -40,7 +40,8 @@ std::string stdout_failure() {
 int finish_output(const char* program, int code) {
   const std::string why = stdout_failure();
   std::cerr.flush();
-  if (why.empty()) return code;
+  // Exit 6 was already explained by whoever found the lost output (often stdout itself).
+  if (why.empty() || code == ops::kExitOutputLost) return code;
   const std::string line = std::string(program) + ": error: standard output was not written in full: " + why +
                            (code == ops::kExitOk ? "" : " (the exit code is the command's own outcome)") +
                            "\n";

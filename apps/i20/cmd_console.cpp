@@ -14,6 +14,7 @@
 #include "console_api.hpp"
 #include "context.hpp"
 #include "ops/session.hpp"
+#include "terminal.hpp"
 
 namespace i20::cli {
 namespace {
@@ -62,6 +63,8 @@ void run_console(Context& ctx, const ConsoleOptions& o) {
             << "  (the token in this URL is the only way in; Ctrl-C stops the console and leaves the card "
                "settled)\n"
             << std::flush;
+  // The URL carries the only token: a console nobody can reach must not serve (exit 6).
+  app::require_stdout();
   BrowserLauncher browser;
   if (!o.no_browser && BrowserLauncher::desktop_present() && !browser.open(server->url()))
     std::cerr << "i20: could not start xdg-open: open the URL above yourself\n";

@@ -132,10 +132,17 @@ TEST_F(Honesty, OutputToAFullDeviceIsExitSix) {
   const std::string i20 = quoted(i20_path()) + " --no-user-params --sim ";
   const std::string err = quoted((dir / "err").string());
   for (const std::string& command :
-       {i20 + "get NVKQP", i20 + "dump", i20 + "report", i20 + "profile save -"}) {
+       {i20 + "get NVKQP", i20 + "dump", i20 + "report", i20 + "profile save -",
+        i20 + "hal --max-current 12A --cfg h --pattern 25 --halls "
+              "hm2_7i96s.0.inm.00.input-00,hm2_7i96s.0.inm.00.input-01,hm2_7i96s.0.inm.00.input-02",
+        // The console's URL carries its only token: unseen, it must not serve (timeout: 124).
+        "timeout 20 " + i20 + "console --no-browser"}) {
     EXPECT_EQ(shell(command + " > /dev/full 2> " + err), 6) << command;
-    EXPECT_NE(slurp_file(dir / "err").find("standard output was not written in full"), std::string::npos)
-        << command << ": " << slurp_file(dir / "err");
+    const std::string said = slurp_file(dir / "err");
+    const auto first = said.find("standard output was not written in full");
+    EXPECT_NE(first, std::string::npos) << command << ": " << said;
+    EXPECT_EQ(said.find("standard output was not written in full", first + 1), std::string::npos)
+        << "said once: " << command << ": " << said;
   }
   const std::string rpd = quoted(program("rpd").string()) + " --sim NVKQP";
   EXPECT_EQ(shell(rpd + " > /dev/full 2> " + err), 6);
