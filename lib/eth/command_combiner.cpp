@@ -19,7 +19,7 @@ std::uint8_t bit(unsigned channel) {
 struct CommandCombiner::Request {
   unsigned channel = 0;
   std::span<const lbp::Command> batch{};
-  ChannelOutcome outcome{};
+  ChannelResult outcome{};
   std::exception_ptr port_error{};
   bool done = false;
 };

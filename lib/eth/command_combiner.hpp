@@ -28,8 +28,9 @@ struct ChannelBatch {
   std::span<const lbp::Command> commands{};
 };
 
-// What one channel's batch came to (PassthroughPort::Outcome).
-struct ChannelOutcome {
+// What one channel's batch came to (PassthroughPort::execute). Not an ops::Outcome: that is
+// what a whole command came to, and the exit code it maps to.
+struct ChannelResult {
   unsigned channel = 0;
   std::vector<lbp::Bytes> replies{};  // one per command when no error
   // A link::LinkError (or subclass) whose completed() counts the commands of this
@@ -40,7 +41,7 @@ struct ChannelOutcome {
 class CommandCombiner {
  public:
   // Runs the batches of several channels side by side (PassthroughPort::execute).
-  using Execute = std::function<std::vector<ChannelOutcome>(std::span<const ChannelBatch>)>;
+  using Execute = std::function<std::vector<ChannelResult>(std::span<const ChannelBatch>)>;
 
   // `gather_window`: how long a leader waits for the other attached links to join.
   CommandCombiner(Execute execute, std::chrono::microseconds gather_window);

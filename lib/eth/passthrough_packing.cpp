@@ -187,7 +187,7 @@ void PassthroughPort::lay_out(Round& round, const std::vector<Channel>& channels
 
 // ---- executing batches --------------------------------------------------------------------
 
-std::vector<PassthroughPort::Outcome> PassthroughPort::execute(std::span<const Batch> batches) {
+std::vector<ChannelResult> PassthroughPort::execute(std::span<const Batch> batches) {
   std::lock_guard lock(execute_mutex_);
   std::uint8_t seen = 0;
   for (const Batch& b : batches) {
@@ -221,9 +221,9 @@ std::vector<PassthroughPort::Outcome> PassthroughPort::execute(std::span<const B
   run(work);
   stats_.max_round_trips = std::max(stats_.max_round_trips, stats_.round_trips - trips_before);
 
-  std::vector<Outcome> outcomes;
+  std::vector<ChannelResult> outcomes;
   for (Channel& c : work) {
-    Outcome o{.channel = c.channel};
+    ChannelResult o{.channel = c.channel};
     if (!c.error && c.unsupported)
       c.error = std::make_exception_ptr(link::UnsupportedCommand(*c.unsupported, c.steps.size()));
     if (c.error)

@@ -173,11 +173,10 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   PassthroughPort& operator=(const PassthroughPort&) = delete;
 
   using Batch = ChannelBatch;
-  using Outcome = ChannelOutcome;  // see command_combiner.hpp
   // Executes each channel's batch, the channels side by side: the k-th commands of every
   // batch share one DOIT. At most one batch per channel. UsageError for a channel not in
   // the mask.
-  std::vector<Outcome> execute(std::span<const Batch> batches);
+  std::vector<ChannelResult> execute(std::span<const Batch> batches);
 
   // A link::Link to one channel. Links of several channels used by several threads at
   // once are combined into shared DOITs.
