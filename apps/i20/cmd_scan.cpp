@@ -104,7 +104,7 @@ void register_scan_command(CLI::App& app, Context& ctx) {
       "scan",
       "Scan a 7I96S/7I92T over Ethernet (--eth IP): the card, its SSERIAL ports and channels, which 8I20s "
       "answer (name, unit number), their eth:// targets and LinuxCNC hostmot2 names. Scanning stops and "
-      "restarts every smart-serial port, so it first watches the card for 30 ms and refuses while another "
+      "restarts every smart-serial port, so it first watches the card for 45 ms and refuses while another "
       "host (LinuxCNC) is running it, unless the global --take-over is given (then its smart-serial ports "
       "stop, every 8I20 on them sees no DOIT for 40 ms and disables its output, and LinuxCNC drops every "
       "axis on those ports with a watchdog fault)");

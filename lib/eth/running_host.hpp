@@ -39,7 +39,10 @@ struct RunningHostCheck {
   // Proceed even when another host is using the card. Its machine stops: every axis on
   // the port drops out.
   bool take_over = false;
-  std::chrono::milliseconds window{30};
+  // Longer than the 8I20's 40 ms watchdog (8I20 manual, "8I20 DEVICE SPECIFIC SETUP"): a host
+  // that keeps an 8I20 running DOITs within every 40 ms, however late its cycles run, so it
+  // always shows in the window. 30 ms let a host running late look idle.
+  std::chrono::milliseconds window{45};
   unsigned command_samples = 4;  // COMMAND reads per port spread over the window
   // Foreign packets (received plus sent) in the window above which the card counts as in
   // use. One stray exchange (a mesaflash query from another PC) is tolerated; LinuxCNC's
