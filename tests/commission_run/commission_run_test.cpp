@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <csignal>
+#include <iostream>
+#include <optional>
 #include <random>
 #include <thread>
 
@@ -111,12 +113,23 @@ TEST(CommissionRun, RandomMotorsMatchTheTruth) {
                  "deg\n  polarity: " + pick(std::string("active-high"), std::string("active-low")) +
                  "\n  inputs: " + inputs + "\n";
     SCOPED_TRACE(std::string("run ") + std::to_string(run) + ":\n" + spec.yaml());
-    VirtualAxis axis(spec);
     auto options = quick_options();
     options.turns_per_s = 6.0;
     options.pole_pairs = spec.pole_pairs;
     options.counts_per_turn = spec.counts_per_turn;
-    const auto r = commission(axis, options).report;
+    // A machine loaded by other work can starve the 10 ms loop past the 8I20's 40 ms watchdog;
+    // the tool then stops honestly (AFaultLatchedMidRunStopsIt tests a latched fault). That is not what this
+    // test is about, so a run whose own DOIT gap reached 40 ms is run again on a new axis.
+    std::optional<VirtualAxis> held;
+    ops::CommissionReport r;
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      held.emplace(spec);
+      r = commission(*held, options).report;
+      if (r.stop != ops::StopReason::Fault || r.doit.worst() < 40ms) break;
+      std::cout << "run " << run << ": the loop was starved (a DOIT gap of " << r.doit.worst().count()
+                << " us), run again\n";
+    }
+    VirtualAxis& axis = *held;
     EXPECT_TRUE(r.stop == ops::StopReason::Completed || r.stop == ops::StopReason::CouldNotTell)
         << describe(r);
     expect_truth(axis, r);
