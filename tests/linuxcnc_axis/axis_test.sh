@@ -98,7 +98,6 @@ write_axis_hal() {
   } >"$work/axis.hal"
   chmod 644 "$work/axis.hal"
 }
-value() { sed -n "s/^$1=\(.*\)\$/\1/p" "$work/hal.out" | tail -1; }
 
 # One run: forward, back, stop. Sets moved_forward, moved_back (counts), encoder_turns,
 # sim_turns and the figures.

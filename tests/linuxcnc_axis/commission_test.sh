@@ -64,7 +64,6 @@ counts=$BOARD.encoder.$ENC.rawcounts
 } >"$work/run.hal"
 chmod 644 "$work/run.hal"
 hal timeout 60 halrun -f "$work/run.hal" >"$work/hal.out" 2>&1
-value() { sed -n "s/^$1=\(.*\)\$/\1/p" "$work/hal.out" | tail -1; }
 [[ -n $(value watchdog) ]] || {
   cat "$work/hal.out"
   fail "halrun did not run the experiment with the fragment"
