@@ -101,7 +101,7 @@ TEST_F(CommissionCliSim, JsonReportAndTheHalFragment) {
 }
 
 // kill -9 cannot be caught: the tool cannot zero the current then. The 8I20's 40 ms watchdog
-// (manual, "NORMAL MODE OPERATION") is the backstop the plan promises: with no DOIT the card
+// (manual, "8I20 DEVICE SPECIFIC SETUP") is the backstop the plan promises: with no DOIT the card
 // turns its output off and latches WATCHDOG, and no NV access or RPC memory mode is left on
 // (normal mode never enters them).
 TEST_F(CommissionCliSim, KilledMidMoveTheWatchdogTurnsTheOutputOff) {

@@ -118,8 +118,8 @@ TEST(CommissionRun, RandomMotorsMatchTheTruth) {
     options.pole_pairs = spec.pole_pairs;
     options.counts_per_turn = spec.counts_per_turn;
     // A machine loaded by other work can starve the 10 ms loop past the 8I20's 40 ms watchdog;
-    // the tool then stops honestly (AFaultLatchedMidRunStopsIt tests a latched fault). That is not what this
-    // test is about, so a run whose own DOIT gap reached 40 ms is run again on a new axis.
+    // the tool then stops honestly (AFaultLatchedMidRunStopsIt tests a latched fault). That is
+    // not what this test is about, so a run whose own DOIT gap reached 40 ms is run again.
     std::optional<VirtualAxis> held;
     ops::CommissionReport r;
     for (int attempt = 0; attempt < 3; ++attempt) {
