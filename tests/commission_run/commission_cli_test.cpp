@@ -111,14 +111,13 @@ TEST_F(CommissionCliSim, KilledMidMoveTheWatchdogTurnsTheOutputOff) {
   for (const auto& a : quick()) args.push_back(a);
   args.push_back("--yes");
   Spawned run("i20", args);
-  const auto until = [&](const std::string& line, const std::string& needle,
-                         std::chrono::milliseconds limit) {
+  // Asks the simulator `line` every 20 ms until its answer satisfies `done` or `limit` passes.
+  const auto until = [&](const std::string& line, const auto& done, std::chrono::milliseconds limit) {
     const auto deadline = std::chrono::steady_clock::now() + limit;
-    std::string answer;
-    while (std::chrono::steady_clock::now() < deadline) {
-      answer = card.control(line);
-      if (answer.find(needle) != std::string::npos) break;
+    std::string answer = card.control(line);
+    while (!done(answer) && std::chrono::steady_clock::now() < deadline) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      answer = card.control(line);
     }
     return answer;
   };
@@ -127,17 +126,16 @@ TEST_F(CommissionCliSim, KilledMidMoveTheWatchdogTurnsTheOutputOff) {
     const auto at = motor.find(" id=");
     return at == std::string::npos ? 0.0 : std::stod(motor.substr(at + 4));
   };
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  std::string driving = card.control("ch 1 motor");
-  while (std::abs(current_d(driving)) < 0.5 && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    driving = card.control("ch 1 motor");
-  }
+  const auto driving = until(
+      "ch 1 motor", [&](const std::string& m) { return std::abs(current_d(m)) >= 0.5; },
+      std::chrono::seconds(20));
   ASSERT_GE(std::abs(current_d(driving)), 0.5) << driving << run.err();
   const auto killed = run.finish(SIGKILL);
   EXPECT_EQ(killed.exit_code, 128 + SIGKILL);
   // 40 ms after the last DOIT; a second is margin for a loaded machine, not the figure.
-  const auto after = until("ch 1 show", "output=off", std::chrono::seconds(1));
+  const auto after = until(
+      "ch 1 show", [](const std::string& show) { return show.find("output=off") != std::string::npos; },
+      std::chrono::seconds(1));
   EXPECT_NE(after.find("output=off"), std::string::npos) << after;
   EXPECT_NE(after.find("fault=0x0001"), std::string::npos) << "WATCHDOG (FAULT bit 0) latched: " << after;
   EXPECT_NE(after.find("nv_access=ram"), std::string::npos) << after;
