@@ -44,12 +44,14 @@ counts=$BOARD.encoder.$ENC.rawcounts
     "loadrt hostmot2" \
     "loadrt hm2_eth board_ip=$CARD_IP" \
     "loadrt threads name1=servo-thread period1=1000000" \
+    "loadrt timedelta count=1" \
     "setp $BOARD.packet-read-timeout 20000000" \
     "# overruns of a non-realtime 1 ms thread must not stop the port (as in axis_test.sh)" \
     "setp $BOARD.sserial.port-0.fault-lim 1000000" \
     "addf $BOARD.read servo-thread" \
     "source $work/axis.hal" \
     "addf $BOARD.write servo-thread" \
+    "addf timedelta.0 servo-thread" \
     "net torque-cmd => bldc.0.value" \
     "start" \
     "loadusr -w sleep 0.5"
@@ -61,18 +63,26 @@ counts=$BOARD.encoder.$ENC.rawcounts
   printf 'sets torque-cmd 0\n'
   reading hall_error bldc.0.hall-error
   reading watchdog "$AMP.fault.watchdog"
+  reading period_max timedelta.0.max
 } >"$work/run.hal"
 chmod 644 "$work/run.hal"
-hal timeout 60 halrun -f "$work/run.hal" >"$work/hal.out" 2>&1
-[[ -n $(value watchdog) ]] || {
-  cat "$work/hal.out"
-  fail "halrun did not run the experiment with the fragment"
-}
+for ((try = 1; ; try++)); do
+  # A stalled run left the 8I20 with its watchdog fault latched: power the virtual card up
+  # again (the same motor file, so the same motor) as one would the machine.
+  ((try == 1)) || { stop_sim && start_sim; }
+  hal timeout 60 halrun -f "$work/run.hal" >"$work/hal.out" 2>&1
+  [[ -n $(value watchdog) ]] || {
+    cat "$work/hal.out"
+    fail "halrun did not run the experiment with the fragment"
+  }
+  kept_time "with the fragment" "$try" && break
+done
 forward=$(($(value forward) - $(value start)))
 back=$(($(value forward) - $(value back)))
 note "with the fragment: +$TORQUE_A A moved $forward counts, -$TORQUE_A A moved back $back counts;" \
-  "hall-error $(value hall_error), fault.watchdog $(value watchdog)"
+  "hall-error $(value hall_error), fault.watchdog $(value watchdog); servo period max $(value period_max) ns"
 ((forward > COUNTS / 4)) || fail "a positive torque did not turn the motor forward ($forward counts)"
 ((back > COUNTS / 4)) || fail "a negative torque did not turn the motor back ($back counts)"
 [[ $(value hall_error) == FALSE ]] || fail "bldc.0.hall-error went TRUE with the fragment's pattern"
+[[ $(value watchdog) == FALSE ]] || fail "the 8I20's watchdog bit while the servo thread kept time"
 note "PASS"
