@@ -7,7 +7,10 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 
 #include "harness.hpp"
@@ -24,6 +27,41 @@ Result commission(const std::vector<std::string>& target, std::vector<std::strin
   args.insert(args.begin(), target.begin(), target.end());
   args.insert(args.begin(), "--no-user-params");
   return run("i20", args);
+}
+
+// The run's worst DOIT gap in microseconds, from its report: JSON ("worst": N, in us) or
+// text ("worst X ms").
+std::optional<double> worst_doit_gap_us(const std::string& out) {
+  const auto number_after = [&](const std::string& key) -> std::optional<double> {
+    const auto at = out.find(key);
+    if (at == std::string::npos) return std::nullopt;
+    try {
+      return std::stod(out.substr(at + key.size()));
+    } catch (const std::logic_error&) {  // no number there: no figure to judge by
+      return std::nullopt;
+    }
+  };
+  if (const auto us = number_after("\"worst\": ")) return us;
+  if (const auto ms = number_after(" ms, worst ")) return 1000 * *ms;
+  return std::nullopt;
+}
+
+// A machine loaded by other work (or a simulator process descheduled) can leave the 10 ms
+// loop's DOITs more than the 8I20's 40 ms watchdog apart; the card then bites and the tool
+// stops honestly (CommissionRun.AFaultLatchedMidRunStopsIt tests a latched fault). That run
+// measured the host, not the tool, so one that latched WATCHDOG with its own worst DOIT gap
+// at 40 ms or more is run again, up to 3 runs in all (the preflight accepts the WATCHDOG a
+// run leaves latched, as a host's start clears it).
+Result commission_kept_time(const std::vector<std::string>& target, const std::vector<std::string>& args) {
+  Result r;
+  for (int attempt = 1; attempt <= 3; ++attempt) {
+    r = commission(target, args);
+    const auto gap = worst_doit_gap_us(r.out);
+    const bool watchdog = (r.out + r.err).find("WATCHDOG") != std::string::npos;
+    if (r.exit_code == 0 || !watchdog || !gap || *gap < 40000) break;
+    std::cout << "run " << attempt << ": the loop was starved (a DOIT gap of " << *gap << " us), run again\n";
+  }
+  return r;
 }
 
 std::string read(const std::filesystem::path& path) {
@@ -72,7 +110,7 @@ TEST_F(CommissionCliSim, JsonReportAndTheHalFragment) {
   args.insert(args.end(), {"--yes", "-o", hal.string()});
   auto full = target();
   full.push_back("--json");
-  const auto r = commission(full, args);
+  const auto r = commission_kept_time(full, args);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   for (const char* key :
        {"\"stop\": \"completed\"", "\"pattern\": 25", "\"poles\": 8", "\"scale\": 10000",
@@ -90,8 +128,9 @@ TEST_F(CommissionCliSim, JsonReportAndTheHalFragment) {
 
   // --check re-runs only the closed-loop check with the file as written.
   auto check = target();
-  const auto c = commission(check, {"--yes", "--check", hal.string(), "--encoder", "1", "--halls",
-                                    "gpio.013.in,gpio.014.in,gpio.015.in", "--turns-per-second", "4"});
+  const auto c =
+      commission_kept_time(check, {"--yes", "--check", hal.string(), "--encoder", "1", "--halls",
+                                   "gpio.013.in,gpio.014.in,gpio.015.in", "--turns-per-second", "4"});
   EXPECT_EQ(c.exit_code, 0) << c.out << c.err;
   EXPECT_NE(c.out.find("closed-loop check passed"), std::string::npos) << c.out;
 

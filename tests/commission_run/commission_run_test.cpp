@@ -75,8 +75,8 @@ void expect_truth(const VirtualAxis& axis, const ops::CommissionReport& r) {
 
 // A machine loaded by other work can starve the 10 ms loop past the 8I20's 40 ms watchdog;
 // the tool then stops honestly (AFaultLatchedMidRunStopsIt tests a latched fault). That is
-// not what the tests below are about, so a run whose own DOIT gap reached 40 ms is run again
-// on a fresh axis, up to 3 runs in all; `axis` holds the one whose report is returned.
+// not what the tests that use this are about, so a run whose own DOIT gap reached 40 ms is run
+// again on a fresh axis, up to 3 runs in all; `axis` holds the one whose report is returned.
 ops::CommissionReport commission_kept_time(std::optional<VirtualAxis>& axis, const MotorSpec& spec,
                                            const ops::CommissionOptions& options) {
   ops::CommissionReport r;
@@ -162,8 +162,9 @@ void expect_stopped(VirtualAxis& axis, const ops::CommissionReport& r, ops::Stop
 TEST(CommissionRun, BrakeEngagedIsAStall) {
   MotorSpec spec;
   spec.brake = true;
-  VirtualAxis axis(spec);
-  const auto r = commission(axis, quick_options()).report;
+  std::optional<VirtualAxis> held;
+  const auto r = commission_kept_time(held, spec, quick_options());
+  VirtualAxis& axis = *held;
   expect_stopped(axis, r, ops::StopReason::Stall, "is the brake released");
   EXPECT_EQ(r.outcome(), ops::Outcome::Refused);
   EXPECT_FALSE(r.bldc);
@@ -172,8 +173,9 @@ TEST(CommissionRun, BrakeEngagedIsAStall) {
 TEST(CommissionRun, AnOverhaulingLoadIsARunaway) {
   MotorSpec spec;
   spec.load_nm = -2.0;  // drives the rotor backward harder than the sweep current holds it
-  VirtualAxis axis(spec);
-  const auto r = commission(axis, quick_options()).report;
+  std::optional<VirtualAxis> held;
+  const auto r = commission_kept_time(held, spec, quick_options());
+  VirtualAxis& axis = *held;
   expect_stopped(axis, r, ops::StopReason::Runaway, "runs away");
 }
 

@@ -20,11 +20,19 @@ TORQUE_A=0.08 # 36 mNm with Kt 0.45 Nm/A against 20 mNm of Coulomb friction
 start_sim
 
 # --- 1. commission the axis from the host namespace, as a user on the machine would -------
-t0=$(date +%s.%N)
-$RT ip netns exec "$ns_host" "$I20" --no-user-params --eth "$CARD_IP" --channel "$CHANNEL" commission --yes \
-  --poles "$POLES" --counts-per-rev "$COUNTS" -o "$work/axis.hal" >"$work/commission.out" 2>"$work/commission.err"
-rc=$?
-note "i20 commission: exit $rc in $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }') s"
+# A run the loaded host starved past the 8I20's watchdog (WATCHDOG latched, its own worst DOIT
+# gap at 40 ms or more, from its report) measured the host: it is run again, as in rig.sh.
+for ((try = 1; ; try++)); do
+  t0=$(date +%s.%N)
+  $RT ip netns exec "$ns_host" "$I20" --no-user-params --eth "$CARD_IP" --channel "$CHANNEL" commission --yes \
+    --poles "$POLES" --counts-per-rev "$COUNTS" -o "$work/axis.hal" >"$work/commission.out" 2>"$work/commission.err"
+  rc=$?
+  note "i20 commission: exit $rc in $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }') s"
+  ((rc != 0)) && ((try < STALL_TRIES)) && grep -q WATCHDOG "$work/commission.out" "$work/commission.err" || break
+  worst_ms=$(sed -n 's/.* ms, worst \([0-9.]*\) ms$/\1/p' "$work/commission.out")
+  awk -v w="${worst_ms:-0}" -v limit="$WATCHDOG_NS" 'BEGIN { exit !(w * 1e6 >= limit) }' || break
+  note "i20 commission: the DOIT loop was starved ($worst_ms ms, past the 8I20's watchdog): running it again ($try of $STALL_TRIES)"
+done
 ((rc == 0)) || {
   cat "$work/commission.out" "$work/commission.err"
   fail "i20 commission did not find and check the commutation"
