@@ -28,18 +28,13 @@ value() {
 # again, up to STALL_TRIES times in all; the checks judge only a run that kept time.
 WATCHDOG_NS=${I20_TEST_WATCHDOG_NS:-40000000} # a smaller value exercises the re-runs
 STALL_TRIES=3
-# True when the last HAL run's longest servo period outlasted the 8I20's watchdog.
-stalled() {
-  local longest
-  longest=$(value period_max)
-  [[ $longest =~ ^[0-9]+$ ]] && ((longest > WATCHDOG_NS))
-}
-# After a run: false (run it again) if it stalled and tries remain; a stalled last try fails.
+# After a run: false (run it again) if its longest period, LONGEST_NS (by default the HAL run's
+# period_max), outlasted the watchdog and tries remain; a stalled last try fails.
 kept_time() {
-  local label=$1 try=$2
-  stalled || return 0
-  local ms=$(($(value period_max) / 1000000))
-  ((try < STALL_TRIES)) || fail "$label: the servo thread stalled past the 8I20's $((WATCHDOG_NS / 1000000)) ms watchdog in all $STALL_TRIES runs (last: $ms ms); this host cannot run the test"
-  note "$label: the servo thread stalled $ms ms (> the 8I20's $((WATCHDOG_NS / 1000000)) ms watchdog; its watchdog bit $(value watchdog)): the run measured this host, not the axis; running it again ($try of $STALL_TRIES)"
+  local label=$1 try=$2 longest=${3:-$(value period_max)}
+  [[ $longest =~ ^[0-9]+$ ]] && ((longest > WATCHDOG_NS)) || return 0
+  local ms=$((longest / 1000000)) limit_ms=$((WATCHDOG_NS / 1000000))
+  ((try < STALL_TRIES)) || fail "$label: a period past the 8I20's $limit_ms ms watchdog in all $STALL_TRIES runs (last: $ms ms); this host cannot run the test"
+  note "$label: a period of $ms ms, past the 8I20's $limit_ms ms watchdog: the run measured this host, not the axis; running it again ($try of $STALL_TRIES)"
   return 1
 }
