@@ -39,10 +39,10 @@ Figures run(double index_deg, const ops::CommissionOptions& options) {
   const auto params = servo(index_deg);
   ethsim::ServerOptions so;
   so.listen = eth::HostPort{.ip = "127.0.0.1", .port = 0};
-  so.card = ethsim::CardKind::I7i92t;
-  so.config = ethsim::CardConfig::preset_7i92t_servo();
+  so.card = ethsim::BoardKind::I7i92t;
+  so.config = ethsim::BoardConfig::preset_7i92t_servo();
   so.motors = {params};
-  ethsim::CardServer server(so);
+  ethsim::BoardServer server(so);
   server.start();
   ops::SessionOptions session_options;
   session_options.target.eth = "127.0.0.1:";

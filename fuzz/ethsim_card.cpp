@@ -10,7 +10,7 @@
 #include <cstdint>
 
 #include "ethsim/virtual_8i20_remote.hpp"
-#include "ethsim/virtual_card.hpp"
+#include "ethsim/virtual_board.hpp"
 #include "fuzz_support.hpp"
 #include "lbp16/lbp16.hpp"
 
@@ -20,9 +20,9 @@ using namespace i20;
 using namespace std::chrono_literals;
 using ethsim::Clock;
 
-ethsim::VirtualCardOptions options(std::uint8_t card, std::uint8_t mode) {
-  ethsim::VirtualCardOptions o;
-  o.config = ethsim::CardConfig::preset((card & 1) ? ethsim::CardKind::I7i92t : ethsim::CardKind::I7i96s);
+ethsim::VirtualBoardOptions options(std::uint8_t card, std::uint8_t mode) {
+  ethsim::VirtualBoardOptions o;
+  o.config = ethsim::BoardConfig::preset((card & 1) ? ethsim::BoardKind::I7i92t : ethsim::BoardKind::I7i96s);
   const bool operate = (mode & 1) == 0;
   o.remotes = [operate, mode](unsigned port, unsigned channel) -> std::unique_ptr<ethsim::RemoteLbpDevice> {
     if ((port + channel) % 2 == 1 && (mode & 2)) return nullptr;  // some channels empty
@@ -47,7 +47,7 @@ void run(fuzz::Input& in) {
   const std::uint8_t card_pick = in.byte();
   const std::uint8_t mode = in.byte();
   Clock::time_point now{};
-  ethsim::VirtualCard card(options(card_pick, mode), now);
+  ethsim::VirtualBoard card(options(card_pick, mode), now);
   while (!in.empty()) {
     now += gap(in.byte());
     const lbp::Bytes payload = in.take(in.u16() % (lbp::lbp16::kMaxPayload + 64));
@@ -56,7 +56,7 @@ void run(fuzz::Input& in) {
     const std::size_t reads = lbp::lbp16::reply_bytes(parsed.commands);
     fuzz::require(reply.has_value() == (reads > 0), "a packet gets a reply exactly when it holds reads");
     if (reply) fuzz::require(reply->size() == reads, "a reply holds exactly the data of the reads executed");
-    now = std::max(now, card.card_time());
+    now = std::max(now, card.board_time());
     card.advance(now);
   }
 }

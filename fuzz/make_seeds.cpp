@@ -17,7 +17,7 @@
 #include "eth/anything_io.hpp"
 #include "eth/passthrough_link.hpp"
 #include "ethsim/virtual_8i20_remote.hpp"
-#include "ethsim/virtual_card.hpp"
+#include "ethsim/virtual_board.hpp"
 #include "lbp/command.hpp"
 #include "lbp16/lbp16.hpp"
 #include "link/pipelined_link.hpp"
@@ -162,7 +162,7 @@ void lbp_seeds() {
 // An in-process "UDP" to a virtual card that keeps every request payload.
 class RecordingBus final : public eth::Lbp16Transport {
  public:
-  RecordingBus(ethsim::VirtualCard& card, std::vector<lbp::Bytes>& packets)
+  RecordingBus(ethsim::VirtualBoard& card, std::vector<lbp::Bytes>& packets)
       : card_(card), packets_(packets) {}
   std::vector<lbp::Bytes> transact(std::span<const lbp::lbp16::Command> commands, eth::Resend) override {
     const lbp::Bytes request = lbp::lbp16::encode_packet(commands);
@@ -174,13 +174,13 @@ class RecordingBus final : public eth::Lbp16Transport {
   eth::TransportStats stats() const override { return {}; }
 
  private:
-  ethsim::VirtualCard& card_;
+  ethsim::VirtualBoard& card_;
   std::vector<lbp::Bytes>& packets_;
 };
 
-ethsim::VirtualCardOptions card_options(ethsim::CardKind kind) {
-  ethsim::VirtualCardOptions o;
-  o.config = ethsim::CardConfig::preset(kind);
+ethsim::VirtualBoardOptions card_options(ethsim::BoardKind kind) {
+  ethsim::VirtualBoardOptions o;
+  o.config = ethsim::BoardConfig::preset(kind);
   o.remotes = [](unsigned, unsigned) {
     return std::make_unique<ethsim::Virtual8i20Remote>(ethsim::Virtual8i20Remote::default_options(),
                                                        ethsim::Clock::now());
@@ -200,9 +200,9 @@ lbp::Bytes packets_seed(std::uint8_t card, const std::vector<lbp::Bytes>& packet
 }
 
 void eth_seeds() {
-  for (const auto kind : {ethsim::CardKind::I7i96s, ethsim::CardKind::I7i92t}) {
-    const std::string name(ethsim::card_kind_name(kind));
-    ethsim::VirtualCard card(card_options(kind), ethsim::Clock::now());
+  for (const auto kind : {ethsim::BoardKind::I7i96s, ethsim::BoardKind::I7i92t}) {
+    const std::string name(ethsim::board_kind_name(kind));
+    ethsim::VirtualBoard card(card_options(kind), ethsim::Clock::now());
     std::vector<lbp::Bytes> packets;
     {
       RecordingBus bus(card, packets);
@@ -230,7 +230,7 @@ void eth_seeds() {
     (void)amp.read("NVMAXCURRENT");
     (void)amp.write("NVBRAKEONV", 19000, {});
     write_seed("ethsim_card", name + "-discovery-and-passthrough",
-               packets_seed(kind == ethsim::CardKind::I7i92t ? 1 : 0, packets));
+               packets_seed(kind == ethsim::BoardKind::I7i92t ? 1 : 0, packets));
     write_seed("lbp16_packet", name + "-passthrough-last", packets.back());
   }
 }

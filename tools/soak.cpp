@@ -51,9 +51,9 @@ void run_single(const Scenario& s, std::size_t index, const params::ParamDb& db,
   auto link = std::make_unique<InjectingLink>(
       std::make_unique<link::PipelinedLink>(std::move(stream), link_options), stop);
   InjectingLink& signals = *link;
-  std::unique_ptr<ops::Card> card;
+  std::unique_ptr<ops::Amp> card;
   try {
-    card = ops::Card::attach(std::move(link), ops::parse_endpoint("sim"), db, {}, cancel);
+    card = ops::Amp::attach(std::move(link), ops::parse_endpoint("sim"), db, {}, cancel);
   } catch (const Error& e) {
     t.findings.push_back("#" + std::to_string(index) +
                          ": the card could not be opened without a fault: " + e.what());

@@ -18,7 +18,7 @@
 #include <thread>
 
 #include "eth/passthrough_link.hpp"
-#include "ethsim/card_control.hpp"
+#include "ethsim/board_control.hpp"
 #include "ethsim/faulty_network.hpp"
 #include "ethsim/server.hpp"
 #include "ops/apply_run.hpp"
@@ -38,11 +38,11 @@ using namespace std::chrono_literals;
 
 constexpr unsigned kTimeoutMs = 50;  // the apps' default reply timeout
 
-enum class Where { Amplifier, Network, Card };
+enum class Where { Amplifier, Network, Board };
 
 struct EthScenario {
   Scenario s;
-  ethsim::CardKind kind = ethsim::CardKind::I7i96s;
+  ethsim::BoardKind kind = ethsim::BoardKind::I7i96s;
   unsigned port = 0, amplifiers = 1, channel = 0;
   Where where = Where::Amplifier;
   ethsim::NetworkFaults net{};
@@ -53,13 +53,13 @@ struct EthScenario {
 EthScenario next(Generator& gen) {
   EthScenario e;
   e.s = gen.next();  // the serial injection is drawn (and kept for Where::Amplifier)
-  e.kind = gen.pick<ethsim::CardKind>({ethsim::CardKind::I7i96s, ethsim::CardKind::I7i92t});
-  if (e.kind == ethsim::CardKind::I7i92t) {
+  e.kind = gen.pick<ethsim::BoardKind>({ethsim::BoardKind::I7i96s, ethsim::BoardKind::I7i92t});
+  if (e.kind == ethsim::BoardKind::I7i92t) {
     e.port = static_cast<unsigned>(gen.between(0, 1));
     e.amplifiers = static_cast<unsigned>(gen.between(1, 4));
     e.channel = static_cast<unsigned>(gen.between(0, e.amplifiers - 1));
   }
-  e.where = gen.pick<Where>({Where::Amplifier, Where::Network, Where::Card});
+  e.where = gen.pick<Where>({Where::Amplifier, Where::Network, Where::Board});
   Injection& i = e.s.injection;
   if (e.where == Where::Network) {
     i = Injection{};
@@ -93,7 +93,7 @@ EthScenario next(Generator& gen) {
     }
     i.label += ways[way];
     i.heal = gen.healing();
-  } else if (e.where == Where::Card) {
+  } else if (e.where == Where::Board) {
     i = Injection{};
     e.card_after = static_cast<unsigned>(gen.between(1, 60));
     switch (gen.between(0, 2)) {
@@ -133,25 +133,25 @@ class Bench {
       : server_(options(e, db)), net_(server_.address(), {}) {
     server_.start();
   }
-  ethsim::CardServer& server() { return server_; }
+  ethsim::BoardServer& server() { return server_; }
   ethsim::FaultyNetwork& net() { return net_; }
   std::string url(const EthScenario& e, unsigned channel) const {
     return "eth://" + net_.address() + "/port" + std::to_string(e.port) + "/ch" + std::to_string(channel);
   }
   sim::GroundTruth capture(const EthScenario& e, unsigned channel) {
     return server_.with_card(
-        [&](ethsim::VirtualCard& c) { return sim::capture(*server_.amplifier(c, e.port, channel)); });
+        [&](ethsim::VirtualBoard& c) { return sim::capture(*server_.amplifier(c, e.port, channel)); });
   }
   sim::RegisterMap map(const EthScenario& e) {
     return server_.with_card(
-        [&](ethsim::VirtualCard& c) { return server_.amplifier(c, e.port, 0)->amplifier().map(); });
+        [&](ethsim::VirtualBoard& c) { return server_.amplifier(c, e.port, 0)->amplifier().map(); });
   }
   // The control lines of the 8I20 injection, to one channel or to all.
   void control(const EthScenario& e, const std::vector<std::string>& lines, std::optional<unsigned> channel) {
     for (const auto& line : lines)
       for (unsigned ch = 0; ch < e.amplifiers; ++ch)
         if (!channel || *channel == ch)
-          ethsim::apply_card_control(
+          ethsim::apply_board_control(
               server_, "port " + std::to_string(e.port) + " ch " + std::to_string(ch) + " " + line);
   }
 
@@ -167,7 +167,7 @@ class Bench {
     o.amplifier.world.bus_volts = e.s.busv;
     return o;
   }
-  ethsim::CardServer server_;
+  ethsim::BoardServer server_;
   ethsim::FaultyNetwork net_;
 };
 
@@ -179,7 +179,7 @@ void judge_port(Bench& b, const EthScenario& e, Tally& t, Judged& j, bool acted)
   std::this_thread::sleep_for(40ms);  // the host runs on, the port finishes what it was given
   const bool running = b.server().host_running();
   bool stuck = false, host_channel_normal = true;
-  b.server().with_card([&](ethsim::VirtualCard& c) {
+  b.server().with_card([&](ethsim::VirtualBoard& c) {
     auto& port = c.sslbp(e.port);
     // A running host keeps COMMAND busy with its DOITs; without one it must go idle.
     stuck = port.held_in_reset() || (port.busy() && !running);
@@ -240,13 +240,13 @@ void run_single(const EthScenario& e, std::size_t index, const params::ParamDb& 
   const auto profile = profile_of(s, db);
   const auto job = job_for(profile, db, cancel, dir, s.path, kTimeoutMs);
   const auto endpoint = ops::parse_endpoint(b.url(e, e.channel));
-  std::unique_ptr<ops::Card> card;
+  std::unique_ptr<ops::Amp> card;
   InjectingLink* link = nullptr;
   try {
     auto inner = ops::open_link(endpoint, db, job.open.link, job.open.retry);
     auto wrapped = std::make_unique<InjectingLink>(std::move(inner), stop);
     link = wrapped.get();
-    card = ops::Card::attach(std::move(wrapped), endpoint, db, job.open.retry, cancel);
+    card = ops::Amp::attach(std::move(wrapped), endpoint, db, job.open.retry, cancel);
   } catch (const Error& ex) {
     t.findings.push_back("#" + std::to_string(index) +
                          ": the card could not be opened without a fault: " + ex.what());
@@ -260,7 +260,7 @@ void run_single(const EthScenario& e, std::size_t index, const params::ParamDb& 
     b.net().set_faults(e.net);
     if (i.heal) link->heal_with(*i.heal, [&] { b.net().set_faults({}); });
   } else {
-    link->at(e.card_after, [&] { ethsim::apply_card_control(b.server(), e.card_line); });
+    link->at(e.card_after, [&] { ethsim::apply_board_control(b.server(), e.card_line); });
     if (i.heal) link->heal_with(*i.heal, [] {});  // the card comes back by itself
   }
   if (i.cancel_after) link->arm_signal(i);
@@ -307,12 +307,12 @@ void run_fleet(const EthScenario& e, std::size_t index, const params::ParamDb& d
   if (e.where == Where::Amplifier) b.control(e, i.control, std::nullopt);
   if (e.where == Where::Network) b.net().set_faults(e.net);
   std::thread timed;
-  if (i.cancel_after || e.where == Where::Card)
+  if (i.cancel_after || e.where == Where::Board)
     timed = std::thread([&] {
       const unsigned steps = i.cancel_after ? *i.cancel_after : e.card_after;
       std::this_thread::sleep_for(std::chrono::microseconds(500 * steps) + 5ms);
       if (!i.cancel_after) {
-        ethsim::apply_card_control(b.server(), e.card_line);
+        ethsim::apply_board_control(b.server(), e.card_line);
         return;
       }
       stop.request(i.signal);
@@ -343,7 +343,7 @@ int run_eth_soak(std::size_t n, std::uint64_t seed, const std::vector<std::size_
   for (std::size_t k = 0; k < n; ++k) {
     const EthScenario e = next(gen);
     if (!only.empty() && std::find(only.begin(), only.end(), k) == only.end()) continue;
-    ++(e.kind == ethsim::CardKind::I7i96s ? i96 : i92);
+    ++(e.kind == ethsim::BoardKind::I7i96s ? i96 : i92);
     try {
       if (e.s.path == Path::Fleet)
         run_fleet(e, k, db, dir, tally, verbose);

@@ -57,8 +57,8 @@ std::vector<ops::Endpoint> targets_of(Context& ctx, const std::vector<std::strin
 }
 
 // The one card save reads (read-only: Ctrl-C may stop it anywhere).
-std::unique_ptr<ops::Card> open_card(Context& ctx, const std::vector<std::string>& targets,
-                                     const params::ParamDb& db) {
+std::unique_ptr<ops::Amp> open_card(Context& ctx, const std::vector<std::string>& targets,
+                                    const params::ParamDb& db) {
   const auto endpoints = targets_of(ctx, targets);
   if (endpoints.size() != 1) throw UsageError("this command reads one card: give a single --target");
   return ctx.session().open(endpoints.front(), db);
@@ -278,7 +278,7 @@ struct TargetDiff : ops::ProfileDiff {
 };
 
 TargetDiff diff_one(const Profile& profile, const std::vector<std::string>& names,
-                    const ops::Endpoint& target, const ops::CardOpener& open) {
+                    const ops::Endpoint& target, const ops::AmpOpener& open) {
   TargetDiff d;
   d.target = target;
   try {
@@ -361,7 +361,7 @@ void run_diff(Context& ctx, const DiffOptions& o) {
   const auto targets = targets_of(ctx, o.targets);
   std::vector<TargetDiff> diffs(targets.size());
   ops::for_each_target(targets, db, ctx.session().open_options(), ctx.session().cancel(),
-                       [&](std::size_t i, const ops::CardOpener& opener) {
+                       [&](std::size_t i, const ops::AmpOpener& opener) {
                          diffs[i] = diff_one(*profile, names, targets[i], opener);
                        });
   auto comparison = ops::Comparison::Same;

@@ -6,7 +6,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "ethsim/card_control.hpp"
+#include "ethsim/board_control.hpp"
 #include "motor/error.hpp"
 #include "motor/loader.hpp"
 #include "params/param_db.hpp"
@@ -241,7 +241,7 @@ void apply(Invocation& o, const Raw& raw) {
 
 std::optional<int> parse_command_line(int argc, char** argv, Invocation& out) {
   CLI::App app(
-      std::string(kDescription) + ethsim::card_control_help() + "and for every 8I20:\n" + control_help(),
+      std::string(kDescription) + ethsim::board_control_help() + "and for every 8I20:\n" + control_help(),
       "i20sim");
   app.set_version_flag("--version", "i20sim " + std::string(build::kVersion), "Print the version and exit");
   Raw raw;

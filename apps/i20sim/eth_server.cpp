@@ -11,7 +11,7 @@
 #include <string>
 
 #include "control_fifo.hpp"
-#include "ethsim/card_control.hpp"
+#include "ethsim/board_control.hpp"
 #include "ethsim/server.hpp"
 #include "params/text.hpp"
 
@@ -30,10 +30,10 @@ ethsim::ServerOptions server_options(const SimOptions& sim, const EthServeOption
   // "7i92t-servo": the 7I92T laid out with one encoder, three Hall inputs and an 8I20 per
   // axis (docs/virtual-feedback.md), for LinuxCNC's hm2_eth + bldc against --motor.
   if (o.card == "7i92t-servo") {
-    s.card = ethsim::CardKind::I7i92t;
-    s.config = ethsim::CardConfig::preset_7i92t_servo();
+    s.card = ethsim::BoardKind::I7i92t;
+    s.config = ethsim::BoardConfig::preset_7i92t_servo();
   } else {
-    s.card = ethsim::parse_card_kind(o.card);
+    s.card = ethsim::parse_board_kind(o.card);
   }
   s.amplifier = sim.device;  // map, EEPROM file, world, injection: as for --pty
   s.amplifiers.clear();
@@ -44,10 +44,10 @@ ethsim::ServerOptions server_options(const SimOptions& sim, const EthServeOption
 }
 
 // Applies one control line and prints its answer (errors too: the server keeps serving).
-void control(ethsim::CardServer& server, const std::string& line) {
+void control(ethsim::BoardServer& server, const std::string& line) {
   std::string answer;
   try {
-    answer = ethsim::apply_card_control(server, line);
+    answer = ethsim::apply_board_control(server, line);
   } catch (const Error& e) {
     answer = std::string("error: ") + params::printable(e.what());
   }
@@ -58,10 +58,10 @@ void control(ethsim::CardServer& server, const std::string& line) {
 
 int serve_eth(const SimOptions& sim, const EthServeOptions& o,
               const std::vector<std::string>& startup_control) {
-  ethsim::CardServer server(server_options(sim, o));
+  ethsim::BoardServer server(server_options(sim, o));
   std::optional<ControlFifo> fifo;
   if (!o.control_fifo.empty()) fifo.emplace(o.control_fifo);
-  for (const auto& line : startup_control) ethsim::apply_card_control(server, "all " + line);
+  for (const auto& line : startup_control) ethsim::apply_board_control(server, "all " + line);
   std::signal(SIGINT, on_stop_signal);
   std::signal(SIGTERM, on_stop_signal);
   std::cout << server.address().ip << ":" << server.address().port << std::endl;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // `i20sim --eth ADDR[:PORT]`: the virtual 8I20(s) behind a virtual 7I96S/7I92T on UDP,
 // served until SIGINT/SIGTERM. Control lines on stdin and on the --control FIFO (created
-// if missing) go to ethsim::apply_card_control (ethsim/card_control.hpp): every line of
+// if missing) go to ethsim::apply_board_control (ethsim/board_control.hpp): every line of
 // the simulator's language, for the first 8I20 or prefixed "ch N" / "port P ch N" / "all",
 // and "host on|off" for a LinuxCNC stand-in. Answers go to stdout, as with --pty.
 #pragma once

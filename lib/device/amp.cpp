@@ -92,7 +92,7 @@ bool working_map_confirmed(const params::ParamDb& db) {
   return any;
 }
 
-CardInfo Amp8i20::info() {
+AmpInfo Amp8i20::info() {
   namespace L = lbp::local;
   const std::vector<lbp::Command> batch{
       lbp::local_read(L::kGetCardName0),     lbp::local_read(L::kGetCardName0 + 1),
@@ -105,7 +105,7 @@ CardInfo Amp8i20::info() {
       lbp::local_read(L::kGetNvAccess),      lbp::local_read(L::kGetRpcMemAccess),
   };
   const auto r = link_.execute(batch);
-  CardInfo info;
+  AmpInfo info;
   for (int i = 0; i < 4; ++i) info.card_name.push_back(static_cast<char>(r[i].at(0)));
   info.unit_address = r[4].at(0);
   info.unit_id = r[5].at(0);
@@ -134,9 +134,9 @@ std::vector<std::string> Amp8i20::leave_modes() {
   if (r[0].at(0) != static_cast<lbp::Byte>(L::NvAccess::Ram)) left.push_back("NV access mode");
   if (r[1].at(0) != 0) left.push_back("RPC memory access");
   if (r[4].at(0) != static_cast<lbp::Byte>(L::NvAccess::Ram) || r[5].at(0) != 0)
-    throw CardStateError("the 8I20 on " + link_.describe() +
-                         " stays in NV or RPC memory access mode after being told to leave it: reset it "
-                         "(i20 reset) or cycle its logic power");
+    throw AmpStateError("the 8I20 on " + link_.describe() +
+                        " stays in NV or RPC memory access mode after being told to leave it: reset it "
+                        "(i20 reset) or cycle its logic power");
   return left;
 }
 
@@ -179,7 +179,7 @@ std::vector<Value> Amp8i20::read(std::span<const Param* const> params) {
   if (guard) {
     guard->disarm(replies.back());
     if (replies[replies.size() - 3].at(0) != static_cast<lbp::Byte>(lbp::local::NvAccess::Eeprom))
-      throw CardStateError(
+      throw AmpStateError(
           "the 8I20 on " + link_.describe() +
           " left NV access mode during the read (it reset?): NV values not shown; read again");
   }
@@ -336,15 +336,15 @@ ClearFaultsResult Amp8i20::clear_faults(const WriteOptions& options, std::chrono
     while (read("CLEARFAULT").raw != 0) {
       throw_if_cancelled();
       if (Clock::now() - start > deadline)
-        throw CardStateError("CLEARFAULT was written and still reads 1 after " +
-                             std::to_string(deadline.count()) + " ms on " + link_.describe() +
-                             ": the 8I20 did not act on it (firmware busy or a wrong CLEARFAULT address?)");
+        throw AmpStateError("CLEARFAULT was written and still reads 1 after " +
+                            std::to_string(deadline.count()) + " ms on " + link_.describe() +
+                            ": the 8I20 did not act on it (firmware busy or a wrong CLEARFAULT address?)");
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::Failure) throw;
-    throw CardStateError("CLEARFAULT 1 was sent to " + link_.describe() + ", then: " + e.what() +
-                         "; it may still hold 1 (read it with `i20 get CLEARFAULT FAULT`)");
+    throw AmpStateError("CLEARFAULT 1 was sent to " + link_.describe() + ", then: " + e.what() +
+                        "; it may still hold 1 (read it with `i20 get CLEARFAULT FAULT`)");
   }
   result.took = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start);
   const Param* regs[] = {&db_.get("FAULT"), &db_.get("STATUS")};

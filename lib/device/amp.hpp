@@ -26,7 +26,7 @@
 
 namespace i20::device {
 
-struct CardInfo {
+struct AmpInfo {
   std::string card_name;                                       // "8I20"
   lbp::local::NvAccess nv_access = lbp::local::NvAccess::Ram;  // as found (0xCC)
   bool rpcmem = false;                                         // RPC memory access as found (0xCA)
@@ -113,7 +113,7 @@ class Amp8i20 {
   // Reads SWREVISION (a public address on every firmware).
   std::uint16_t identify();
   // Name, unit, firmware, LBP state and the two modes (NV access, RPC memory) in one exchange.
-  CardInfo info();
+  AmpInfo info();
   // Takes the card out of NV access and RPC memory access mode and confirms it (a previous
   // session may have died inside them). Returns what was switched off, for messages.
   std::vector<std::string> leave_modes();

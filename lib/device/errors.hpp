@@ -23,9 +23,9 @@ class VerifyError : public Error {
 
 // The card may be left in a mode it must not stay in (NV access, RPC memory access):
 // the message says what to do (reset or power-cycle).
-class CardStateError : public Error {
+class AmpStateError : public Error {
  public:
-  explicit CardStateError(const std::string& message) : Error(message, ErrorKind::Uncertain) {}
+  explicit AmpStateError(const std::string& message) : Error(message, ErrorKind::Uncertain) {}
 };
 
 // The user interrupted (Ctrl-C). Raised between exchanges, after cleanup.

@@ -32,8 +32,8 @@ void ModeGuard::disarm(const lbp::Bytes& confirmed) {
 void ModeGuard::still_on() {
   armed_ = false;
   if (unsettled_) *unsettled_ = what_;
-  throw CardStateError("the 8I20 on " + link_.describe() + " did not confirm that it left " + what_ +
-                       ": reset it (i20 reset) or cycle its logic power before using it");
+  throw AmpStateError("the 8I20 on " + link_.describe() + " did not confirm that it left " + what_ +
+                      ": reset it (i20 reset) or cycle its logic power before using it");
 }
 
 void ModeGuard::leave() {

@@ -28,9 +28,9 @@ class ModeGuard {
 
   // The leave command and its confirming read went out in a batch that completed, and
   // `confirmed` is that read's reply: the mode is settled (an earlier failure to leave it
-  // too), or, when the card still reports the mode, CardStateError.
+  // too), or, when the card still reports the mode, AmpStateError.
   void disarm(const lbp::Bytes& confirmed);
-  // Leaves the mode now; throws CardStateError if the card does not confirm.
+  // Leaves the mode now; throws AmpStateError if the card does not confirm.
   void leave();
 
  private:

@@ -54,12 +54,12 @@ lbp::Bytes read_block(Lbp16Transport& bus, std::uint32_t address, std::size_t by
 
 }  // namespace
 
-CardIdentity identify(Lbp16Transport& bus) {
+BoardIdentity identify(Lbp16Transport& bus) {
   const lbp16::Command command = lbp16::read_board_info();
   const auto info = lbp16::BoardInfo::parse(bus.transact(std::span(&command, 1)).front());
-  return CardIdentity{.card_name = info.card_name,
-                      .lbp16_version = info.lbp16_version,
-                      .firmware_version = info.firmware_version};
+  return BoardIdentity{.card_name = info.card_name,
+                       .lbp16_version = info.lbp16_version,
+                       .firmware_version = info.firmware_version};
 }
 
 const hm2::ModuleDescriptor* HostMot2Info::find(std::uint8_t gtag) const {

@@ -12,7 +12,7 @@
 
 namespace i20::eth {
 
-struct CardIdentity {
+struct BoardIdentity {
   std::string card_name{};  // "7I96S"
   std::uint16_t lbp16_version = 0;
   std::uint16_t firmware_version = 0;
@@ -23,7 +23,7 @@ struct CardIdentity {
 };
 
 // Reads space 7. One round trip.
-CardIdentity identify(Lbp16Transport& bus);
+BoardIdentity identify(Lbp16Transport& bus);
 
 // One SSERIAL instance ("port").
 struct SserialPort {

@@ -51,7 +51,7 @@ constexpr auto word = lbp::read_le32;
 
 }  // namespace
 
-CardSurvey survey_card(Lbp16Transport& bus, std::span<const lbp16::Command> extra) {
+BoardSurvey survey_board(Lbp16Transport& bus, std::span<const lbp16::Command> extra) {
   std::vector<lbp16::Command> commands{lbp16::read_board_info()};
   add_block_reads(commands, hm2::kCookieAddress, 16);
   const std::size_t first_table = commands.size();
@@ -59,15 +59,15 @@ CardSurvey survey_card(Lbp16Transport& bus, std::span<const lbp16::Command> extr
   const std::size_t first_extra = commands.size();
   commands.insert(commands.end(), extra.begin(), extra.end());
 
-  CardSurvey survey;
+  BoardSurvey survey;
   const auto resends = bus.stats().resends;
   const auto parts = bus.transact_counted(commands, Resend::IfReadOnly, survey.sent);
   survey.sent_once = bus.stats().resends == resends;
   survey.replied_at = std::chrono::steady_clock::now();
   const auto board = lbp16::BoardInfo::parse(parts[0]);
-  survey.identity = CardIdentity{.card_name = board.card_name,
-                                 .lbp16_version = board.lbp16_version,
-                                 .firmware_version = board.firmware_version};
+  survey.identity = BoardIdentity{.card_name = board.card_name,
+                                  .lbp16_version = board.lbp16_version,
+                                  .firmware_version = board.firmware_version};
   survey.hostmot2.ident = hm2::IdentArea::parse(parts[1]);
   lbp::Bytes block;
   for (std::size_t i = first_table; i < first_extra; ++i) block.insert(block.end(), parts[i].begin(), parts[i].end());

@@ -5,7 +5,7 @@
 // requests, one read at a time, becomes:
 //
 //   1. identification, the HostMot2 cookie area and the IDROM with its tables at their
-//      usual place, and the running-host watch's first counter read   (survey_card)
+//      usual place, and the running-host watch's first counter read   (survey_board)
 //   2. the watch's last counter read at 30 ms, with its COMMAND sample (running_host.hpp)
 //   3. stop, SSLBP's parameters                                      (read_locals)
 //   4. stop, the remotes' baud rates, the setup start, the channels' registers
@@ -31,20 +31,20 @@ namespace i20::eth {
 // identify() and read_hostmot2() in one read-only request where HostMot2 keeps its IDROM
 // (0x400, the module and pin tables at their usual offsets); otherwise, read_hostmot2()
 // after it. `extra` reads ride along in that request; their data is in extra_replies.
-struct CardSurvey {
-  CardIdentity identity{};
+struct BoardSurvey {
+  BoardIdentity identity{};
   HostMot2Info hostmot2{};
   std::vector<lbp::Bytes> extra_replies{};
   std::uint64_t sent = 0;  // our packets once that one was sent (transact_counted)
   bool sent_once = true;   // that request went out once (no resend after a late reply)
   std::chrono::steady_clock::time_point replied_at{};
 };
-CardSurvey survey_card(Lbp16Transport& bus, std::span<const lbp::lbp16::Command> extra = {});
+BoardSurvey survey_board(Lbp16Transport& bus, std::span<const lbp::lbp16::Command> extra = {});
 
 // RXUDPCount through TXUDPCount, one read: the running-host watch's counters.
 lbp::lbp16::Command udp_counters_read();
 
-// The watch's first counter read when it travelled in an earlier request (survey_card's
+// The watch's first counter read when it travelled in an earlier request (survey_board's
 // extra reads): its reply, our packet count then and the time of the reply. A request
 // sent more than once opens no window (a copy of ours may reach the card after the read):
 // the watch then reads the counters again first.

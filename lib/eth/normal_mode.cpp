@@ -41,7 +41,7 @@ struct NormalModeSession::Cycle {
 NormalStart start_normal_mode(Lbp16Transport& bus, unsigned sserial_port, std::uint8_t mask,
                               const NormalModeOptions& options) {
   NormalStart out;
-  const CardIdentity card = identify(bus);
+  const BoardIdentity card = identify(bus);
   out.hostmot2 = read_hostmot2(bus);
   const SserialPort port = find_sserial_port(out.hostmot2, sserial_port);
   out.port = std::make_unique<SslbpPort>(bus, port, card.has_timer_space(), options.sslbp);

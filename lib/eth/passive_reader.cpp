@@ -93,7 +93,7 @@ PassiveReader::PassiveReader(const HostPort& card, PassiveOptions options)
 PassiveReader::PassiveReader(std::unique_ptr<Lbp16Transport> bus, PassiveOptions options)
     : bus_(std::make_unique<ReadOnlyPacedTransport>(std::move(bus), options.max_requests_per_second)),
       options_(options) {
-  survey_ = survey_card(*bus_);
+  survey_ = survey_board(*bus_);
   ports_ = survey_.hostmot2.sserial_ports();
   if (ports_.empty())
     throw DiscoveryError("the " + survey_.identity.card_name + " at " + bus_->describe() +

@@ -107,7 +107,7 @@ class PassiveReader {
   // when the reply does not come (nothing is resent).
   PassiveSnapshot read();
 
-  const CardIdentity& identity() const { return survey_.identity; }
+  const BoardIdentity& identity() const { return survey_.identity; }
   const HostMot2Info& hostmot2() const { return survey_.hostmot2; }
   const std::vector<SserialPort>& ports() const { return ports_; }
   unsigned channels(unsigned port) const { return channels_.at(port); }
@@ -117,7 +117,7 @@ class PassiveReader {
  private:
   std::unique_ptr<Lbp16Transport> bus_;
   PassiveOptions options_;
-  CardSurvey survey_{};
+  BoardSurvey survey_{};
   std::vector<SserialPort> ports_{};
   std::vector<unsigned> channels_{};
   std::vector<lbp::lbp16::Command> request_{};

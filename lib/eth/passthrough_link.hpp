@@ -42,7 +42,7 @@ class SslbpPassthroughLink final : public link::Link {
   std::vector<std::string> notes() const override { return port_->notes(); }
 
   const RemoteInfo& remote() const { return port_->remote(target_.channel); }
-  const CardIdentity& card() const { return port_->card(); }
+  const BoardIdentity& card() const { return port_->card(); }
   const SslbpParameters& sslbp_parameters() const { return port_->sslbp_parameters(); }
   PassthroughStats stats() const { return port_->stats(); }
   TransportStats transport_stats() const { return port_->transport_stats(); }

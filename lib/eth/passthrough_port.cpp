@@ -80,9 +80,9 @@ std::shared_ptr<PassthroughPort> PassthroughPort::open(std::shared_ptr<Lbp16Tran
   return std::make_shared<PassthroughPort>(std::move(card), sserial_port, channel_mask, std::move(options));
 }
 
-std::shared_ptr<Lbp16Transport> PassthroughPort::card_transport(const HostPort& card,
-                                                                const UdpOptions& options,
-                                                                const FenceOptions& fence) {
+std::shared_ptr<Lbp16Transport> PassthroughPort::board_transport(const HostPort& card,
+                                                                 const UdpOptions& options,
+                                                                 const FenceOptions& fence) {
   // The ledger of arrivals under the lock: it must see every port's packets as ours.
   return std::make_shared<SharedTransport>(
       std::make_unique<FencedTransport>(std::make_unique<UdpClient>(card.ip, card.port, options), fence));
@@ -94,7 +94,7 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
   if (mask_ == 0) throw UsageError("a passthrough port needs at least one channel");
   // Identification, the IDROM and the running-host watch's first counters: one request.
   const lbp16::Command counters = udp_counters_read();
-  const CardSurvey survey = survey_card(*bus_, std::span(&counters, 1));
+  const BoardSurvey survey = survey_board(*bus_, std::span(&counters, 1));
   card_ = survey.identity;
   const HostMot2Info& info = survey.hostmot2;
   const CounterSample first{.reply = survey.extra_replies.front(),

@@ -66,7 +66,7 @@
 // Thread safety: execute() and the links may be used from several threads; links of
 // different channels that execute at about the same time (within options.gather_window)
 // are combined into one execute() (command_combiner.hpp). Ports of one card used at once
-// share one transport (card_transport()).
+// share one transport (board_transport()).
 //
 // Where the code is: the port's lifecycle (opening, the running-host and foreign-packet
 // checks, resync, closing) in passthrough_port.cpp; packing, mode brackets, running
@@ -158,13 +158,13 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   static std::shared_ptr<PassthroughPort> open(const HostPort& card, unsigned sserial_port,
                                                std::uint8_t channel_mask, PassthroughOptions options = {});
   // Several ports of one card at once (a fleet over a 7I92T's two ports): open them over
-  // one card_transport(), or each one's check for another host sees the other's packets
+  // one board_transport(), or each one's check for another host sees the other's packets
   // (and refuses, or discards its results).
   static std::shared_ptr<PassthroughPort> open(std::shared_ptr<Lbp16Transport> card, unsigned sserial_port,
                                                std::uint8_t channel_mask, PassthroughOptions options = {});
   // A SharedTransport over UDP to `card`, for the open() above.
-  static std::shared_ptr<Lbp16Transport> card_transport(const HostPort& card, const UdpOptions& options = {},
-                                                        const FenceOptions& fence = {});
+  static std::shared_ptr<Lbp16Transport> board_transport(const HostPort& card, const UdpOptions& options = {},
+                                                         const FenceOptions& fence = {});
   // The same over any transport (tests inject faults here).
   PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned sserial_port, std::uint8_t channel_mask,
                   PassthroughOptions options = {});
@@ -184,7 +184,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
 
   std::uint8_t channel_mask() const { return mask_; }
   const RemoteInfo& remote(unsigned channel) const;
-  const CardIdentity& card() const { return card_; }
+  const BoardIdentity& card() const { return card_; }
   const SserialPort& port() const { return sslbp_->port(); }
   const SslbpParameters& sslbp_parameters() const { return parameters_; }
   std::uint32_t baud(unsigned channel) const;  // SSLBP's rate towards the channel (0: unknown)
@@ -250,7 +250,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   unsigned sserial_port_;
   std::uint8_t mask_;
   PassthroughOptions options_;
-  CardIdentity card_{};
+  BoardIdentity card_{};
   std::string board_name_{};
   std::unique_ptr<SslbpPort> sslbp_;
   SslbpParameters parameters_{};

@@ -50,7 +50,7 @@ struct PortReport {
 
 struct ScanResult {
   HostPort card_address{};
-  CardIdentity card{};
+  BoardIdentity card{};
   std::string config_name{};  // "HOSTMOT2"
   std::string board_name{};   // from the IDROM
   std::uint32_t clock_low_hz = 0;

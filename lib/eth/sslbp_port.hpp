@@ -71,7 +71,7 @@ struct Completion {
 
 class SslbpPort {
  public:
-  // `timer_space`: the card has LBP16 space 4 (CardIdentity::has_timer_space()).
+  // `timer_space`: the card has LBP16 space 4 (BoardIdentity::has_timer_space()).
   SslbpPort(Lbp16Transport& bus, SserialPort port, bool timer_space, SslbpOptions options = {});
 
   // The general operation: `before` (register writes), COMMAND = `command`, a WaituS of

@@ -33,7 +33,7 @@ std::int64_t floor_mod(std::int64_t a, std::int64_t b) {
 
 // ---- TimestampCounter -------------------------------------------------------------------
 
-std::int64_t TimestampCounter::cycles_at(CardTime t) const {
+std::int64_t TimestampCounter::cycles_at(BoardTime t) const {
   const std::int64_t ns = t.count();
   const std::int64_t seconds = floor_div(ns, kNanosecondsPerSecond);
   const std::int64_t rest = ns - seconds * kNanosecondsPerSecond;  // < 1e9: rest * clock fits
@@ -44,16 +44,16 @@ std::uint64_t TimestampCounter::cycles_per_tick() const {
   return (divider_ & 0x8000u) != 0 ? 1u : (divider_ & 0xFFFFu) + 2u;
 }
 
-std::int64_t TimestampCounter::ticks_at(CardTime t) const {
+std::int64_t TimestampCounter::ticks_at(BoardTime t) const {
   return reference_ticks_ +
          floor_div(cycles_at(t) - reference_cycles_, static_cast<std::int64_t>(cycles_per_tick()));
 }
 
-std::uint16_t TimestampCounter::count_at(CardTime t) const {
+std::uint16_t TimestampCounter::count_at(BoardTime t) const {
   return static_cast<std::uint16_t>(floor_mod(ticks_at(t), 0x10000));
 }
 
-void TimestampCounter::write_divider(std::uint32_t value, CardTime t) {
+void TimestampCounter::write_divider(std::uint32_t value, BoardTime t) {
   reference_ticks_ = ticks_at(t);
   reference_cycles_ = cycles_at(t);
   divider_ = value & 0xFFFFu;
@@ -96,7 +96,7 @@ bool EncoderChannel::z() const {
   return z_of(state_);
 }
 
-void EncoderChannel::move_to(double turns, CardTime t, const TimestampCounter& ts) {
+void EncoderChannel::move_to(double turns, BoardTime t, const TimestampCounter& ts) {
   if (!std::isfinite(turns)) return;
   const double position = spec_.direction * turns * static_cast<double>(spec_.counts_per_turn);
   const auto target = static_cast<std::int64_t>(std::floor(position));
@@ -117,7 +117,7 @@ void EncoderChannel::move_to(double turns, CardTime t, const TimestampCounter& t
   const auto span = static_cast<double>((t - last_time_).count());
   const auto edge_time = [&](double boundary) {
     const double fraction = position == from ? 1.0 : (boundary - from) / (position - from);
-    return last_time_ + CardTime(static_cast<std::int64_t>(std::llround(fraction * span)));
+    return last_time_ + BoardTime(static_cast<std::int64_t>(std::llround(fraction * span)));
   };
   while (state_ < target) step(+1, edge_time(static_cast<double>(state_ + 1)), ts);
   while (state_ > target) step(-1, edge_time(static_cast<double>(state_)), ts);
@@ -138,7 +138,7 @@ bool EncoderChannel::index_accepted() const {
   return true;
 }
 
-void EncoderChannel::step(int delta, CardTime at, const TimestampCounter& ts) {
+void EncoderChannel::step(int delta, BoardTime at, const TimestampCounter& ts) {
   const std::int64_t before = state_;
   state_ += delta;
   int count_change = delta;

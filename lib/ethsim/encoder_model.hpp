@@ -15,7 +15,7 @@
 namespace i20::ethsim {
 
 // Time on the card's clock since it started.
-using CardTime = std::chrono::nanoseconds;
+using BoardTime = std::chrono::nanoseconds;
 
 // TSCount: a free-running 16-bit counter at ClockLow / (TSDiv + 2); a TSDiv with bit 15
 // set divides by 1 (FW regmap). One per encoder module, shared by its instances.
@@ -23,16 +23,16 @@ class TimestampCounter {
  public:
   explicit TimestampCounter(std::uint32_t clock_low_hz) : clock_low_hz_(clock_low_hz) {}
 
-  std::uint16_t count_at(CardTime t) const;
+  std::uint16_t count_at(BoardTime t) const;
   // The host writes TSDiv at `t`: the counter keeps its value and runs at the new rate.
-  void write_divider(std::uint32_t value, CardTime t);
+  void write_divider(std::uint32_t value, BoardTime t);
   std::uint32_t divider_register() const { return divider_; }
   // Clock cycles per TSCount tick.
   std::uint64_t cycles_per_tick() const;
 
  private:
-  std::int64_t cycles_at(CardTime t) const;
-  std::int64_t ticks_at(CardTime t) const;
+  std::int64_t cycles_at(BoardTime t) const;
+  std::int64_t ticks_at(BoardTime t) const;
 
   std::uint32_t clock_low_hz_;
   std::uint32_t divider_ = 0;
@@ -69,7 +69,7 @@ class EncoderChannel {
   // places the encoder. Later calls step through every count between the previous sample
   // and this one, giving each edge its time by linear interpolation, so timestamps and
   // index events fall between host reads where they belong. `t` must not go back.
-  void move_to(double turns, CardTime t, const TimestampCounter& ts);
+  void move_to(double turns, BoardTime t, const TimestampCounter& ts);
 
   // Register 0: count in bits 0-15, TSCount at the last count change in bits 16-31.
   std::uint32_t count_register() const;
@@ -96,7 +96,7 @@ class EncoderChannel {
   std::uint16_t count() const { return count_; }
 
  private:
-  void step(int delta, CardTime at, const TimestampCounter& ts);
+  void step(int delta, BoardTime at, const TimestampCounter& ts);
   bool index_accepted() const;
   static bool a_of(std::int64_t state);
   static bool b_of(std::int64_t state);
@@ -107,7 +107,7 @@ class EncoderChannel {
   bool placed_ = false;
   bool frozen_ = false;       // the last sample found the encoder lost
   double last_position_ = 0;  // counts (direction applied), fractional
-  CardTime last_time_{0};
+  BoardTime last_time_{0};
   std::int64_t state_ = 0;
   std::int64_t index_state_ = 0;  // a state where Z is high (modulo counts_per_turn)
   std::uint16_t count_ = 0;

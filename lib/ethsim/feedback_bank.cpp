@@ -11,14 +11,14 @@ namespace hm2 = lbp::hm2;
 
 namespace {
 
-std::optional<hm2::ModuleDescriptor> module_of(const CardConfig& config, std::uint8_t gtag) {
+std::optional<hm2::ModuleDescriptor> module_of(const BoardConfig& config, std::uint8_t gtag) {
   const hm2::ModuleDescriptor* m = config.find_module(gtag);
   return m ? std::optional(*m) : std::nullopt;
 }
 
 }  // namespace
 
-FeedbackBank::FeedbackBank(const CardConfig& config, Clock::time_point start)
+FeedbackBank::FeedbackBank(const BoardConfig& config, Clock::time_point start)
     : idrom_(config.idrom),
       pins_(config.pins),
       axes_(config.axes),
@@ -88,7 +88,7 @@ void FeedbackBank::advance(Clock::time_point now) {
   if (advanced_to_ == now) return;  // a packet's many reads share one sample
   advanced_to_ = now;
   for (Encoder& e : encoders_)
-    if (e.shaft) e.channel.move_to(e.shaft(now), card_time(now), timestamp_);
+    if (e.shaft) e.channel.move_to(e.shaft(now), board_time(now), timestamp_);
 }
 
 // ---- pins ---------------------------------------------------------------------------------
@@ -173,7 +173,7 @@ std::optional<std::uint32_t> FeedbackBank::read_encoder(unsigned reg, unsigned i
     case r::kCount: return encoders_[instance].channel.count_register();
     case r::kLatchControl: return encoders_[instance].channel.latch_control_register();
     case r::kTimestampDivider: return timestamp_.divider_register();
-    case r::kTimestampCount: return timestamp_.count_at(card_time(now));
+    case r::kTimestampCount: return timestamp_.count_at(board_time(now));
     case r::kFilterRate: return filter_rate_;
     default: return std::nullopt;
   }
@@ -185,7 +185,7 @@ void FeedbackBank::write_encoder(unsigned reg, unsigned instance, std::uint32_t 
   switch (reg) {
     case r::kCount: encoders_[instance].channel.write_count(); break;
     case r::kLatchControl: encoders_[instance].channel.write_latch_control(value); break;
-    case r::kTimestampDivider: timestamp_.write_divider(value, card_time(now)); break;
+    case r::kTimestampDivider: timestamp_.write_divider(value, board_time(now)); break;
     case r::kFilterRate: filter_rate_ = value & 0xFFFFu; break;
     default: break;  // TSCount is read only
   }

@@ -11,7 +11,7 @@
 // The shaft is sampled whenever the card's time advances (every server tick) and at each
 // feedback register access; between samples it is taken to turn at a constant speed, so
 // encoder edges get the times they would have had (docs/virtual-feedback.md). Under
-// CardServer the shaft is called on the server's thread while it holds the card (the lock
+// BoardServer the shaft is called on the server's thread while it holds the card (the lock
 // with_card() takes), so connect shafts inside with_card() and make them safe to call there.
 // A shaft may be asked several times for the same time point and must answer the same.
 #pragma once
@@ -22,7 +22,7 @@
 #include <optional>
 #include <vector>
 
-#include "ethsim/card_config.hpp"
+#include "ethsim/board_config.hpp"
 #include "ethsim/encoder_model.hpp"
 #include "ethsim/hall_model.hpp"
 #include "ethsim/remote_device.hpp"
@@ -34,7 +34,7 @@ using ShaftSource = std::function<double(Clock::time_point)>;
 
 class FeedbackBank {
  public:
-  FeedbackBank(const CardConfig& config, Clock::time_point start);
+  FeedbackBank(const BoardConfig& config, Clock::time_point start);
 
   // A feedback register's value at `now`, or nullopt when `address` is none of them.
   std::optional<std::uint32_t> read(std::uint16_t address, Clock::time_point now);
@@ -77,7 +77,7 @@ class FeedbackBank {
     std::vector<std::optional<unsigned>> input_pins;  // input number -> IO pin
   };
 
-  CardTime card_time(Clock::time_point now) const { return now - start_; }
+  BoardTime board_time(Clock::time_point now) const { return now - start_; }
   std::optional<std::uint32_t> read_encoder(unsigned reg, unsigned instance, Clock::time_point now);
   void write_encoder(unsigned reg, unsigned instance, std::uint32_t value, Clock::time_point now);
   std::uint32_t read_port(unsigned reg, unsigned port, Clock::time_point now);

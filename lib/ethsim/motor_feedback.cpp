@@ -57,7 +57,7 @@ ShaftSource motor_shaft(const sim::Virtual8i20& amplifier) {
   return [a](Clock::time_point t) { return a->motor_turns_at(t).value_or(0.0); };
 }
 
-std::optional<unsigned> connect_motor_feedback(VirtualCard& card, const sim::Virtual8i20& amplifier,
+std::optional<unsigned> connect_motor_feedback(VirtualBoard& card, const sim::Virtual8i20& amplifier,
                                                unsigned port, unsigned channel) {
   const motor::Motor* m = amplifier.motor();
   if (!m) return std::nullopt;

@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "ethsim/feedback_bank.hpp"
-#include "ethsim/virtual_card.hpp"
+#include "ethsim/virtual_board.hpp"
 #include "motor/params.hpp"
 #include "sim/virtual_8i20.hpp"
 
@@ -30,7 +30,7 @@ ShaftSource motor_shaft(const sim::Virtual8i20& amplifier);
 // axis with that port and channel: its encoder and/or Halls, as far as the motor has them.
 // Returns the axis number, or nullopt when the card has no axis for that 8I20 or the
 // amplifier no motor (nothing is connected then).
-std::optional<unsigned> connect_motor_feedback(VirtualCard& card, const sim::Virtual8i20& amplifier,
+std::optional<unsigned> connect_motor_feedback(VirtualBoard& card, const sim::Virtual8i20& amplifier,
                                                unsigned port, unsigned channel);
 
 }  // namespace i20::ethsim

@@ -16,7 +16,7 @@ namespace asio = boost::asio;
 using asio::ip::udp;
 using Clock = std::chrono::steady_clock;
 
-struct CardServer::Socket {
+struct BoardServer::Socket {
   asio::io_context io;
   udp::socket socket{io};
   lbp::Bytes buffer = lbp::Bytes(65536);
@@ -67,18 +67,19 @@ eth::HostPort parse_listen_address(std::string_view text) {
   return eth::parse_host_port(text);
 }
 
-CardServer::CardServer(ServerOptions options)
+BoardServer::BoardServer(ServerOptions options)
     : options_(std::move(options)), socket_(std::make_unique<Socket>()) {
-  VirtualCardOptions card;
-  card.config = options_.config ? *options_.config : CardConfig::preset(options_.card);
+  VirtualBoardOptions card;
+  card.config = options_.config ? *options_.config : BoardConfig::preset(options_.card);
   card.sslbp = options_.sslbp;
   card.remotes = options_.remotes ? options_.remotes : amplifier_factory(options_);
   for (const auto& a : options_.amplifiers)
     if (!options_.remotes &&
         (a.port >= card.config.sserial_ports || a.channel >= card.config.channels_per_port))
-      throw UsageError("the virtual " + std::string(card_kind_name(options_.card)) + " has no SSERIAL port " +
-                       std::to_string(a.port) + " channel " + std::to_string(a.channel));
-  card_ = std::make_unique<VirtualCard>(std::move(card), Clock::now());
+      throw UsageError("the virtual " + std::string(board_kind_name(options_.card)) +
+                       " has no SSERIAL port " + std::to_string(a.port) + " channel " +
+                       std::to_string(a.channel));
+  card_ = std::make_unique<VirtualBoard>(std::move(card), Clock::now());
   attach_motors();
   if (options_.host) start_host(*options_.host);
 
@@ -93,7 +94,7 @@ CardServer::CardServer(ServerOptions options)
   socket_->socket.non_blocking(true);
 }
 
-void CardServer::attach_motors() {
+void BoardServer::attach_motors() {
   const auto now = Clock::now();
   for (const auto& m : options_.motors) {
     sim::Virtual8i20* amp = amplifier(*card_, 0, m.channel);
@@ -106,36 +107,36 @@ void CardServer::attach_motors() {
   }
 }
 
-CardServer::~CardServer() {
+BoardServer::~BoardServer() {
   stop();
 }
 
-eth::HostPort CardServer::address() const {
+eth::HostPort BoardServer::address() const {
   const auto local = socket_->socket.local_endpoint();
   return eth::HostPort{.ip = local.address().to_string(), .port = local.port()};
 }
 
-std::string CardServer::describe() const {
+std::string BoardServer::describe() const {
   const auto a = address();
   return "virtual " + card_->config().card_name + " at " + a.ip + ":" + std::to_string(a.port);
 }
 
-void CardServer::start() {
+void BoardServer::start() {
   if (thread_.joinable()) return;
   stop_requested_ = false;
   thread_ = std::thread([this] { run(nullptr); });
 }
 
-void CardServer::stop() {
+void BoardServer::stop() {
   stop_requested_ = true;
   if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id()) thread_.join();
 }
 
-void CardServer::run(const std::atomic<bool>* stop_flag) {
+void BoardServer::run(const std::atomic<bool>* stop_flag) {
   while (!stop_requested_ && !(stop_flag && stop_flag->load())) serve_once(Clock::now() + options_.tick);
 }
 
-void CardServer::serve_once(Clock::time_point until) {
+void BoardServer::serve_once(Clock::time_point until) {
   {
     std::lock_guard lock(mutex_);
     if (host_) until = std::min(until, host_->next_due());
@@ -152,7 +153,7 @@ void CardServer::serve_once(Clock::time_point until) {
       std::lock_guard lock(mutex_);
       if (dark_until_) continue;  // a card without power hears nothing
       reply = card_->handle(lbp::ByteView(socket_->buffer.data(), n), Clock::now());
-      ready = card_->card_time();
+      ready = card_->board_time();
     }
     if (!reply) continue;
     // A WaituS in the packet holds the reply back, as on the card.
@@ -172,7 +173,7 @@ void CardServer::serve_once(Clock::time_point until) {
   if (host_) host_->run_until(*card_, Clock::now());
 }
 
-void CardServer::go_dark(Clock::duration dark, bool power_loss) {
+void BoardServer::go_dark(Clock::duration dark, bool power_loss) {
   std::lock_guard lock(mutex_);
   dark_until_ = Clock::now() + dark;
   power_lost_ = power_loss;
@@ -182,18 +183,18 @@ void CardServer::go_dark(Clock::duration dark, bool power_loss) {
       if (auto* amp = amplifier(*card_, a.port, a.channel)) amp->power_off();
 }
 
-std::optional<HostStats> CardServer::host_stats() {
+std::optional<HostStats> BoardServer::host_stats() {
   std::lock_guard lock(mutex_);
   if (!host_) return std::nullopt;
   return host_->stats();
 }
 
-bool CardServer::host_running() {
+bool BoardServer::host_running() {
   std::lock_guard lock(mutex_);
   return host_ && host_->running();
 }
 
-void CardServer::start_host(HostOptions options) {
+void BoardServer::start_host(HostOptions options) {
   std::lock_guard lock(mutex_);
   if (options.port >= card_->sserial_ports())
     throw UsageError("the virtual " + card_->config().card_name + " has no SSERIAL port " +
@@ -206,19 +207,19 @@ void CardServer::start_host(HostOptions options) {
   host_.emplace(options);
 }
 
-void CardServer::stop_host() {
+void BoardServer::stop_host() {
   std::lock_guard lock(mutex_);
   if (host_) host_->stop(*card_, Clock::now());
   host_.reset();
 }
 
-std::optional<std::string> CardServer::host_status() {
+std::optional<std::string> BoardServer::host_status() {
   std::lock_guard lock(mutex_);
   if (!host_) return std::nullopt;
   return host_->describe();
 }
 
-sim::Virtual8i20* CardServer::amplifier(VirtualCard& card, unsigned port, unsigned channel) {
+sim::Virtual8i20* BoardServer::amplifier(VirtualBoard& card, unsigned port, unsigned channel) {
   if (port >= card.sserial_ports() || channel >= card.config().channels_per_port) return nullptr;
   auto* remote = dynamic_cast<Virtual8i20Remote*>(card.sslbp(port).remote(channel));
   return remote ? &remote->device() : nullptr;

@@ -5,7 +5,7 @@
 //
 //   ethsim::ServerOptions options;                 // 127.0.0.1:27181, 7I96S, 8I20 on ch 0
 //   options.listen = eth::parse_host_port("127.0.0.2:27181");
-//   ethsim::CardServer server(options);            // binds now: errors surface here
+//   ethsim::BoardServer server(options);            // binds now: errors surface here
 //   server.start();                                // background thread ...
 //   server.stop();                                 // ... or server.run(&flag) in this one
 //
@@ -27,9 +27,9 @@
 #include <vector>
 
 #include "eth/target.hpp"
-#include "ethsim/card_config.hpp"
+#include "ethsim/board_config.hpp"
 #include "ethsim/simulated_host.hpp"
-#include "ethsim/virtual_card.hpp"
+#include "ethsim/virtual_board.hpp"
 #include "motor/params.hpp"
 #include "sim/virtual_8i20.hpp"
 
@@ -44,9 +44,9 @@ struct ChannelAddress {
 struct ServerOptions {
   // Where to listen. Port 0 picks a free one (tests); the cards use 27181.
   eth::HostPort listen{.ip = "127.0.0.1", .port = lbp::lbp16::kUdpPort};
-  CardKind card = CardKind::I7i96s;
+  BoardKind card = BoardKind::I7i96s;
   // Replaces the preset of `card` when set (tests: other versions, no timer space, ...).
-  std::optional<CardConfig> config{};
+  std::optional<BoardConfig> config{};
   // Channels with a virtual 8I20 (port = SSERIAL instance). Unit numbers count up from
   // amplifier.amplifier.unit_number in this order; an EEPROM file gets a "-pPcC" suffix
   // when there is more than one amplifier.
@@ -62,7 +62,7 @@ struct ServerOptions {
   // simulated_host.hpp); start_host() starts one later.
   std::optional<HostOptions> host{};
   // Motors on the 8I20s of SSERIAL port 0, each on its `channel` (which must hold an 8I20).
-  // The card's axis for that channel (CardConfig::axes) reads the motor's encoder and Halls
+  // The card's axis for that channel (BoardConfig::axes) reads the motor's encoder and Halls
   // (ethsim/motor_feedback.hpp).
   std::vector<motor::MotorParams> motors{};
 };
@@ -75,14 +75,14 @@ struct MotorAxis {
 // "ADDR[:PORT]" (default port 27181; port 0 picks a free one). Throws UsageError.
 eth::HostPort parse_listen_address(std::string_view text);
 
-class CardServer {
+class BoardServer {
  public:
   // Builds the card and binds the socket. Throws Error naming the address when the port
   // is taken or the address is not local.
-  explicit CardServer(ServerOptions options);
-  ~CardServer();
-  CardServer(const CardServer&) = delete;
-  CardServer& operator=(const CardServer&) = delete;
+  explicit BoardServer(ServerOptions options);
+  ~BoardServer();
+  BoardServer(const BoardServer&) = delete;
+  BoardServer& operator=(const BoardServer&) = delete;
 
   // Serves on a background thread until stop().
   void start();
@@ -103,7 +103,7 @@ class CardServer {
 
   // The virtual 8I20 on a channel, when the server built it (nullptr otherwise). Use it
   // inside with_card().
-  sim::Virtual8i20* amplifier(VirtualCard& card, unsigned port, unsigned channel);
+  sim::Virtual8i20* amplifier(VirtualBoard& card, unsigned port, unsigned channel);
   // The channels the server put 8I20s on (empty when ServerOptions::remotes built them).
   std::vector<ChannelAddress> amplifiers() const {
     return options_.remotes ? std::vector<ChannelAddress>{} : options_.amplifiers;
@@ -134,7 +134,7 @@ class CardServer {
   ServerOptions options_;
   std::unique_ptr<Socket> socket_;
   std::mutex mutex_;
-  std::unique_ptr<VirtualCard> card_;
+  std::unique_ptr<VirtualBoard> card_;
   std::vector<MotorAxis> motor_axes_;
   std::optional<SimulatedHost> host_;            // under mutex_
   std::optional<Clock::time_point> dark_until_;  // under mutex_

@@ -23,7 +23,7 @@ SimulatedHost::SimulatedHost(HostOptions options) : options_(options) {
   if (options_.mask == 0) options_.mask = 0x01;
 }
 
-std::vector<lbp::Bytes> SimulatedHost::send(VirtualCard& card, const std::vector<lbp16::Command>& packet,
+std::vector<lbp::Bytes> SimulatedHost::send(VirtualBoard& card, const std::vector<lbp16::Command>& packet,
                                             Clock::time_point now) {
   ++stats_.packets;
   const auto reply = card.handle(lbp16::encode_packet(packet), now);
@@ -31,12 +31,12 @@ std::vector<lbp::Bytes> SimulatedHost::send(VirtualCard& card, const std::vector
   return lbp16::split_reply(packet, *reply);
 }
 
-std::uint32_t SimulatedHost::command_register(VirtualCard& card, Clock::time_point now) {
+std::uint32_t SimulatedHost::command_register(VirtualBoard& card, Clock::time_point now) {
   const std::uint16_t address = card.sserial_registers(options_.port).command;
   return word(send(card, {lbp16::read_hm2(address)}, now).front()) & 0xFFFF;
 }
 
-void SimulatedHost::run_until(VirtualCard& card, Clock::time_point now) {
+void SimulatedHost::run_until(VirtualBoard& card, Clock::time_point now) {
   if (now < next_ || state_ == State::Stopped) return;
   const auto regs = card.sserial_registers(options_.port);
   switch (state_) {
@@ -74,7 +74,7 @@ void SimulatedHost::run_until(VirtualCard& card, Clock::time_point now) {
   next_ = now + (state_ == State::Running ? options_.period : std::chrono::microseconds(200));
 }
 
-void SimulatedHost::stop(VirtualCard& card, Clock::time_point now) {
+void SimulatedHost::stop(VirtualBoard& card, Clock::time_point now) {
   if (state_ == State::Stopped) return;
   const auto regs = card.sserial_registers(options_.port);
   // SSLBP ignores a command written while it is busy (8I20 manual, "DOIT": COMMAND reads

@@ -16,14 +16,14 @@
 #include <functional>
 #include <string>
 
-#include "ethsim/virtual_card.hpp"
+#include "ethsim/virtual_board.hpp"
 
 namespace i20::ethsim {
 
 struct HostOptions {
   unsigned port = 0;  // SSERIAL port it runs
   // Channels it starts. 0: every 8I20 of the port, as LinuxCNC starts every remote it
-  // finds (CardServer::start_host resolves it; a SimulatedHost on its own takes channel 0).
+  // finds (BoardServer::start_host resolves it; a SimulatedHost on its own takes channel 0).
   std::uint8_t mask = 0;
   Clock::duration period = std::chrono::milliseconds(1);  // LinuxCNC's default servo period
   // What the host writes to a channel's INTERFACE0 each cycle: the 8I20's ANGLE in bits
@@ -46,9 +46,9 @@ class SimulatedHost {
 
   // Sends what is due up to `now` (state changes, one cycle per elapsed period; a host that
   // fell behind does not burst to catch up).
-  void run_until(VirtualCard& card, Clock::time_point now);
+  void run_until(VirtualBoard& card, Clock::time_point now);
   // The host's exit: a stop of its port.
-  void stop(VirtualCard& card, Clock::time_point now);
+  void stop(VirtualBoard& card, Clock::time_point now);
 
   Clock::time_point next_due() const { return next_; }
   bool running() const { return state_ == State::Running; }
@@ -59,9 +59,9 @@ class SimulatedHost {
 
  private:
   enum class State { Stopping, Starting, Running, Stopped };
-  std::vector<lbp::Bytes> send(VirtualCard& card, const std::vector<lbp::lbp16::Command>& packet,
+  std::vector<lbp::Bytes> send(VirtualBoard& card, const std::vector<lbp::lbp16::Command>& packet,
                                Clock::time_point now);
-  std::uint32_t command_register(VirtualCard& card, Clock::time_point now);
+  std::uint32_t command_register(VirtualBoard& card, Clock::time_point now);
 
   HostOptions options_;
   State state_ = State::Stopping;

@@ -23,7 +23,7 @@ struct HalSource {
 };
 
 // The virtual card the files need.
-struct VirtualCardNeed {
+struct VirtualBoardNeed {
   std::string card = "7i96s";  // i20sim --card: 7i96s | 7i92t-servo
   std::string board_ip;        // hm2_eth's board_ip
   int channels = 1;            // 8I20s on smart-serial port 0
@@ -32,7 +32,7 @@ struct VirtualCardNeed {
 };
 
 struct LoadPlan {
-  VirtualCardNeed need;
+  VirtualBoardNeed need;
   // Per file: its text with the statements that cannot load outside a running LinuxCNC
   // commented out, line for line, so halcmd's line numbers are the file's.
   std::vector<std::string> loadable;

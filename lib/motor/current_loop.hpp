@@ -5,7 +5,7 @@
 // dq transform): |i_dq| is the peak phase current, |v_dq| the peak phase voltage.
 #pragma once
 
-#include "motor/card_gains.hpp"
+#include "motor/amp_gains.hpp"
 
 namespace i20::motor {
 

@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "motor/card_gains.hpp"
+#include "motor/amp_gains.hpp"
 #include "motor/sensors.hpp"
 
 namespace i20::motor {

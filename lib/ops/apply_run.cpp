@@ -7,7 +7,7 @@
 
 #include "faults/bit_info.hpp"
 #include "lbp/bytes.hpp"
-#include "ops/device_access.hpp"
+#include "ops/amp_cell_access.hpp"
 #include "ops/failure.hpp"
 #include "ops/pending.hpp"
 #include "ops/read.hpp"
@@ -25,7 +25,7 @@ using faults::kStatusWdto;
 
 // STATUS, where this card's map confirms it (a wrong address would report resets that
 // never happened).
-std::optional<std::int64_t> sticky_status(Card& c) {
+std::optional<std::int64_t> sticky_status(Amp& c) {
   try {
     const auto r = read_values(c, std::vector<std::string>{"STATUS"});
     if (r.front().fact()) return r.front().raw;
@@ -46,7 +46,7 @@ std::string reset_names(std::int64_t bits) {
 
 // A reset in the middle of a transaction reloads every working value from the EEPROM as it
 // was then, half written: neither the old values nor the new ones. Say so.
-void check_card_reset(Card& c, std::optional<std::int64_t> before, TargetRun& run) {
+void check_card_reset(Amp& c, std::optional<std::int64_t> before, TargetRun& run) {
   if (!before) return;
   const auto after = sticky_status(c);
   if (!after) return;
@@ -64,7 +64,7 @@ void check_card_reset(Card& c, std::optional<std::int64_t> before, TargetRun& ru
 // values then changed by themselves: a working twin of an EEPROM cell the profile writes
 // that no longer holds what it held before the first write, and that the profile did not
 // write itself, can only have been reloaded from the EEPROM.
-void check_silent_reset(Card& c, const ApplyJob& job, std::size_t silences_before, TargetRun& run) {
+void check_silent_reset(Amp& c, const ApplyJob& job, std::size_t silences_before, TargetRun& run) {
   if (!run.card_reset.empty() || c.silences_ended() == silences_before) return;
   // A reset the tool did (apply --reset) or already told (events) explains the change.
   if (run.result->reset_done || !run.result->events.empty()) return;
@@ -93,9 +93,9 @@ void check_silent_reset(Card& c, const ApplyJob& job, std::size_t silences_befor
 // The card reset itself mid-change, so its working values came from the EEPROM half
 // written; the EEPROM has been restored since. One more reset makes the working values the
 // restored ones again, instead of a mix nobody asked for.
-void reload_restored_values(Card& c, TargetRun& run) {
+void reload_restored_values(Amp& c, TargetRun& run) {
   try {
-    c.amp().reset();
+    c.device().reset();
     run.result->events.push_back(
         "after restoring the EEPROM the tool reset the card once more, so its working values are the "
         "restored "
@@ -112,7 +112,7 @@ void reload_restored_values(Card& c, TargetRun& run) {
 // only the profile's: an earlier write never followed by a reset is not live either. A
 // working cell the profile itself set (target working) differs from its EEPROM twin on
 // purpose: that twin is not an EEPROM value waiting to go live.
-void check_live(Card& c, const ApplyJob& job, TargetRun& run) {
+void check_live(Amp& c, const ApplyJob& job, TargetRun& run) {
   const auto& r = *run.result;
   if ((r.outcome != Outcome::Done && r.outcome != Outcome::NothingToDo) || r.reset_done) return;
   try {
@@ -128,7 +128,7 @@ void check_live(Card& c, const ApplyJob& job, TargetRun& run) {
 
 // A read after the change (the checks above) may have died with NV mode on: the outcome is
 // not "done" while the card may still be in it.
-void settle(Card& card, TargetRun& run) {
+void settle(Amp& card, TargetRun& run) {
   try {
     if (const auto mode = card.settle(); !mode.empty())
       run.result->events.push_back("the line failed while the card was in " + mode +
@@ -157,7 +157,7 @@ ApplyJob make_apply_job(const ApplyRequest& request) {
   return job;
 }
 
-TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity) {
+TargetRun run_apply_on(Amp& card, const ApplyJob& job, const Activity& activity) {
   TargetRun run;
   run.target = card.endpoint();
   const auto start = std::chrono::steady_clock::now();
@@ -169,7 +169,7 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
     options.backup_label = profile::backup_label(job.profile->name, card.identity().info.unit_number);
   options.backup_origin = origin_of(card);
   {
-    DeviceCardAccess access(card, job.write, activity);
+    AmpCellAccess access(card, job.write, activity);
     run.result = run_transaction(*job.profile, card.db(), access, options);
     run.refused_by_card = access.refused();
   }
@@ -188,7 +188,7 @@ TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity
   return run;
 }
 
-TargetRun run_apply_opened(const Endpoint& target, const ApplyJob& job, const CardOpener& open,
+TargetRun run_apply_opened(const Endpoint& target, const ApplyJob& job, const AmpOpener& open,
                            const Activity& activity) {
   const auto start = std::chrono::steady_clock::now();
   TargetRun run;
@@ -211,14 +211,14 @@ TargetRun run_apply_opened(const Endpoint& target, const ApplyJob& job, const Ca
 
 TargetRun run_apply(const Endpoint& target, const ApplyJob& job, const Activity& activity) {
   return run_apply_opened(
-      target, job, [&] { return Card::open(target, *job.db, job.open, job.transaction.cancel); }, activity);
+      target, job, [&] { return Amp::open(target, *job.db, job.open, job.transaction.cancel); }, activity);
 }
 
 TargetRun run_apply_over(std::unique_ptr<link::Link> link, const Endpoint& target, const ApplyJob& job,
                          const Activity& activity) {
   return run_apply_opened(
       target, job,
-      [&] { return Card::attach(std::move(link), target, *job.db, job.open.retry, job.transaction.cancel); },
+      [&] { return Amp::attach(std::move(link), target, *job.db, job.open.retry, job.transaction.cancel); },
       activity);
 }
 

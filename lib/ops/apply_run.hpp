@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "device/amp.hpp"
-#include "ops/card.hpp"
+#include "ops/amp.hpp"
 #include "ops/endpoint.hpp"
 #include "ops/outcome.hpp"
 #include "ops/transaction.hpp"
@@ -21,7 +21,7 @@ namespace i20::ops {
 
 using Activity = std::function<void(const std::string&)>;
 // Opens one card (a fleet target over its own line or a shared Ethernet port); throws.
-using CardOpener = std::function<std::unique_ptr<Card>()>;
+using AmpOpener = std::function<std::unique_ptr<Amp>()>;
 
 // What the user asked for, in the words of the command line: every command that changes a
 // card (`i20 set`, `wpd`, `profile apply`/`undo`, a fleet, validate's dry run) says it here,
@@ -86,10 +86,10 @@ TargetRun run_apply(const Endpoint& target, const ApplyJob& job, const Activity&
 TargetRun run_apply_over(std::unique_ptr<link::Link> link, const Endpoint& target, const ApplyJob& job,
                          const Activity& activity = {});
 // The same on the card `open` opens (the fleet's scheduling, lib/ops/fleet.hpp).
-TargetRun run_apply_opened(const Endpoint& target, const ApplyJob& job, const CardOpener& open,
+TargetRun run_apply_opened(const Endpoint& target, const ApplyJob& job, const AmpOpener& open,
                            const Activity& activity = {});
 // The same on a card that is already open (the single-target commands).
-TargetRun run_apply_on(Card& card, const ApplyJob& job, const Activity& activity = {});
+TargetRun run_apply_on(Amp& card, const ApplyJob& job, const Activity& activity = {});
 
 // The fleet's outcome: Done only if every run ended well, else the most serious one.
 Outcome fleet_outcome(const std::vector<TargetRun>& runs);

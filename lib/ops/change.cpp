@@ -67,7 +67,7 @@ void precheck(const profile::Profile& profile, const params::ParamDb& db, const 
           f.advice);
 }
 
-profile::Profile save_profile(Card& card, const std::vector<std::string>& names,
+profile::Profile save_profile(Amp& card, const std::vector<std::string>& names,
                               const profile::SaveOptions& options) {
   const auto wanted =
       profile::canonical_save_names(names.empty() ? profile::save_candidates(card.db()) : names, card.db());
@@ -92,9 +92,9 @@ void check_save_names(const std::vector<std::string>& names, const params::Param
       throw UsageError(n + " is read-only: a profile holds settings that can be written back");
 }
 
-SavedCard save_card(Card& card, const std::vector<std::string>& names, const profile::SaveOptions& options,
-                    const std::string& source) {
-  SavedCard saved{save_profile(card, names, options), {}};
+SavedAmp save_card(Amp& card, const std::vector<std::string>& names, const profile::SaveOptions& options,
+                   const std::string& source) {
+  SavedAmp saved{save_profile(card, names, options), {}};
   saved.yaml = profile::to_yaml(saved.profile, card.db());
   const auto again = profile::load_profile_string(saved.yaml, source, card.db());
   for (std::size_t i = 0; i < saved.profile.settings.size(); ++i)

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "device/amp.hpp"
-#include "ops/card.hpp"
+#include "ops/amp.hpp"
 #include "params/param_db.hpp"
 #include "profile/profile.hpp"
 #include "profile/save.hpp"
@@ -35,7 +35,7 @@ void precheck(const profile::Profile& profile, const params::ParamDb& db, const 
 // Reads `names` (if empty: profile::save_candidates(), keeping profile::names_to_save()) into a profile
 // (`profile save`, `report`). Every value must be a fact on this card: a name whose address
 // is not confirmed for its firmware is refused (SafetyError), not saved as a guess.
-profile::Profile save_profile(Card& card, const std::vector<std::string>& names,
+profile::Profile save_profile(Amp& card, const std::vector<std::string>& names,
                               const profile::SaveOptions& options);
 
 // Refused before the link opens: a name that is read-only (a saved profile holds settings
@@ -44,11 +44,11 @@ void check_save_names(const std::vector<std::string>& names, const params::Param
 
 // A saved card: the profile and its YAML, proved to load back to exactly the values read
 // before anyone relies on it (Error otherwise). `source` names the file in messages.
-struct SavedCard {
+struct SavedAmp {
   profile::Profile profile;
   std::string yaml;
 };
-SavedCard save_card(Card& card, const std::vector<std::string>& names, const profile::SaveOptions& options,
-                    const std::string& source);
+SavedAmp save_card(Amp& card, const std::vector<std::string>& names, const profile::SaveOptions& options,
+                   const std::string& source);
 
 }  // namespace i20::ops

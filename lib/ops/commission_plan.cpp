@@ -58,7 +58,7 @@ Preflight read_preflight(Session& session) {
   Preflight p;
   p.target = eth::parse_target(endpoint.eth_url);
   {
-    Card& card = session.card();  // the passthrough open refuses a running host
+    Amp& card = session.card();  // the passthrough open refuses a running host
     p.card = card.describe();
     const auto readings = read_values(card, std::vector<std::string>{"FAULT", "BUSV", "MAXCURRENT"});
     p.fault = static_cast<std::uint16_t>(reading_of(readings, 0, "FAULT"));

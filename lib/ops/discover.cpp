@@ -21,7 +21,7 @@ void prove_loads(const params::ParamDb& loaded, const std::string& yaml, const s
 
 }  // namespace
 
-DiscoverResult discover(Card& card, const params::ParamDb& loaded, const DiscoverOptions& options) {
+DiscoverResult discover(Amp& card, const params::ParamDb& loaded, const DiscoverOptions& options) {
   DiscoverResult result;
   // The file is refused before the reset and the scan: they cost the card's working values
   // and a thousand reads, and a refusal needs neither.
@@ -31,7 +31,7 @@ DiscoverResult discover(Card& card, const params::ParamDb& loaded, const Discove
   const std::string file = result.written.string();
   if (!options.overwrite && std::filesystem::exists(result.written))
     throw UsageError(file + " exists; pass --overwrite to replace it (or choose another name with -o)");
-  result.report = device::discover(card.amp(), options.scan);
+  result.report = device::discover(card.device(), options.scan);
   const std::string yaml = result.report.overlay_yaml(options.generated_at);
   prove_loads(loaded, yaml, file, result.report.swrevision);
   files::write_file(result.written, yaml,

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "device/discover.hpp"
-#include "ops/card.hpp"
+#include "ops/amp.hpp"
 #include "params/param_db.hpp"
 
 namespace i20::ops {
@@ -33,6 +33,6 @@ struct DiscoverResult {
 // Throws Cancelled on Ctrl-C (between scan chunks), UsageError when the file exists
 // and `overwrite` is not set, ParamFileError when the overlay would not load (nothing is
 // written then).
-DiscoverResult discover(Card& card, const params::ParamDb& loaded, const DiscoverOptions& options);
+DiscoverResult discover(Amp& card, const params::ParamDb& loaded, const DiscoverOptions& options);
 
 }  // namespace i20::ops

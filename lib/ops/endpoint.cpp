@@ -140,7 +140,7 @@ std::vector<Endpoint> resolve_endpoints(const std::vector<std::string>& texts,
 link::PipelinedLinkOptions serial_link_options(const LinkSettings& s, const RetryPolicy&) {
   link::PipelinedLinkOptions options;
   options.base_timeout = std::chrono::milliseconds(s.timeout_ms);
-  // ops repeats the exchanges itself (Card::with_retries): a batch is sent once here.
+  // ops repeats the exchanges itself (Amp::with_retries): a batch is sent once here.
   options.retries = 0;
   return options;
 }

@@ -10,8 +10,8 @@
 
 namespace i20::ops {
 
+using device::AmpStateError;   // a mode the card may be left in (NV access, RPC memory)
 using device::Cancelled;       // a stop signal, after the card was left in a known state
-using device::CardStateError;  // a mode the card may be left in (NV access, RPC memory)
 using device::SafetyError;     // a write the rules refuse; nothing was sent
 using device::VerifyError;     // the card accepted a write but reads back something else
 using link::LinkError;         // the line failed: no answer, a garbled or foreign reply

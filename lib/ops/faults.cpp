@@ -15,7 +15,7 @@ std::optional<double> scaled(const Reading& r) {
   return static_cast<double>(*r.raw) * r.param->scale;
 }
 
-const params::Param& fact_required(Card& card, const char* name) {
+const params::Param& fact_required(Amp& card, const char* name) {
   const params::Param& p = card.db().get(name);
   if (!p.address || !card.db().address_confirmed(p))
     throw device::SafetyError(std::string(name) + " cannot be read as a fact on " + card.describe() + ": " +
@@ -27,26 +27,27 @@ const params::Param& fact_required(Card& card, const char* name) {
 
 // CLEARFAULT was written but the clear did not finish: what the card says now decides
 // between "faults remain" (exit 5) and "uncertain" (exit 4). Always throws.
-[[noreturn]] void explain_unfinished_clear(Card& card, const Error& e) {
+[[noreturn]] void explain_unfinished_clear(Amp& card, const Error& e) {
   FaultReadings now;
   try {
     now = read_fault_registers(card);
   } catch (const Error& again) {
     if (again.kind() == ErrorKind::Cancelled) throw;
-    throw device::CardStateError(std::string(e.what()) + "; FAULT could not be read after it (" + again.what() +
-                                 ")");
+    throw device::AmpStateError(std::string(e.what()) + "; FAULT could not be read after it (" +
+                                again.what() + ")");
   }
   if (now.fault != 0)
     throw Error(std::string(e.what()) + "; FAULT still reads " + lbp::hex_value(now.fault, 4) +
                     ": faults remain latched",
                 ErrorKind::FaultsRemain);
-  throw device::CardStateError(std::string(e.what()) + "; FAULT reads 0x0000 now, but the card may still act on "
-                                                       "the pending CLEARFAULT");
+  throw device::AmpStateError(std::string(e.what()) +
+                              "; FAULT reads 0x0000 now, but the card may still act on "
+                              "the pending CLEARFAULT");
 }
 
 }  // namespace
 
-FaultReadings read_fault_registers(Card& card) {
+FaultReadings read_fault_registers(Amp& card) {
   const auto& db = card.db();
   std::vector<const params::Param*> list{&fact_required(card, "FAULT"), &fact_required(card, "STATUS")};
   for (const char* name : {"FAULTMASK", "BUSV", "TEMPERATURE", "BUSUNDERV", "BUSOVERV", "BRAKEONV"})
@@ -71,13 +72,13 @@ FaultReadings read_fault_registers(Card& card) {
   return r;
 }
 
-ClearResult clear_faults(Card& card, const device::WriteOptions& write, std::chrono::milliseconds wait) {
-  card.amp().check_write(card.db().get("CLEARFAULT"), 1, write);
+ClearResult clear_faults(Amp& card, const device::WriteOptions& write, std::chrono::milliseconds wait) {
+  card.device().check_write(card.db().get("CLEARFAULT"), 1, write);
   fact_required(card, "FAULT");
   ClearResult result;
   device::ClearFaultsResult done;
   try {
-    done = card.amp().clear_faults(write, wait);
+    done = card.device().clear_faults(write, wait);
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::Uncertain) throw;
     explain_unfinished_clear(card, e);
@@ -89,11 +90,11 @@ ClearResult clear_faults(Card& card, const device::WriteOptions& write, std::chr
   return result;
 }
 
-MaskResult set_fault_mask(Card& card, const std::string& key, bool masked, const device::WriteOptions& write) {
+MaskResult set_fault_mask(Amp& card, const std::string& key, bool masked, const device::WriteOptions& write) {
   faults::maskable_fault(key);  // unknown or unmaskable: refused before anything is read
   const auto& param = card.db().get("FAULTMASK");
   device::check_offline(param, faults::kNothingMasked, write);
-  card.amp().check_write(param, faults::kNothingMasked, write);
+  card.device().check_write(param, faults::kNothingMasked, write);
   MaskResult result;
   const auto unconfirmed = write.allow_unverified ? Unconfirmed::Read : Unconfirmed::Skip;
   const auto now = read_values(card, std::vector<const params::Param*>{&param}, unconfirmed);

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "device/amp.hpp"
+#include "ops/amp.hpp"
 #include "ops/apply_run.hpp"
-#include "ops/card.hpp"
 
 namespace i20::ops {
 
@@ -35,7 +35,7 @@ struct FaultReadings {
 // FAULT and STATUS are required: throws SafetyError (nothing read, exit 3) when their
 // addresses are not confirmed for this card, since a guessed address would report "no
 // faults" from some other register. The rest are read where confirmed.
-FaultReadings read_fault_registers(Card& card);
+FaultReadings read_fault_registers(Amp& card);
 
 struct ClearResult {
   std::uint16_t fault_before = 0;
@@ -48,7 +48,7 @@ struct ClearResult {
 // Sets CLEARFAULT, waits until the card acts on it (bounded by `wait`), and reads the
 // registers again. Refused (before anything is sent) when CLEARFAULT's address is not
 // confirmed and `write.allow_unverified` is not given.
-ClearResult clear_faults(Card& card, const device::WriteOptions& write, std::chrono::milliseconds wait);
+ClearResult clear_faults(Amp& card, const device::WriteOptions& write, std::chrono::milliseconds wait);
 
 struct MaskResult {
   std::uint16_t before = 0;  // FAULTMASK as read
@@ -58,6 +58,6 @@ struct MaskResult {
 
 // Masks (or unmasks) the maskable FAULT bit named by `key`, keeping every other bit as
 // read. Throws faults::UnknownBit / NotMaskable (bad input / refused) before any write.
-MaskResult set_fault_mask(Card& card, const std::string& key, bool masked, const device::WriteOptions& write);
+MaskResult set_fault_mask(Amp& card, const std::string& key, bool masked, const device::WriteOptions& write);
 
 }  // namespace i20::ops

@@ -48,7 +48,7 @@ void open_ports(std::vector<EthPort>& ports, const OpenOptions& open) {
     const eth::PassthroughOptions options = passthrough_options(open.link, open.retry);
     try {
       auto& transport = transports[p.card.describe()];
-      if (!transport) transport = eth::PassthroughPort::card_transport(p.card, options.udp, options.fence);
+      if (!transport) transport = eth::PassthroughPort::board_transport(p.card, options.udp, options.fence);
       p.port = eth::PassthroughPort::open(transport, p.sserial_port, p.mask, options);
     } catch (const Error& e) {
       p.error = e.what();
@@ -67,18 +67,18 @@ void for_each_target(const std::vector<Endpoint>& targets, const params::ParamDb
   std::vector<std::thread> threads;
   for (const auto& line : group_by_line(targets, false))
     threads.emplace_back([&, line] {
-      for (const std::size_t i : line) task(i, [&, i] { return Card::open(targets[i], db, open, cancel); });
+      for (const std::size_t i : line) task(i, [&, i] { return Amp::open(targets[i], db, open, cancel); });
     });
   for (const auto& p : ports)
     for (const std::size_t i : p.targets) {
       if (!p.port) {
-        task(i, [&p]() -> std::unique_ptr<Card> { throw Error(p.error, p.kind, p.advice); });
+        task(i, [&p]() -> std::unique_ptr<Amp> { throw Error(p.error, p.kind, p.advice); });
         continue;
       }
       const unsigned channel = targets[i].eth_target().channel;
       threads.emplace_back([&, i, channel, port = p.port] {
         task(i, [&, i, channel, port] {
-          return Card::attach(port->link(channel), targets[i], db, open.retry, cancel);
+          return Amp::attach(port->link(channel), targets[i], db, open.retry, cancel);
         });
       });
     }
@@ -89,7 +89,7 @@ std::vector<TargetRun> run_fleet(const std::vector<Endpoint>& targets, const App
                                  const FleetActivity& activity) {
   std::vector<TargetRun> runs(targets.size());
   for_each_target(targets, *job.db, job.open, job.transaction.cancel,
-                  [&](std::size_t i, const CardOpener& open) {
+                  [&](std::size_t i, const AmpOpener& open) {
                     Activity one;
                     if (activity) one = [&activity, i](const std::string& s) { activity(i, s); };
                     runs[i] = run_apply_opened(targets[i], job, open, one);

@@ -25,7 +25,7 @@ std::vector<TargetRun> run_fleet(const std::vector<Endpoint>& targets, const App
 // called once per target, in the threads described above; `open()` opens that target's card
 // (or throws the error that kept its line or Ethernet port from opening). `task` must not
 // throw.
-using FleetTask = std::function<void(std::size_t index, const CardOpener& open)>;
+using FleetTask = std::function<void(std::size_t index, const AmpOpener& open)>;
 void for_each_target(const std::vector<Endpoint>& targets, const params::ParamDb& db, const OpenOptions& open,
                      const Cancel& cancel, const FleetTask& task);
 

@@ -16,7 +16,7 @@ std::string linuxcnc_name_of(const Endpoint& target) {
   return "8i20." + std::to_string(t.sserial_port) + "." + std::to_string(t.channel);
 }
 
-void read_faults(Card& card, InventoryRow& row) {
+void read_faults(Amp& card, InventoryRow& row) {
   try {
     row.faults = read_fault_registers(card);
   } catch (
@@ -25,7 +25,7 @@ void read_faults(Card& card, InventoryRow& row) {
   }
 }
 
-void read_row(Card& card, const InventoryJob& job, InventoryRow& row) {
+void read_row(Amp& card, const InventoryJob& job, InventoryRow& row) {
   row.identity = card.identity();
   row.card = card.describe();
   read_faults(card, row);
@@ -38,7 +38,7 @@ InventoryRow read_one(const Endpoint& target, const InventoryJob& job) {
   row.target = target;
   row.linuxcnc_name = linuxcnc_name_of(target);
   try {
-    const auto card = Card::open(target, *job.db, job.open, job.cancel);
+    const auto card = Amp::open(target, *job.db, job.open, job.cancel);
     try {
       read_row(*card, job, row);
       card->settle();
@@ -80,7 +80,7 @@ std::optional<bool> profile_matches(const std::vector<profile::DiffRow>& rows) {
   return all;
 }
 
-std::vector<profile::DiffRow> diff_card(Card& card, const profile::Profile& profile) {
+std::vector<profile::DiffRow> diff_card(Amp& card, const profile::Profile& profile) {
   std::vector<std::string> names;
   for (const auto& w : profile::cell_writes(profile, card.db())) names.push_back(w.cell);
   profile::RawValues values;

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "ops/card.hpp"
+#include "ops/amp.hpp"
 #include "ops/endpoint.hpp"
 #include "ops/faults.hpp"
 #include "ops/outcome.hpp"
@@ -27,7 +27,7 @@ struct InventoryJob {
 struct InventoryRow {
   Endpoint target;
   std::optional<Identity> identity;  // nullopt: the card was not reached (see error)
-  std::string card;                  // Card::describe()
+  std::string card;                  // Amp::describe()
   std::string error;                 // why it was not reached, or why the read stopped
   Outcome outcome = Outcome::Failed;
   std::optional<FaultReadings> faults;
@@ -50,7 +50,7 @@ std::optional<bool> profile_matches(const std::vector<profile::DiffRow>& rows);
 
 // Cells of `profile` against what `card` holds, read honestly (an unconfirmed address is
 // unknown): the comparison `i20 profile diff` prints.
-std::vector<profile::DiffRow> diff_card(Card& card, const profile::Profile& profile);
+std::vector<profile::DiffRow> diff_card(Amp& card, const profile::Profile& profile);
 
 // Reads every target, concurrently across lines (targets sharing a serial line, a simulator
 // image or an Ethernet card are read one after another). One row per target, in order. Never

@@ -26,7 +26,7 @@ link::PipelinedLinkOptions serial_link_options(const LinkSettings& settings, con
 eth::PassthroughOptions passthrough_options(const LinkSettings& settings, const RetryPolicy& retry);
 
 // open_link (endpoint.hpp) with the links' options built from `retry`, the budget of the
-// Card that will own the link.
+// ops::Amp that will own the link.
 std::unique_ptr<link::Link> open_link(const Endpoint& endpoint, const params::ParamDb& db,
                                       const LinkSettings& settings, const RetryPolicy& retry);
 

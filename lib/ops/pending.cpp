@@ -22,7 +22,7 @@ std::vector<std::string> pending_nv_values(const params::ParamDb& db, const prof
   return pending;
 }
 
-std::vector<std::string> pending_nv_values(Card& card) {
+std::vector<std::string> pending_nv_values(Amp& card) {
   const params::ParamDb& db = card.db();
   std::vector<const params::Param*> cells;
   for (const auto* p : nv_cells_with_twins(db)) cells.insert(cells.end(), {p, &db.get(p->twin)});

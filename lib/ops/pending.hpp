@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "ops/card.hpp"
+#include "ops/amp.hpp"
 #include "params/param_db.hpp"
 #include "profile/raw_values.hpp"
 
@@ -24,6 +24,6 @@ std::vector<std::string> pending_nv_values(const params::ParamDb& db, const prof
 // The same for the whole card: reads every NV cell that has a working twin, and the twins
 // (cells that are no fact on this firmware are left out, so never called pending). Throws
 // what the reads throw.
-std::vector<std::string> pending_nv_values(Card& card);
+std::vector<std::string> pending_nv_values(Amp& card);
 
 }  // namespace i20::ops

@@ -5,7 +5,7 @@
 
 namespace i20::ops {
 
-std::vector<Reading> read_values(Card& card, std::span<const params::Param* const> params,
+std::vector<Reading> read_values(Amp& card, std::span<const params::Param* const> params,
                                  Unconfirmed unconfirmed) {
   std::vector<Reading> out;
   std::vector<const params::Param*> wanted;
@@ -16,20 +16,20 @@ std::vector<Reading> read_values(Card& card, std::span<const params::Param* cons
     out.push_back(std::move(r));
   }
   if (wanted.empty()) return out;
-  const auto values = card.with_retries([&] { return card.amp().read(wanted); });
+  const auto values = card.with_retries([&] { return card.device().read(wanted); });
   std::size_t next = 0;
   for (auto& r : out)
     if (next < wanted.size() && r.param == wanted[next]) r.raw = values[next++].raw;
   return out;
 }
 
-std::vector<Reading> read_values(Card& card, const std::vector<std::string>& names, Unconfirmed unconfirmed) {
+std::vector<Reading> read_values(Amp& card, const std::vector<std::string>& names, Unconfirmed unconfirmed) {
   std::vector<const params::Param*> params;
   for (const auto& name : names) params.push_back(&card.db().get(name));
   return read_values(card, params, unconfirmed);
 }
 
-std::vector<Reading> read_all(Card& card, Unconfirmed unconfirmed) {
+std::vector<Reading> read_all(Amp& card, Unconfirmed unconfirmed) {
   std::vector<const params::Param*> params;
   for (const auto& p : card.db().all())
     if (p.address) params.push_back(&p);

@@ -10,7 +10,7 @@
 
 namespace i20::ops {
 
-ServiceReport gather_report(Card& card, std::chrono::system_clock::time_point when) {
+ServiceReport gather_report(Amp& card, std::chrono::system_clock::time_point when) {
   ServiceReport r;
   r.when = when;
   r.target = card.endpoint().text;

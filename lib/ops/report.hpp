@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "ops/card.hpp"
+#include "ops/amp.hpp"
 #include "ops/faults.hpp"
 #include "ops/read.hpp"
 #include "profile/profile.hpp"
@@ -36,7 +36,7 @@ struct ServiceReport {
 };
 
 // Reads only. Ctrl-C stops it (Cancelled).
-ServiceReport gather_report(Card& card, std::chrono::system_clock::time_point when);
+ServiceReport gather_report(Amp& card, std::chrono::system_clock::time_point when);
 
 // The report's NV setup as a profile (the writable EEPROM parameters whose values are facts),
 // so `i20 profile apply REPORT` writes a card back to what the report saw.

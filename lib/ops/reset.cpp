@@ -5,7 +5,7 @@
 #include <exception>
 
 #include "device/errors.hpp"
-#include "ops/device_access.hpp"
+#include "ops/amp_cell_access.hpp"
 #include "profile/validate.hpp"
 
 namespace i20::ops {
@@ -46,12 +46,12 @@ std::string ResetJudgement::reason() const {
   return text;
 }
 
-ResetJudgement judge_reset(const params::ParamDb& db, CardAccess& card, bool force,
+ResetJudgement judge_reset(const params::ParamDb& db, CellAccess& card, bool force,
                            const profile::Profile* planned) {
   return judge_reset(db, card, force, planned, ReadAlready{});
 }
 
-ResetJudgement judge_reset(const params::ParamDb& db, CardAccess& card, bool force,
+ResetJudgement judge_reset(const params::ParamDb& db, CellAccess& card, bool force,
                            const profile::Profile* planned, const ReadAlready& already) {
   std::vector<std::string> names;
   for (const auto* p : nv_cells_with_twins(db)) names.insert(names.end(), {p->name, p->twin});
@@ -88,7 +88,7 @@ ResetJudgement judge_reset(const params::ParamDb& db, CardAccess& card, bool for
   return j;
 }
 
-void add_reset_findings(std::vector<Finding>& findings, const params::ParamDb& db, CardAccess& card,
+void add_reset_findings(std::vector<Finding>& findings, const params::ParamDb& db, CellAccess& card,
                         bool force, const profile::Profile& planned, const ReadAlready& already) {
   std::vector<Finding> extra;
   try {
@@ -108,20 +108,20 @@ void add_reset_findings(std::vector<Finding>& findings, const params::ParamDb& d
   }
 }
 
-ResetRun reset_card(Card& card, bool force) {
+ResetRun reset_card(Amp& card, bool force) {
   ResetRun run;
   {
-    DeviceCardAccess access(card, device::WriteOptions{});
+    AmpCellAccess access(card, device::WriteOptions{});
     run.judgement = judge_reset(card.db(), access, force);
   }
   if (run.judgement.refused()) return run;
   try {
-    card.amp().reset();
+    card.device().reset();
   } catch (const Error& e) {
     // The reset was sent: the card may be running from its NV values, or not be back.
     if (e.kind() != ErrorKind::Failure) throw;
-    throw device::CardStateError(std::string("the reset was sent, but: ") + e.what() +
-                                 "; the card may be running from its NV values now");
+    throw device::AmpStateError(std::string("the reset was sent, but: ") + e.what() +
+                                "; the card may be running from its NV values now");
   }
   run.done = true;
   return run;

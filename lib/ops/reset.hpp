@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "ops/card.hpp"
-#include "ops/card_access.hpp"
+#include "ops/amp.hpp"
+#include "ops/cell_access.hpp"
 #include "ops/outcome.hpp"
 #include "ops/pending.hpp"
 #include "params/param_db.hpp"
@@ -43,7 +43,7 @@ struct ResetJudgement {
 // makes before its reset, judged as already in the EEPROM. `force` turns the measured-bus
 // refusals into warnings, as it does for writes. Throws i20::Error when the card cannot be
 // read (nothing was sent but reads).
-ResetJudgement judge_reset(const params::ParamDb& db, CardAccess& card, bool force,
+ResetJudgement judge_reset(const params::ParamDb& db, CellAccess& card, bool force,
                            const profile::Profile* planned = nullptr);
 
 // Cells the caller read already, for the same decision (the write transaction's snapshot of
@@ -56,14 +56,14 @@ struct ReadAlready {
 // The same judgement, reading only the cells `already` does not hold: each cell is read once
 // per transaction. A cell the card fails to answer for still throws, as above; nothing is
 // judged on a guess.
-ResetJudgement judge_reset(const params::ParamDb& db, CardAccess& card, bool force,
+ResetJudgement judge_reset(const params::ParamDb& db, CellAccess& card, bool force,
                            const profile::Profile* planned, const ReadAlready& already);
 
 // For the transaction's --reset: the judgement's findings that `findings` does not hold yet
 // (the profile's own values are judged by the transaction already). A card that cannot be
 // read for it adds an error: a reset nobody could judge is not sent.
 // `already`: what the transaction read for its own rules, not read again.
-void add_reset_findings(std::vector<profile::Finding>& findings, const params::ParamDb& db, CardAccess& card,
+void add_reset_findings(std::vector<profile::Finding>& findings, const params::ParamDb& db, CellAccess& card,
                         bool force, const profile::Profile& planned, const ReadAlready& already = {});
 
 struct ResetRun {
@@ -75,6 +75,6 @@ struct ResetRun {
 
 // `i20 reset`: judges, then resets unless refused (refused: nothing but reads was sent).
 // Throws i20::Error when the card cannot be read or does not come back.
-ResetRun reset_card(Card& card, bool force);
+ResetRun reset_card(Amp& card, bool force);
 
 }  // namespace i20::ops

@@ -4,7 +4,7 @@
 // every layer. ops owns it and hands it down where the links are built
 // (link_options.hpp), so that the layers never multiply their resends:
 //
-// - Exchanges ops starts (Card::with_retries, the transaction's reads and read-backs):
+// - Exchanges ops starts (Amp::with_retries, the transaction's reads and read-backs):
 //   ops owns the loop and the links under it send each exchange once (the serial link's
 //   PipelinedLinkOptions::retries and the passthrough's PassthroughOptions::lost_packet_resends
 //   are 0). A lost read is sent at most `attempts` times, over serial and over Ethernet.
@@ -15,9 +15,9 @@
 //
 // No layer resends an 8I20 write after a lost or garbled reply: ops answers it with a
 // read-back and repeats the write only when the read-back shows that the card does not hold
-// the value yet (ops::DeviceCardAccess), within the same budget; a read-back that gets no
+// the value yet (ops::AmpCellAccess), within the same budget; a read-back that gets no
 // answer either ends it with the error. Only the writes that switch NV access or RPC memory
-// off are repeated as they are (Card::with_retries, Card::settle): twice is harmless.
+// off are repeated as they are (Amp::with_retries, Amp::settle): twice is harmless.
 //
 // A card that stops answering for a while (a burst of line noise, a cable knocked, an
 // 8I20 that reset itself and is back a few milliseconds later) is not given up on at once:
@@ -29,7 +29,7 @@
 // answers again. A write is never among the exchanges asked again (see above).
 //
 // Worst cases, per exchange and per command, are in README.md ("How long a command may
-// take"); Card::with_retries and Card::wait_for_answer are where they are spent.
+// take"); Amp::with_retries and Amp::wait_for_answer are where they are spent.
 #pragma once
 
 #include <chrono>
@@ -49,7 +49,7 @@ struct RetryPolicy {
   // almost answering (30% of datagrams reordered) cannot stretch a command without end.
   // What is left of a change then is finished on the shortest path (each cell's rollback
   // sent once, read back within the budget), and leaving NV access or RPC memory mode keeps
-  // its silence window (Card::settle): the card is never left in a mode to save time.
+  // its silence window (Amp::settle): the card is never left in a mode to save time.
   std::chrono::milliseconds operation_deadline{20000};
   // Resends a layer that owns the loop may add to the first send.
   unsigned resends() const { return attempts > 0 ? attempts - 1 : 0; }

@@ -45,7 +45,7 @@ unsigned baud_from_environment(const std::string& baud) {
 bool handling_card_state_error() {
   try {
     throw;
-  } catch (const device::CardStateError&) {
+  } catch (const device::AmpStateError&) {
     return true;
   } catch (...) {
     return false;
@@ -108,13 +108,13 @@ OpenOptions Session::open_options() const {
   return open;
 }
 
-Card& Session::card() {
+Amp& Session::card() {
   if (!card_) card_ = open(endpoint(), db());
   return *card_;
 }
 
-std::unique_ptr<Card> Session::open(const Endpoint& endpoint, const params::ParamDb& db) {
-  return Card::open(endpoint, db, open_options(), cancel());
+std::unique_ptr<Amp> Session::open(const Endpoint& endpoint, const params::ParamDb& db) {
+  return Amp::open(endpoint, db, open_options(), cancel());
 }
 
 Cancel Session::cancel() const {
@@ -133,7 +133,7 @@ Settled Session::settle() {
     if (const auto mode = card_->settle(); !mode.empty())
       settled.note = MessageLine{
           "note", "the line failed while the card was in " + mode + "; it answered again and left it"};
-  } catch (const device::CardStateError&) {
+  } catch (const device::AmpStateError&) {
     if (!said) throw;
     settled.outcome = Outcome::Uncertain;
   }
@@ -147,7 +147,7 @@ FailureReport failure_report_of_current_exception() {
 
 FailureReport Session::fail() {
   FailureReport report = failure_report_of_current_exception();
-  // A CardStateError is the settle's own verdict (or a mode already named): not again.
+  // A AmpStateError is the settle's own verdict (or a mode already named): not again.
   if (!card_ || handling_card_state_error()) return report;
   try {
     const auto settled = settle();

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "ops/card.hpp"
+#include "ops/amp.hpp"
 #include "ops/endpoint.hpp"
 #include "ops/failure.hpp"
 #include "ops/outcome.hpp"
@@ -85,11 +85,11 @@ class Session {
   // are given: resolve_endpoints), or the session's endpoint (COMPORT included).
   std::vector<Endpoint> targets(const std::vector<std::string>& named) const;
   // The card, opened and identified on first use.
-  Card& card();
+  Amp& card();
   bool card_open() const { return card_ != nullptr; }
   // Opens another endpoint with this session's link settings and stop signals (a command
   // given --target): the caller owns it, and settles it by dropping it.
-  std::unique_ptr<Card> open(const Endpoint& endpoint, const params::ParamDb& db);
+  std::unique_ptr<Amp> open(const Endpoint& endpoint, const params::ParamDb& db);
   // The open options every card of this session gets.
   OpenOptions open_options() const;
 
@@ -98,7 +98,7 @@ class Session {
   bool stop_requested() const;
 
   // Ends the session's work on the card: a mode the line may have left on is left now
-  // (Card::settle). Throws CardStateError when the card does not confirm and nothing has
+  // (Amp::settle). Throws AmpStateError when the card does not confirm and nothing has
   // said so yet; returns Uncertain when the command's own report already did.
   Settled settle();
   // From a catch block, with the session alive: the failure, then the card settled, because
@@ -118,7 +118,7 @@ class Session {
   Cancel::Acknowledge acknowledge_;
   std::unique_ptr<params::ParamDb> db_;
   std::unique_ptr<Endpoint> endpoint_;
-  std::unique_ptr<Card> card_;
+  std::unique_ptr<Amp> card_;
 };
 
 }  // namespace i20::ops

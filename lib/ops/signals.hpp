@@ -8,7 +8,7 @@
 // the process: a signal that arrives while the tool restores or settles the card is answered
 // by the main flow (Cancel::acknowledge: "restoring NVKQP; the card settles in a moment").
 // Only SIGKILL (kill -9) or SIGQUIT (Ctrl-\) end it at once; the next command then finds the
-// card in the mode it was left in and switches it off (ops::Card::open).
+// card in the mode it was left in and switches it off (ops::Amp::open).
 //
 // SIGTSTP (Ctrl-Z) waits while the card is in NV access or RPC memory mode and stops the
 // process once the mode is left (device/suspend_hold.hpp).

@@ -26,7 +26,7 @@ struct ReadOne {
 
 class Transaction {
  public:
-  Transaction(const profile::Profile& profile, const params::ParamDb& db, CardAccess& card,
+  Transaction(const profile::Profile& profile, const params::ParamDb& db, CellAccess& card,
               const TransactionOptions& options, TransactionResult& result)
       : profile_(profile), db_(db), card_(card), options_(options), result_(result) {}
 
@@ -441,7 +441,7 @@ class Transaction {
 
   const profile::Profile& profile_;
   const params::ParamDb& db_;
-  CardAccess& card_;
+  CellAccess& card_;
   const TransactionOptions& options_;
   TransactionResult& result_;
   std::vector<profile::CellWrite> writes_;
@@ -470,7 +470,7 @@ const char* to_string(CellStatus status) {
 }
 
 TransactionResult run_transaction(const profile::Profile& profile, const params::ParamDb& db,
-                                  CardAccess& card, const TransactionOptions& options) {
+                                  CellAccess& card, const TransactionOptions& options) {
   TransactionResult result;
   Transaction(profile, db, card, options, result).run();
   return result;

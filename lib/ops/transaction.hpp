@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "ops/cancel.hpp"
-#include "ops/card_access.hpp"
+#include "ops/cell_access.hpp"
 #include "ops/outcome.hpp"
 #include "params/param_db.hpp"
 #include "profile/finding.hpp"
@@ -46,7 +46,7 @@ struct TransactionOptions {
   // Where the backup of the old values goes (created if missing); none when empty.
   std::optional<std::filesystem::path> backup_dir;
   std::string backup_label;           // file name part: the profile name, the unit number
-  profile::CardOrigin backup_origin;  // the card: recorded in the backup, checked by an undo
+  profile::AmpOrigin backup_origin;   // the card: recorded in the backup, checked by an undo
   std::chrono::system_clock::time_point when = std::chrono::system_clock::now();
   Cancel cancel;  // polled before the first write and between writes
   // Told the plan once it is made and checked, before anything is written (a single-target
@@ -85,7 +85,7 @@ struct WriteRecord {
 
 struct TransactionResult {
   Outcome outcome = Outcome::Failed;
-  std::string card;                        // CardAccess::describe()
+  std::string card;                        // CellAccess::describe()
   std::string reason;                      // one line: why refused, or what failed; empty when done
   Advice reason_advice = Advice::None;     // what overrides the refusal in `reason`, for the app to name
   std::vector<profile::Finding> findings;  // validation against the card's current values
@@ -107,7 +107,7 @@ struct TransactionResult {
 
 // Never throws for card failures: they end in one of the outcomes above.
 TransactionResult run_transaction(const profile::Profile& profile, const params::ParamDb& db,
-                                  CardAccess& card, const TransactionOptions& options = {});
+                                  CellAccess& card, const TransactionOptions& options = {});
 
 // Working names of the parameters the manual's cross-parameter rules compare.
 const std::vector<std::string>& rule_parameters();

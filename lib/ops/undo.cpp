@@ -9,9 +9,9 @@
 
 namespace i20::ops {
 
-profile::CardOrigin origin_of(const Card& card) {
+profile::AmpOrigin origin_of(const Amp& card) {
   const auto& info = card.identity().info;
-  return profile::CardOrigin{
+  return profile::AmpOrigin{
       .unit_number = info.unit_number, .firmware = info.swrevision, .card = info.card_name};
 }
 
@@ -19,7 +19,7 @@ BackupChoice backup_file(const std::filesystem::path& file, const params::ParamD
   return BackupChoice{.file = file, .backup = profile::load_profile_file(file, db), .skipped = {}};
 }
 
-BackupChoice newest_valid_backup(const std::filesystem::path& dir, const Card& card) {
+BackupChoice newest_valid_backup(const std::filesystem::path& dir, const Amp& card) {
   const auto unit = card.identity().info.unit_number;
   if (!unit) throw UsageError("the card did not report its unit number: name the backup file to restore");
   std::string problem;
@@ -41,7 +41,7 @@ BackupChoice newest_valid_backup(const std::filesystem::path& dir, const Card& c
   throw UsageError(message + ": name the backup file, or give --backup-dir");
 }
 
-std::vector<std::string> check_backup_origin(const BackupChoice& choice, const Card& card, bool force) {
+std::vector<std::string> check_backup_origin(const BackupChoice& choice, const Amp& card, bool force) {
   const auto& info = card.identity().info;
   const auto& origin = choice.backup.origin;
   const auto unit = origin.unit_number ? origin.unit_number : profile::unit_in_backup_name(choice.file);

@@ -169,7 +169,7 @@ void read_supply(const Reader& r, const YAML::Node& node, SupplyInfo& supply) {
 const std::set<std::string> kOriginKeys{"unit", "firmware", "card"};
 
 // `origin: {unit: 0x00012345, firmware: 18, card: 8I20}`, as a save or a backup writes it.
-void read_origin(const Reader& r, const YAML::Node& node, CardOrigin& origin) {
+void read_origin(const Reader& r, const YAML::Node& node, AmpOrigin& origin) {
   if (!node.IsMap()) r.fail(node, "origin", "schema", "must be a map (unit, firmware, card)");
   r.only_keys(node, kOriginKeys, "origin");
   const auto number = [&](const char* key, std::int64_t max) -> std::optional<std::int64_t> {

@@ -45,7 +45,7 @@ struct SupplyInfo {
 
 // The 8I20 a saved profile or backup was read from (`origin:`): `profile undo` restores a
 // backup only onto that card unless forced. Profiles written by hand have none.
-struct CardOrigin {
+struct AmpOrigin {
   std::optional<std::uint32_t> unit_number;  // UNITNUMBER
   std::optional<std::uint16_t> firmware;     // SWREVISION
   std::string card;                          // the card's name, "8I20"
@@ -68,7 +68,7 @@ struct Profile {
   MotorInfo motor;
   SupplyInfo supply;
   std::string notes;
-  CardOrigin origin;
+  AmpOrigin origin;
   std::optional<Memory> target;  // profile-wide target; entries may override it
   std::vector<Setting> settings;
   std::vector<std::string> comments;  // written as '#' lines on top (provenance); not read back

@@ -16,7 +16,7 @@ struct SaveOptions {
   std::string name = "saved";  // the profile's name
   std::string notes;
   std::chrono::system_clock::time_point when = std::chrono::system_clock::now();
-  CardOrigin origin;  // the card read: written as `origin:` so an undo can check it is this card
+  AmpOrigin origin;  // the card read: written as `origin:` so an undo can check it is this card
 };
 
 // What `save` reads when no names are given: the writable EEPROM parameters whose

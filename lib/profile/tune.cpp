@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <numbers>
 
-#include "profile/card_limits.hpp"
+#include "profile/amp_limits.hpp"
 #include "profile/error.hpp"
 
 namespace i20::profile {
@@ -31,8 +31,8 @@ void check(const TuneRequest& r) {
   require_positive(r.bus_voltage_v, "the bus voltage");
   require_positive(r.bandwidth_hz, "the current-loop bandwidth");
   require_positive(r.sample_rate_hz, "the loop sample rate");
-  if (r.max_current_a > kCardMaxCurrentA)
-    throw TuneError("MAXCURRENT must not exceed the 8I20's " + limit_text(kCardMaxCurrentA, "A"));
+  if (r.max_current_a > kAmpMaxCurrentA)
+    throw TuneError("MAXCURRENT must not exceed the 8I20's " + limit_text(kAmpMaxCurrentA, "A"));
   const ReferenceTuning& ref = r.reference;
   require_positive(ref.motor.resistance_ohm, "the reference motor's resistance");
   require_positive(ref.motor.inductance_h, "the reference motor's inductance");

@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "motor/card_gains.hpp"
+#include "motor/amp_gains.hpp"
 #include "params/param_db.hpp"
 #include "profile/finding.hpp"
 
@@ -29,7 +29,7 @@ namespace i20::profile {
 // Per-phase (line-to-neutral) values; half the line-to-line values of a star motor.
 using MotorModel = motor::WindingParams;
 
-// The tuning the card's default gains are assumed to be (lib/motor/card_gains.hpp: the
+// The tuning the card's default gains are assumed to be (lib/motor/amp_gains.hpp: the
 // scaling is shared with the motor model, so the virtual 8I20 reads gains the same way).
 using ReferenceTuning = motor::ReferenceTuning;
 

@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "params/value.hpp"
-#include "profile/card_limits.hpp"
+#include "profile/amp_limits.hpp"
 #include "profile/effective.hpp"
 #include "profile/error.hpp"
 #include "profile/step_response.hpp"
@@ -19,7 +19,7 @@ namespace {
 using params::Space;
 
 // Limits the manual states (sections MOTOR BRAKE, OPERATE MODE BAUD RATE, BRAKEONV and
-// BRAKEOFFV); the card's current and bus limits are in profile/card_limits.hpp.
+// BRAKEOFFV); the card's current and bus limits are in profile/amp_limits.hpp.
 constexpr double kFixedBrakeOnV = 385.0;    // fixed brake-on that protects the module
 constexpr std::int64_t kMaxBaudIndex = 11;  // OPERATE MODE BAUD RATE: the table's last index
 constexpr double kBrakeHysteresisV = 20.0;  // "BRAKEOFFV be set 20V lower than BRAKEON"
@@ -146,9 +146,9 @@ class Checker {
           add(Severity::Error, cell, "baud-index",
               cell + " " + std::to_string(s.raw) + " is not an index of the manual's baud rate table (0..11)",
               &s);
-        if (base == "MAXCURRENT" && engineering > kCardMaxCurrentA + 1e-9)
+        if (base == "MAXCURRENT" && engineering > kAmpMaxCurrentA + 1e-9)
           add(Severity::Error, cell, "maxcurrent-card",
-              text + " (profile) is above the 8I20's " + limit_text(kCardMaxCurrentA, "A") + " RMS rating",
+              text + " (profile) is above the 8I20's " + limit_text(kAmpMaxCurrentA, "A") + " RMS rating",
               &s);
         if (base == "BRAKEONV" && engineering > kFixedBrakeOnV + 1e-9)
           add(Severity::Error, cell, "brake-on-limit",
@@ -174,9 +174,9 @@ class Checker {
 
   void supply_limit() {
     const auto bus = profile_.supply.bus_voltage_v;
-    if (bus && *bus > card_max_bus_v())
+    if (bus && *bus > amp_max_bus_v())
       add(Severity::Error, "supply.bus_voltage", "bus-card-limit",
-          "a " + volts(*bus) + " bus is above the 8I20's " + limit_text(card_max_bus_v(), "V") +
+          "a " + volts(*bus) + " bus is above the 8I20's " + limit_text(amp_max_bus_v(), "V") +
               " motor supply rating",
           nullptr);
   }

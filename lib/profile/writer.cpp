@@ -91,7 +91,7 @@ void write_supply(std::ostringstream& out, const SupplyInfo& s) {
     out << "  bus_voltage: " << format_quantity(Quantity::Voltage, *s.bus_voltage_v) << "\n";
 }
 
-void write_origin(std::ostringstream& out, const CardOrigin& o) {
+void write_origin(std::ostringstream& out, const AmpOrigin& o) {
   out << "origin:  # the 8I20 these values were read from\n";
   if (o.unit_number) out << "  unit: " << lbp::hex_value(*o.unit_number, 8) << "\n";
   if (o.firmware) out << "  firmware: " << *o.firmware << "  # SWREVISION\n";

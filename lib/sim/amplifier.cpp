@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "motor/card_gains.hpp"
+#include "motor/amp_gains.hpp"
 #include "sim/bits.hpp"
 #include "sim/error.hpp"
 

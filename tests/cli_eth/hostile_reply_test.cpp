@@ -114,7 +114,7 @@ class HostileReplies : public ::testing::TestWithParam<HostileCase> {
   sim::RegisterMap map() {
     return card_.with_amplifier(0, 0, [](sim::Virtual8i20& a) { return a.amplifier().map(); });
   }
-  test::RunningCard card_;
+  test::RunningBoard card_;
 };
 
 TEST_P(HostileReplies, OneLineErrorExitOneAndNothingWritten) {

@@ -21,7 +21,7 @@ namespace {
 
 ethsim::ServerOptions two_channel_7i92t() {
   ethsim::ServerOptions o;
-  o.card = ethsim::CardKind::I7i92t;
+  o.card = ethsim::BoardKind::I7i92t;
   o.amplifiers = {{0, 0}, {0, 1}};
   return o;
 }
@@ -43,7 +43,7 @@ class LateDatagrams : public ::testing::Test {
   // run leaves.
   Trial trial(const ethsim::NetworkFaults& faults, const lbp::Bytes* reference,
               lbp::Bytes* eeprom_out = nullptr) {
-    test::RunningCard card(two_channel_7i92t());
+    test::RunningBoard card(two_channel_7i92t());
     ethsim::FaultyNetwork network(card.address(), faults);
     const auto capture = [&] {
       return card.with_amplifier(0, 1, [](sim::Virtual8i20& a) { return sim::capture(a); });
@@ -169,7 +169,7 @@ TEST_F(LateDatagrams, ReorderingNetworkEndsWithinTheDeadlineWithATrueExitCode) {
   double longest = 0;
   std::map<int, unsigned> exits;
   for (unsigned seed = 1; seed <= runs; ++seed) {
-    test::RunningCard card(two_channel_7i92t());
+    test::RunningBoard card(two_channel_7i92t());
     const bool overtaken = seed % 2 == 1;
     ethsim::NetworkFaults faults{.seed = seed, .min_delay = 1ms, .max_delay = overtaken ? 2000ms : 30ms};
     (overtaken ? faults.reorder_share : faults.delay_share) = 0.30;

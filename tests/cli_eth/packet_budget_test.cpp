@@ -18,12 +18,12 @@ namespace {
 
 constexpr std::uint64_t kBudget = 8;  // issue 18 item 5 (37 before the opening was batched)
 
-std::uint64_t requests_received(test::RunningCard& card) {
-  return card.server().with_card([](ethsim::VirtualCard& c) { return c.stats().packets; });
+std::uint64_t requests_received(test::RunningBoard& card) {
+  return card.server().with_card([](ethsim::VirtualBoard& c) { return c.stats().packets; });
 }
 
 TEST(PacketBudget, GetBusvStaysWithinItsBudget) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto address = card.address().ip + ":" + std::to_string(card.address().port);
   const auto before = requests_received(card);
   const auto r = test::run("i20", {"--no-user-params", "--eth", address, "get", "BUSV"});
@@ -36,9 +36,9 @@ TEST(PacketBudget, GetBusvStaysWithinItsBudget) {
 
 TEST(PacketBudget, ATwoChannelPortStaysWithinTheBudgetToo) {
   ethsim::ServerOptions o;
-  o.card = ethsim::CardKind::I7i92t;
+  o.card = ethsim::BoardKind::I7i92t;
   o.amplifiers = {{0, 0}, {0, 1}};
-  test::RunningCard card(o);
+  test::RunningBoard card(o);
   const auto address = card.address().ip + ":" + std::to_string(card.address().port);
   const auto before = requests_received(card);
   const auto r = test::run("i20", {"--no-user-params", "--port", "eth://" + address + "/ch1", "get", "BUSV"});

@@ -187,7 +187,7 @@ TEST(CommissionRun, AFaultLatchedMidRunStopsIt) {
   VirtualAxis axis(MotorSpec{});
   std::thread fault([&] {
     std::this_thread::sleep_for(700ms);
-    axis.server().with_card([&](ethsim::VirtualCard& card) {
+    axis.server().with_card([&](ethsim::VirtualBoard& card) {
       axis.server().amplifier(card, 0, 0)->amplifier().world().settings().forced_faults =
           sim::fault::kOverTemp;
     });
@@ -238,21 +238,21 @@ TEST(CommissionRun, ASerialTargetIsRefusedBeforeAnythingMoves) {
 // pin descriptors number them from 1), plain GPIO on the 7I92T servo layout; pins a module
 // owns (encoder A/B/Z) are no candidates.
 TEST(CommissionRun, FeedbackMapNamesTheInputsAsHostmot2Does) {
-  auto info_of = [](const ethsim::CardConfig& c) {
+  auto info_of = [](const ethsim::BoardConfig& c) {
     eth::HostMot2Info info;
     info.idrom = c.idrom;
     info.modules = c.modules;
     info.pins = c.pins;
     return info;
   };
-  const auto i96 = eth::feedback_map(info_of(ethsim::CardConfig::preset(ethsim::CardKind::I7i96s)));
+  const auto i96 = eth::feedback_map(info_of(ethsim::BoardConfig::preset(ethsim::BoardKind::I7i96s)));
   ASSERT_FALSE(i96.inputs.empty());
   const auto first_inm = std::find_if(i96.inputs.begin(), i96.inputs.end(),
                                       [](const auto& in) { return in.hal_pin == "inm.00.input-00"; });
   ASSERT_NE(first_inm, i96.inputs.end());
   EXPECT_EQ(first_inm->bit, 0u);
   EXPECT_EQ(i96.encoders.size(), 1u);
-  const auto servo = eth::feedback_map(info_of(ethsim::CardConfig::preset_7i92t_servo()));
+  const auto servo = eth::feedback_map(info_of(ethsim::BoardConfig::preset_7i92t_servo()));
   EXPECT_EQ(servo.encoders.size(), 4u);
   std::vector<std::string> names;
   for (const auto& in : servo.inputs) names.push_back(in.hal_pin);

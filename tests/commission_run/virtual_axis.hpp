@@ -72,11 +72,11 @@ class VirtualAxis {
   explicit VirtualAxis(const MotorSpec& spec) : params_(motor::parse_motor(spec.yaml(), "test motor")) {
     ethsim::ServerOptions o;
     o.listen = eth::HostPort{.ip = "127.0.0.1", .port = 0};
-    o.card = ethsim::CardKind::I7i92t;
-    o.config = ethsim::CardConfig::preset_7i92t_servo();
+    o.card = ethsim::BoardKind::I7i92t;
+    o.config = ethsim::BoardConfig::preset_7i92t_servo();
     o.amplifiers = {{0, 0}};
     o.motors = {params_};
-    server_ = std::make_unique<ethsim::CardServer>(o);
+    server_ = std::make_unique<ethsim::BoardServer>(o);
     server_->start();
   }
   ~VirtualAxis() { server_->stop(); }
@@ -86,11 +86,11 @@ class VirtualAxis {
     so.target.eth = std::string("127.0.0.1:") + std::to_string(server_->address().port);
     return so;
   }
-  ethsim::CardServer& server() { return *server_; }
+  ethsim::BoardServer& server() { return *server_; }
   const motor::MotorParams& params() const { return params_; }
   // The q current the 8I20 drives now (amps, from its last QSETPOINT).
   double qsetpoint() {
-    return server_->with_card([&](ethsim::VirtualCard& card) {
+    return server_->with_card([&](ethsim::VirtualBoard& card) {
       return static_cast<double>(
           static_cast<std::int16_t>(server_->amplifier(card, 0, 0)->amplifier().value("QSETPOINT")));
     });
@@ -98,7 +98,7 @@ class VirtualAxis {
 
  private:
   motor::MotorParams params_;
-  std::unique_ptr<ethsim::CardServer> server_;
+  std::unique_ptr<ethsim::BoardServer> server_;
 };
 
 // Fast settings for tests: a short sweep, quick.

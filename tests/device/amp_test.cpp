@@ -26,7 +26,7 @@ class AmpTest : public ::testing::Test {
     return false;
   }
 
-  // The client is given the database resolved for the card (ops::Card does that): here
+  // The client is given the database resolved for the card (ops::Amp does that): here
   // the simulator's revision, whose working map the database confirms.
   static params::ParamDb resolved() {
     const auto loaded = params::ParamDb::builtin();
@@ -122,7 +122,7 @@ TEST_F(AmpTest, AResetInsideAnNvReadIsReportedNotShown) {
   identify_as_simulator();
   card.put(40, 19000, 2, /*nv=*/true);
   card.reset_at = 1;  // right after entering NV mode
-  EXPECT_THROW(amp.read("NVBRAKEONV"), CardStateError);
+  EXPECT_THROW(amp.read("NVBRAKEONV"), AmpStateError);
 }
 
 TEST_F(AmpTest, CancelledBeforeAnythingIsSent) {

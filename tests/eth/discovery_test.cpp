@@ -17,7 +17,7 @@ namespace {
 
 ethsim::ServerOptions card_7i92t() {
   ethsim::ServerOptions o;
-  o.card = ethsim::CardKind::I7i92t;
+  o.card = ethsim::BoardKind::I7i92t;
   o.amplifiers = {{0, 0}, {0, 3}, {1, 7}};
   return o;
 }
@@ -25,9 +25,9 @@ ethsim::ServerOptions card_7i92t() {
 }  // namespace
 
 TEST(EthDiscovery, IdentifiesThe7i96sFromSpace7) {
-  test::RunningCard card;
+  test::RunningBoard card;
   UdpClient bus(card.address().ip, card.address().port);
-  const CardIdentity id = identify(bus);
+  const BoardIdentity id = identify(bus);
   EXPECT_EQ(id.card_name, "7I96S");
   EXPECT_EQ(id.lbp16_version, 3);
   EXPECT_TRUE(id.has_timer_space());
@@ -35,7 +35,7 @@ TEST(EthDiscovery, IdentifiesThe7i96sFromSpace7) {
 }
 
 TEST(EthDiscovery, ReadsIdromModulesPinsAndLocatesSserial) {
-  test::RunningCard card;
+  test::RunningBoard card;
   UdpClient bus(card.address().ip, card.address().port);
   const HostMot2Info info = read_hostmot2(bus);
   EXPECT_EQ(bus.stats().packets_sent, 3u);  // ident area, IDROM, modules + pins
@@ -58,7 +58,7 @@ TEST(EthDiscovery, ReadsIdromModulesPinsAndLocatesSserial) {
 }
 
 TEST(EthDiscovery, NotAHostMot2CardIsNamedAsSuch) {
-  test::ScriptedCard card([](const lbp::Bytes& request, const auto& client, test::ScriptedCard::Sockets s) {
+  test::ScriptedBoard card([](const lbp::Bytes& request, const auto& client, test::ScriptedBoard::Sockets s) {
     s.card.send_to(boost::asio::buffer(test::zero_card_reply(request)), client);
   });
   UdpClient bus("127.0.0.1", card.port());
@@ -71,7 +71,7 @@ TEST(EthDiscovery, NotAHostMot2CardIsNamedAsSuch) {
 }
 
 TEST(EthDiscovery, SslbpLocalParameters) {
-  test::RunningCard card;
+  test::RunningBoard card;
   UdpClient bus(card.address().ip, card.address().port);
   SslbpPort port(bus, find_sserial_port(read_hostmot2(bus), 0), true);
   port.stop_all();
@@ -89,7 +89,7 @@ TEST(EthDiscovery, SslbpLocalParameters) {
 }
 
 TEST(EthDiscovery, ScanFindsThe8i20OnThe7i96s) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const ScanResult r = scan(card.address());
   EXPECT_EQ(r.card.card_name, "7I96S");
   EXPECT_EQ(r.board_name, "MESA7I96");
@@ -104,11 +104,11 @@ TEST(EthDiscovery, ScanFindsThe8i20OnThe7i96s) {
   EXPECT_EQ(r.targets()[0].url(), card.target(0).url());
   // Scanning leaves the port stopped.
   card.server().with_card(
-      [](ethsim::VirtualCard& c) { EXPECT_EQ(c.sslbp(0).mode(0), ethsim::ChannelMode::Stopped); });
+      [](ethsim::VirtualBoard& c) { EXPECT_EQ(c.sslbp(0).mode(0), ethsim::ChannelMode::Stopped); });
 }
 
 TEST(EthDiscovery, ScanOfA7i92tWithTwoPortsOfEightChannels) {
-  test::RunningCard card(card_7i92t());
+  test::RunningBoard card(card_7i92t());
   const ScanResult r = scan(card.address());
   EXPECT_EQ(r.card.card_name, "7I92T");
   ASSERT_EQ(r.ports.size(), 2u);

@@ -2,7 +2,7 @@
 // Test-only: serves the virtual card until killed (or for --seconds N), so that external
 // clients such as mesaflash can be pointed at it by hand.
 //   eth_test_server [ADDR[:PORT]] [--card 7i96s|7i92t|7i92t-servo] [--seconds N] [--spin REV_PER_S]
-// 7i92t-servo is the 7I92T with four encoder + 8I20 axes (CardConfig::preset_7i92t_servo).
+// 7i92t-servo is the 7I92T with four encoder + 8I20 axes (BoardConfig::preset_7i92t_servo).
 // --spin turns axis 0's shaft (encoder 2000 counts, index at 0, Halls with 4 pole pairs) at a
 // constant speed, for watching hostmot2's encoder and InM pins move.
 #include <atomic>
@@ -31,10 +31,10 @@ int main(int argc, char** argv) {
       const std::string arg = argv[i];
       if (arg == "--card" && i + 1 < argc && std::string(argv[i + 1]) == "7i92t-servo") {
         ++i;
-        options.card = ethsim::CardKind::I7i92t;
-        options.config = ethsim::CardConfig::preset_7i92t_servo();
+        options.card = ethsim::BoardKind::I7i92t;
+        options.config = ethsim::BoardConfig::preset_7i92t_servo();
       } else if (arg == "--card" && i + 1 < argc)
-        options.card = ethsim::parse_card_kind(argv[++i]);
+        options.card = ethsim::parse_board_kind(argv[++i]);
       else if (arg == "--seconds" && i + 1 < argc)
         seconds = std::stod(argv[++i]);
       else if (arg == "--spin" && i + 1 < argc)
@@ -44,12 +44,12 @@ int main(int argc, char** argv) {
     }
     if (options.config)
       options.amplifiers = {{0, 0}, {0, 1}, {1, 0}, {1, 1}};
-    else if (options.card == ethsim::CardKind::I7i92t)
+    else if (options.card == ethsim::BoardKind::I7i92t)
       options.amplifiers = {{0, 0}, {0, 3}, {1, 7}};
-    ethsim::CardServer server(options);
+    ethsim::BoardServer server(options);
     if (spin != 0)
-      server.with_card([spin](ethsim::VirtualCard& card) {
-        const auto start = card.card_time();
+      server.with_card([spin](ethsim::VirtualBoard& card) {
+        const auto start = card.board_time();
         card.feedback().connect_axis(0, ethsim::EncoderSpec{.counts_per_turn = 2000},
                                      ethsim::HallSpec{.pole_pairs = 4},
                                      [spin, start](ethsim::Clock::time_point t) {

@@ -25,7 +25,7 @@ namespace {
 // a request can be held back for a number of later sends, or dropped; a reply can be lost.
 // It records the order in which the card executed packets, by the value each one wrote to
 // space 6 address 0x1A (a marker only these tests use).
-class HeldBackCard final : public eth::Lbp16Transport {
+class HeldBackBoard final : public eth::Lbp16Transport {
  public:
   // Resent: the first attempt is held back, the client resends (a second send, as
   // UdpClient does for a read-only packet) and that attempt is answered.
@@ -121,10 +121,10 @@ lbp16::Command some_read() {
 }
 
 struct Fixture {
-  HeldBackCard* card = nullptr;
+  HeldBackBoard* card = nullptr;
   std::unique_ptr<eth::FencedTransport> bus;
   explicit Fixture(eth::FenceOptions options = {}) {
-    auto inner = std::make_unique<HeldBackCard>();
+    auto inner = std::make_unique<HeldBackBoard>();
     card = inner.get();
     options.probe_pause = std::chrono::milliseconds(0);
     bus = std::make_unique<eth::FencedTransport>(std::move(inner), options);
@@ -142,7 +142,7 @@ struct Fixture {
 TEST(FencedTransport, ALateWriteLandsBeforeAnythingThatFollowsItsTimeout) {
   Fixture f;
   f.write(1);
-  f.card->plan(2, HeldBackCard::Fate::HoldBack, 4);  // arrives while the 4th probe after it goes out
+  f.card->plan(2, HeldBackBoard::Fate::HoldBack, 4);  // arrives while the 4th probe after it goes out
   EXPECT_THROW(f.write(2), link::TimeoutError);
   f.write(3);  // the fence runs first
   EXPECT_EQ(f.card->executed_markers(), (std::vector<std::uint16_t>{1, 2, 3}))
@@ -154,7 +154,7 @@ TEST(FencedTransport, ALateWriteLandsBeforeAnythingThatFollowsItsTimeout) {
 TEST(FencedTransport, AFenceReportsWhetherTheUnansweredPacketArrived) {
   Fixture f;
   f.write(1);
-  f.card->plan(2, HeldBackCard::Fate::LoseReply);  // it ran; only the reply is gone
+  f.card->plan(2, HeldBackBoard::Fate::LoseReply);  // it ran; only the reply is gone
   EXPECT_THROW(f.write(2), link::TimeoutError);
   const eth::FenceReport r = f.bus->fence();
   EXPECT_TRUE(r.needed);
@@ -165,7 +165,7 @@ TEST(FencedTransport, AFenceReportsWhetherTheUnansweredPacketArrived) {
 TEST(FencedTransport, ReadsNeedNoFence) {
   Fixture f;
   f.read();
-  f.card->plan(2, HeldBackCard::Fate::HoldBack, 3);
+  f.card->plan(2, HeldBackBoard::Fate::HoldBack, 3);
   EXPECT_THROW(f.read(), link::TimeoutError);
   EXPECT_FALSE(f.bus->fence().needed);
   f.read();
@@ -178,7 +178,7 @@ TEST(FencedTransport, ReadsNeedNoFence) {
 TEST(FencedTransport, AWriteGivenUpOnThatArrivesAfterAllFailsTheExchangeItLandsIn) {
   Fixture f(eth::FenceOptions{.bound = std::chrono::milliseconds(0)});
   f.write(1);
-  f.card->plan(2, HeldBackCard::Fate::HoldBack, 1000);  // far past the bound
+  f.card->plan(2, HeldBackBoard::Fate::HoldBack, 1000);  // far past the bound
   EXPECT_THROW(f.write(2), link::TimeoutError);
   const eth::FenceReport r = f.bus->fence();
   EXPECT_TRUE(r.needed);
@@ -198,7 +198,7 @@ TEST(FencedTransport, AWriteGivenUpOnThatArrivesAfterAllFailsTheExchangeItLandsI
 // older command's result as STATUS.
 TEST(FencedTransport, AnEarlierAttemptOfTheFirstPacketIsNotTakenForALaterPacket) {
   Fixture f;
-  f.card->plan(1, HeldBackCard::Fate::Resent, 3);  // sends 1 and 2; the first arrives 3 sends later
+  f.card->plan(1, HeldBackBoard::Fate::Resent, 3);  // sends 1 and 2; the first arrives 3 sends later
   f.read();
   f.card->hold_marker(2, 6);
   EXPECT_THROW(f.write(2), link::TimeoutError);
@@ -211,7 +211,7 @@ TEST(FencedTransport, AnEarlierAttemptOfTheFirstPacketIsNotTakenForALaterPacket)
 
 TEST(FencedTransport, AnUnansweredFirstPacketIsNotTakenAsArrived) {
   Fixture f;
-  f.card->plan(1, HeldBackCard::Fate::HoldBack, 4);  // the very first packet, with writes
+  f.card->plan(1, HeldBackBoard::Fate::HoldBack, 4);  // the very first packet, with writes
   EXPECT_THROW(f.write(1), link::TimeoutError);
   const eth::FenceReport r = f.bus->fence();
   EXPECT_TRUE(r.needed);

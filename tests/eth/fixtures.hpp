@@ -33,24 +33,24 @@ bool eventually(Done&& done, std::chrono::milliseconds limit = std::chrono::mill
 }
 
 // A virtual card serving on 127.0.0.1:<ephemeral> for the lifetime of the object.
-class RunningCard {
+class RunningBoard {
  public:
   // The defaults are built in a named local (loopback()): a temporary ServerOptions as a
   // default argument makes GCC 12 at -O3 report -Wmaybe-uninitialized, a false positive.
-  RunningCard() : server_(loopback()) { server_.start(); }
-  explicit RunningCard(ethsim::ServerOptions options) : server_(ephemeral(std::move(options))) {
+  RunningBoard() : server_(loopback()) { server_.start(); }
+  explicit RunningBoard(ethsim::ServerOptions options) : server_(ephemeral(std::move(options))) {
     server_.start();
   }
   eth::HostPort address() const { return server_.address(); }
   eth::EthTarget target(unsigned channel = 0, unsigned sserial_port = 0) const {
     return eth::EthTarget{.card = address(), .sserial_port = sserial_port, .channel = channel};
   }
-  ethsim::CardServer& server() { return server_; }
+  ethsim::BoardServer& server() { return server_; }
   // The virtual 8I20 on a channel, inside the server's lock.
   template <class F>
   auto with_amplifier(unsigned port, unsigned channel, F&& f) {
     return server_.with_card(
-        [&](ethsim::VirtualCard& card) { return f(*server_.amplifier(card, port, channel)); });
+        [&](ethsim::VirtualBoard& card) { return f(*server_.amplifier(card, port, channel)); });
   }
 
  private:
@@ -64,7 +64,7 @@ class RunningCard {
     o.listen = eth::HostPort{.ip = "127.0.0.1", .port = 0};
     return o;
   }
-  ethsim::CardServer server_;
+  ethsim::BoardServer server_;
 };
 
 // Answers like an LBP16 card that reads zeros everywhere except space 6 Scratch, which
@@ -83,7 +83,7 @@ inline lbp::Bytes zero_card_reply(lbp::ByteView request) {
 
 // A card whose behaviour the test scripts. It owns two sockets on 127.0.0.1: the card's
 // own and an impostor, so a script can answer from the wrong address too.
-class ScriptedCard {
+class ScriptedBoard {
  public:
   using udp = boost::asio::ip::udp;
   struct Sockets {
@@ -92,7 +92,7 @@ class ScriptedCard {
   };
   using Script = std::function<void(const lbp::Bytes& request, const udp::endpoint& client, Sockets sockets)>;
 
-  explicit ScriptedCard(Script script) : script_(std::move(script)) {
+  explicit ScriptedBoard(Script script) : script_(std::move(script)) {
     for (udp::socket* s : {&card_, &impostor_}) {
       s->open(udp::v4());
       s->bind(udp::endpoint(boost::asio::ip::make_address_v4("127.0.0.1"), 0));
@@ -100,7 +100,7 @@ class ScriptedCard {
     }
     thread_ = std::thread([this] { loop(); });
   }
-  ~ScriptedCard() {
+  ~ScriptedBoard() {
     stop_ = true;
     thread_.join();
   }

@@ -43,10 +43,10 @@ class EthMesaflash : public ::testing::Test {
   }
   // Overloaded rather than defaulted: a default-argument ServerOptions temporary makes
   // GCC 12 at -O3 report -Wmaybe-uninitialized (a false positive) at every call site.
-  std::unique_ptr<ethsim::CardServer> serve() { return serve(ethsim::ServerOptions()); }
-  std::unique_ptr<ethsim::CardServer> serve(ethsim::ServerOptions options) {
+  std::unique_ptr<ethsim::BoardServer> serve() { return serve(ethsim::ServerOptions()); }
+  std::unique_ptr<ethsim::BoardServer> serve(ethsim::ServerOptions options) {
     options.listen = eth::HostPort{.ip = private_loopback(), .port = 27181};
-    auto server = std::make_unique<ethsim::CardServer>(options);
+    auto server = std::make_unique<ethsim::BoardServer>(options);
     server->start();
     return server;
   }
@@ -114,14 +114,14 @@ TEST_F(EthMesaflash, RegisterReadAndWrite) {
   // mesaflash sends the write and exits without waiting for an answer: the server's
   // thread handles the datagram when it next runs, which may be after mesaflash has gone.
   const auto reg = [&] {
-    return server->with_card([](ethsim::VirtualCard& c) { return c.hm2_register(0x7000); });
+    return server->with_card([](ethsim::VirtualBoard& c) { return c.hm2_register(0x7000); });
   };
   EXPECT_TRUE(test::eventually([&] { return reg() == 0x12345678u; })) << std::hex << reg();
 }
 
 TEST_F(EthMesaflash, The7i92tWithEightChannelsPerPort) {
   ethsim::ServerOptions options;
-  options.card = ethsim::CardKind::I7i92t;
+  options.card = ethsim::BoardKind::I7i92t;
   options.amplifiers = {{0, 0}, {0, 3}};
   const auto server = serve(options);
   const std::string hmid = mesaflash("7i92t", "--readhmid");

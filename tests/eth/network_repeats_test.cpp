@@ -26,7 +26,7 @@ const SserialPort kPort{.index = 0, .registers = {.command = 0x5B00, .data = 0x5
 // The running-host watch over a network that delivers every request twice, the copy within
 // 2 ms, to `card`; the client it used, for its counts.
 struct RepeatingNetworkWatch {
-  explicit RepeatingNetworkWatch(test::RunningCard& card)
+  explicit RepeatingNetworkWatch(test::RunningBoard& card)
       : network(card.address(), faults()),
         bus(parse_host_port(network.address()).ip, parse_host_port(network.address()).port, UdpOptions{}),
         seen(observe_host_activity(bus, std::span(&kPort, 1), check)) {}
@@ -46,7 +46,7 @@ struct RepeatingNetworkWatch {
 }  // namespace
 
 TEST(EthNetworkRepeats, OurRepeatedRequestsAreCountedAsOursAndShowNoHost) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const RepeatingNetworkWatch watch(card);
   const TransportStats stats = watch.bus.stats();
   EXPECT_GT(stats.network_repeats, 0u) << "the copies' replies were not told apart";
@@ -58,7 +58,7 @@ TEST(EthNetworkRepeats, OurRepeatedRequestsAreCountedAsOursAndShowNoHost) {
 // The same watch beside a host that really runs still sees it: the copies of ours are
 // discounted, another host's packets are not.
 TEST(EthNetworkRepeats, AHostThatRunsIsStillSeenThroughARepeatingNetwork) {
-  test::RunningCard card;
+  test::RunningBoard card;
   card.server().start_host(ethsim::HostOptions{});
   const RepeatingNetworkWatch watch(card);
   EXPECT_TRUE(host_is_running(watch.seen, watch.check)) << watch.seen.describe();

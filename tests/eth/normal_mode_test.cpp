@@ -12,7 +12,7 @@ using namespace i20::eth;
 using namespace std::chrono_literals;
 
 TEST(EthNormalMode, StartsReadsUnitNumberAndStreamsTheAmplifiersValues) {
-  test::RunningCard card;
+  test::RunningBoard card;
   card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) {
     amp.world().settings().bus_volts = 320.0;
     amp.world().settings().temperature_c = 35.0;
@@ -42,7 +42,7 @@ TEST(EthNormalMode, StartsReadsUnitNumberAndStreamsTheAmplifiersValues) {
 }
 
 TEST(EthNormalMode, KeepsTheWatchdogFedAndNeverCommandsCurrent) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto session = NormalModeSession::open(card.target(0));
   std::this_thread::sleep_for(300ms);  // the caller dawdles; the worker keeps cadence
   const LiveStatus s = session->wait_for_sample(500ms);
@@ -57,14 +57,14 @@ TEST(EthNormalMode, KeepsTheWatchdogFedAndNeverCommandsCurrent) {
       EXPECT_EQ(s.channel(0)->fault & 0x0001, 0) << "watchdog fault";
     }
   });
-  card.server().with_card([](ethsim::VirtualCard& c) {
+  card.server().with_card([](ethsim::VirtualBoard& c) {
     EXPECT_EQ(c.sslbp(0).mode(0), ethsim::ChannelMode::Normal);
     EXPECT_EQ(c.sslbp(0).stats().ignored_while_busy, 0u);
   });
 }
 
 TEST(EthNormalMode, FaultsShowUpInInterface1) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto session = NormalModeSession::open(card.target(0));
   card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) { amp.world().settings().enable = false; });
   std::uint16_t fault = 0;
@@ -73,32 +73,32 @@ TEST(EthNormalMode, FaultsShowUpInInterface1) {
 }
 
 TEST(EthNormalMode, StopSendsTheStopCommand) {
-  test::RunningCard card;
+  test::RunningBoard card;
   auto session = NormalModeSession::open(card.target(0));
   session->wait_for_sample(500ms);
   session->stop();
   EXPECT_FALSE(session->running());
   card.server().with_card(
-      [](ethsim::VirtualCard& c) { EXPECT_EQ(c.sslbp(0).mode(0), ethsim::ChannelMode::Stopped); });
+      [](ethsim::VirtualBoard& c) { EXPECT_EQ(c.sslbp(0).mode(0), ethsim::ChannelMode::Stopped); });
   session->stop();  // idempotent
   EXPECT_THROW(session->wait_for_sample(50ms), link::TimeoutError);
 }
 
 TEST(EthNormalMode, DestructionStopsToo) {
-  test::RunningCard card;
+  test::RunningBoard card;
   {
     const auto session = NormalModeSession::open(card.target(0));
     session->wait_for_sample(500ms);
   }
   card.server().with_card(
-      [](ethsim::VirtualCard& c) { EXPECT_EQ(c.sslbp(0).mode(0), ethsim::ChannelMode::Stopped); });
+      [](ethsim::VirtualBoard& c) { EXPECT_EQ(c.sslbp(0).mode(0), ethsim::ChannelMode::Stopped); });
 }
 
 TEST(EthNormalMode, SeveralChannelsOfA7i92tPort) {
   ethsim::ServerOptions options;
-  options.card = ethsim::CardKind::I7i92t;
+  options.card = ethsim::BoardKind::I7i92t;
   options.amplifiers = {{1, 2}, {1, 5}};
-  test::RunningCard card(options);
+  test::RunningBoard card(options);
   const auto session = NormalModeSession::open(card.address(), 1, 0x24);
   EXPECT_EQ(session->unit_number(2), 0x00012345u);
   EXPECT_EQ(session->unit_number(5), 0x00012346u);
@@ -109,9 +109,9 @@ TEST(EthNormalMode, SeveralChannelsOfA7i92tPort) {
 
 TEST(EthNormalMode, ChannelThatDoesNotStartIsReported) {
   ethsim::ServerOptions options;
-  options.card = ethsim::CardKind::I7i92t;
+  options.card = ethsim::BoardKind::I7i92t;
   options.amplifiers = {{0, 0}};
-  test::RunningCard card(options);
+  test::RunningBoard card(options);
   try {
     NormalModeSession::open(card.address(), 0, 0x03);
     FAIL();
@@ -121,7 +121,7 @@ TEST(EthNormalMode, ChannelThatDoesNotStartIsReported) {
 }
 
 TEST(EthNormalMode, CardThatGoesAwayFailsTheSession) {
-  auto card = std::make_unique<test::RunningCard>();
+  auto card = std::make_unique<test::RunningBoard>();
   NormalModeOptions options;
   options.udp.timeout = 10ms;
   const auto session = NormalModeSession::open(card->target(0), options);
@@ -138,7 +138,7 @@ TEST(EthNormalMode, CardThatGoesAwayFailsTheSession) {
 }
 
 TEST(EthNormalMode, RefusesPeriodsThatLetTheWatchdogBite) {
-  test::RunningCard card;
+  test::RunningBoard card;
   NormalModeOptions options;
   options.period = 30ms;
   EXPECT_THROW(NormalModeSession::open(card.target(0), options), UsageError);

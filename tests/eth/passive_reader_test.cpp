@@ -10,7 +10,7 @@
 #include <functional>
 #include <mutex>
 
-#include "ethsim/card_control.hpp"
+#include "ethsim/board_control.hpp"
 #include "fixtures.hpp"
 #include "ops/passive_monitor.hpp"
 #include "ops/passive_watch.hpp"
@@ -21,7 +21,7 @@ using namespace std::chrono_literals;
 
 namespace {
 
-unsigned long host_doits(test::RunningCard& card) {
+unsigned long host_doits(test::RunningBoard& card) {
   const auto status = card.server().host_status();
   if (!status) return 0;
   const auto end = status->find(" DOITs");
@@ -33,7 +33,7 @@ unsigned long host_doits(test::RunningCard& card) {
 // A 7I92T with 8I20s on port 0 channels 0 and 1, run by the stand-in.
 ethsim::ServerOptions machine() {
   ethsim::ServerOptions o;
-  o.card = ethsim::CardKind::I7i92t;
+  o.card = ethsim::BoardKind::I7i92t;
   o.amplifiers = {{0, 0}, {0, 1}};
   o.host = ethsim::HostOptions{};
   return o;
@@ -114,7 +114,7 @@ const ProcessData* channel(const PassiveSnapshot& s, unsigned port, unsigned ch)
 }  // namespace
 
 TEST(PassiveReader, ChannelsComeFromThePinTable) {
-  test::RunningCard card(machine());
+  test::RunningBoard card(machine());
   PassiveReader reader(card.address());
   ASSERT_EQ(reader.ports().size(), 2u);
   EXPECT_EQ(reader.channels(0), 8u);  // the 7I92T preset wires 8 channels per port
@@ -122,11 +122,11 @@ TEST(PassiveReader, ChannelsComeFromThePinTable) {
 }
 
 TEST(PassiveReader, ReadsTheManualsProcessDataOfEveryChannelWithoutWriting) {
-  test::RunningCard card(machine());
+  test::RunningBoard card(machine());
   ASSERT_TRUE(test::eventually([&] { return host_doits(card) >= 50; }, 30s)) << *card.server().host_status();
-  ethsim::apply_card_control(card.server(), "ch 1 busv 48");
-  ethsim::apply_card_control(card.server(), "ch 1 temp 61");
-  ethsim::apply_card_control(card.server(), "ch 0 fault overcurrent on");
+  ethsim::apply_board_control(card.server(), "ch 1 busv 48");
+  ethsim::apply_board_control(card.server(), "ch 1 temp 61");
+  ethsim::apply_board_control(card.server(), "ch 0 fault overcurrent on");
   Log log;
   PassiveReader reader(logged(card.address(), log));
   PassiveSnapshot s;
@@ -155,7 +155,7 @@ TEST(PassiveReader, ReadsTheManualsProcessDataOfEveryChannelWithoutWriting) {
 }
 
 TEST(PassiveReader, NeverSendsMoreThanTwentyRequestsInAnySecond) {
-  test::RunningCard card(machine());
+  test::RunningBoard card(machine());
   Log log;
   PassiveReader reader(logged(card.address(), log));
   for (int i = 0; i < 30; ++i) reader.read();  // as fast as the reader lets us
@@ -168,7 +168,7 @@ TEST(PassiveReader, NeverSendsMoreThanTwentyRequestsInAnySecond) {
 }
 
 TEST(PassiveMonitor, ReportsTimestampedChangesDecodedByTheFaultTable) {
-  test::RunningCard card(machine());
+  test::RunningBoard card(machine());
   ASSERT_TRUE(test::eventually([&] { return host_doits(card) >= 50; }, 30s)) << *card.server().host_status();
   ops::PassiveMonitor monitor(card.address());
   auto first = monitor.sample();
@@ -177,7 +177,7 @@ TEST(PassiveMonitor, ReportsTimestampedChangesDecodedByTheFaultTable) {
                                     [](const auto& c) { return c.kind == ops::PassiveChange::Kind::Joined; });
   EXPECT_EQ(joined, 2);
   const auto before = std::chrono::system_clock::now();
-  ethsim::apply_card_control(card.server(), "ch 1 fault overcurrent on");
+  ethsim::apply_board_control(card.server(), "ch 1 fault overcurrent on");
   std::vector<ops::PassiveChange> seen;
   ASSERT_TRUE(test::eventually(
       [&] {
@@ -197,7 +197,7 @@ TEST(PassiveMonitor, ReportsTimestampedChangesDecodedByTheFaultTable) {
 }
 
 TEST(PassiveMonitor, SaysWhenTheHostGoesQuiet) {
-  test::RunningCard card(machine());
+  test::RunningBoard card(machine());
   ASSERT_TRUE(test::eventually([&] { return host_doits(card) >= 20; }, 30s));
   ops::PassiveMonitor monitor(card.address());
   monitor.sample();
@@ -214,7 +214,7 @@ TEST(PassiveMonitor, SaysWhenTheHostGoesQuiet) {
 }
 
 TEST(PassiveWatch, SaysOnceWhenTheCardStopsAnsweringAndAgainWhenItIsBack) {
-  test::RunningCard card(machine());
+  test::RunningBoard card(machine());
   ASSERT_TRUE(test::eventually([&] { return host_doits(card) >= 20; }, 30s));
   Log log;
   std::atomic<int> unanswered{0};
@@ -238,7 +238,7 @@ TEST(PassiveWatch, SaysOnceWhenTheCardStopsAnsweringAndAgainWhenItIsBack) {
 }
 
 TEST(PassiveWatch, AViewThatFailsEndsTheWatch) {
-  test::RunningCard card(machine());
+  test::RunningBoard card(machine());
   ASSERT_TRUE(test::eventually([&] { return host_doits(card) >= 20; }, 30s));
   ops::PassiveMonitor monitor(card.address());
   struct ReaderGone {};

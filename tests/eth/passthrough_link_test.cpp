@@ -28,7 +28,7 @@ std::uint64_t value(const lbp::Bytes& bytes) {
 }  // namespace
 
 TEST(EthPassthrough, OpensTheChannelAndFindsThe8i20) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   EXPECT_EQ(link->remote().name, "8I20");
   EXPECT_EQ(link->remote().unit_number, 0x00012345u);
@@ -36,11 +36,11 @@ TEST(EthPassthrough, OpensTheChannelAndFindsThe8i20) {
   EXPECT_EQ(link->describe(), "eth " + card.address().describe() + " ch 0");
   EXPECT_FALSE(link->notes().empty());
   card.server().with_card(
-      [](ethsim::VirtualCard& c) { EXPECT_EQ(c.sslbp(0).mode(0), ethsim::ChannelMode::Setup); });
+      [](ethsim::VirtualBoard& c) { EXPECT_EQ(c.sslbp(0).mode(0), ethsim::ChannelMode::Setup); });
 }
 
 TEST(EthPassthrough, ReadsWordsAndLongsAndLocalRegisters) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   const std::vector<lbp::Command> batch{
       lbp::read(kUnitNumber, DataSize::Four), lbp::read(kSwRevision, DataSize::Two),
@@ -54,7 +54,7 @@ TEST(EthPassthrough, ReadsWordsAndLongsAndLocalRegisters) {
 }
 
 TEST(EthPassthrough, ParameterReadCostsAtMostTwoRoundTrips) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   const auto sent_before = link->transport_stats().packets_sent;
   for (int i = 0; i < 20; ++i) link->execute_one(lbp::read(kSwRevision, DataSize::Two));
@@ -67,7 +67,7 @@ TEST(EthPassthrough, ParameterReadCostsAtMostTwoRoundTrips) {
 }
 
 TEST(EthPassthrough, ParameterWriteAndNvWriteRoundTrips) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   link->execute_one(lbp::write(kFaultMask, DataSize::Two, 0xFFFF));
   EXPECT_LE(link->stats().max_round_trips, 2u);
@@ -83,19 +83,19 @@ TEST(EthPassthrough, ParameterWriteAndNvWriteRoundTrips) {
 
 TEST(EthPassthrough, WithoutTheTimerSpaceItPollsUntilCommandClears) {
   ethsim::ServerOptions options;
-  options.config = ethsim::CardConfig::preset(ethsim::CardKind::I7i96s);
+  options.config = ethsim::BoardConfig::preset(ethsim::BoardKind::I7i96s);
   options.config->lbp16_version = 2;                          // no space 4: no WaituS
   options.sslbp.processing = std::chrono::microseconds(300);  // a slow SSLBP
-  test::RunningCard card(options);
+  test::RunningBoard card(options);
   const auto link = SslbpPassthroughLink::open(card.target(0));
   EXPECT_EQ(value(link->execute_one(lbp::read(kUnitNumber, DataSize::Four))), 0x00012345u);
   EXPECT_GE(link->stats().max_round_trips, 2u);  // COMMAND was still busy at the first read-back
   card.server().with_card(
-      [](ethsim::VirtualCard& c) { EXPECT_EQ(c.sslbp(0).stats().ignored_while_busy, 0u); });
+      [](ethsim::VirtualBoard& c) { EXPECT_EQ(c.sslbp(0).stats().ignored_while_busy, 0u); });
 }
 
 TEST(EthPassthrough, WritesRamAndReadsItBack) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   link->execute_one(lbp::write(kFaultMask, DataSize::Two, 0xFEFF));
   EXPECT_EQ(value(link->execute_one(lbp::read(kFaultMask, DataSize::Two))), 0xFEFFu);
@@ -105,7 +105,7 @@ TEST(EthPassthrough, WritesRamAndReadsItBack) {
 }
 
 TEST(EthPassthrough, NvModeWritesTheEepromThroughCs0xEC) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   const std::vector<lbp::Command> batch{
       lbp::set_nv_access(lbp::local::NvAccess::Eeprom), lbp::write(kNvKqp, DataSize::Two, 77),
@@ -122,7 +122,7 @@ TEST(EthPassthrough, NvModeWritesTheEepromThroughCs0xEC) {
 }
 
 TEST(EthPassthrough, UnsupportedCommandsAreRefusedWithTheirIndex) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   const std::vector<lbp::Command> batch{lbp::read(kSwRevision, DataSize::Two),
                                         lbp::read(0x0816, DataSize::Eight)};
@@ -138,7 +138,7 @@ TEST(EthPassthrough, UnsupportedCommandsAreRefusedWithTheirIndex) {
 }
 
 TEST(EthPassthrough, SilentRemoteIsATimeoutInWords) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) {
     sim::Injection mute;
@@ -160,7 +160,7 @@ TEST(EthPassthrough, SilentRemoteIsATimeoutInWords) {
 }
 
 TEST(EthPassthrough, CorruptedRepliesAreCrcErrors) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) {
     sim::Injection corrupt;
@@ -177,9 +177,9 @@ TEST(EthPassthrough, CorruptedRepliesAreCrcErrors) {
 
 TEST(EthPassthrough, EmptyChannelIsADiscoveryError) {
   ethsim::ServerOptions options;
-  options.card = ethsim::CardKind::I7i92t;
+  options.card = ethsim::BoardKind::I7i92t;
   options.amplifiers = {{0, 0}};
-  test::RunningCard card(options);
+  test::RunningBoard card(options);
   try {
     SslbpPassthroughLink::open(card.target(2));
     FAIL();
@@ -192,7 +192,7 @@ TEST(EthPassthrough, EmptyChannelIsADiscoveryError) {
 
 TEST(EthPassthrough, NoCardAtTheAddressTimesOut) {
   // Nothing listens on this port: the open fails with a timeout, quickly.
-  test::ScriptedCard silent([](const lbp::Bytes&, const auto&, test::ScriptedCard::Sockets) {});
+  test::ScriptedBoard silent([](const lbp::Bytes&, const auto&, test::ScriptedBoard::Sockets) {});
   PassthroughOptions options;
   options.udp.timeout = 20ms;
   EXPECT_THROW(

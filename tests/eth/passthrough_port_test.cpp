@@ -68,9 +68,9 @@ void read_modes(SslbpPassthroughLink& link) {
   link.execute(std::vector{lbp::local_read(L::kGetNvAccess), lbp::local_read(L::kGetRpcMemAccess)});
 }
 
-std::uint64_t ignored_doits(test::RunningCard& card) {
+std::uint64_t ignored_doits(test::RunningBoard& card) {
   return card.server().with_card(
-      [](ethsim::VirtualCard& c) { return c.sslbp(0).stats().ignored_while_busy; });
+      [](ethsim::VirtualBoard& c) { return c.sslbp(0).stats().ignored_while_busy; });
 }
 
 // Forwards to a UdpClient; the reply of the chosen transaction is "lost" after the card
@@ -96,7 +96,7 @@ class LosingTransport final : public Lbp16Transport {
 }  // namespace
 
 TEST(EthBatching, ADumpIsOneRoundTripWithEveryValueRight) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   read_modes(*link);
   const auto before = packets(*link);
@@ -120,7 +120,7 @@ TEST(EthBatching, ADumpIsOneRoundTripWithEveryValueRight) {
 // 18 item 5); the port learns it from the first 0xCC read it carries (the test above) or
 // from the 0xEC steps it ran.
 TEST(EthBatching, AnNvModeNobodyHasReadOrSetSplitsThePacketAtTheFirst0xEC) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   auto before = packets(*link);
   const auto batch = dump_like();
@@ -135,7 +135,7 @@ TEST(EthBatching, AnNvModeNobodyHasReadOrSetSplitsThePacketAtTheFirst0xEC) {
 }
 
 TEST(EthBatching, NvWriteWithVerifyIsOneRoundTripAndOneEepromWrite) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   const auto writes = card.with_amplifier(0, 0, [](sim::Virtual8i20& a) { return a.stats().eeprom_writes; });
   const auto before = packets(*link);
@@ -155,7 +155,7 @@ TEST(EthBatching, NvWriteWithVerifyIsOneRoundTripAndOneEepromWrite) {
 }
 
 TEST(EthBatching, WritesAndReadBacksInOneBatch) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   const std::vector<lbp::Command> batch{lbp::write(kFaultMask, DataSize::Two, 0xFEFF),
                                         lbp::read(kFaultMask, DataSize::Two),
@@ -178,7 +178,7 @@ TEST(EthBatching, ASlowSslbpIsCaughtAndTheResultsStayRight) {
   // ignores the DOITs written after it, and the link polls and replays.
   ethsim::ServerOptions options;
   options.sslbp.processing = std::chrono::microseconds(400);
-  test::RunningCard card(options);
+  test::RunningBoard card(options);
   const auto link = SslbpPassthroughLink::open(card.target(0));
   const auto batch = dump_like();
   const auto r = link->execute(batch);
@@ -205,7 +205,7 @@ std::vector<lbp::Command> rpc_slice(std::uint16_t bytes) {
   return batch;
 }
 
-void expect_the_table(test::RunningCard& card, const std::vector<lbp::Bytes>& r, std::uint16_t bytes) {
+void expect_the_table(test::RunningBoard& card, const std::vector<lbp::Bytes>& r, std::uint16_t bytes) {
   const lbp::Bytes table = card.with_amplifier(0, 0, [](sim::Virtual8i20& a) { return a.rpc_table(); });
   ASSERT_GE(table.size(), bytes);
   lbp::Bytes read;
@@ -216,7 +216,7 @@ void expect_the_table(test::RunningCard& card, const std::vector<lbp::Bytes>& r,
 }
 
 TEST(EthBatching, AnRpcTableSliceIsOnePacket) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   read_modes(*link);
   const auto before = packets(*link);
@@ -228,7 +228,7 @@ TEST(EthBatching, AnRpcTableSliceIsOnePacket) {
 TEST(EthBatching, AnRpcTableSliceStaysRightOnASlowSslbp) {
   ethsim::ServerOptions options;
   options.sslbp.processing = std::chrono::microseconds(400);
-  test::RunningCard card(options);
+  test::RunningBoard card(options);
   const auto link = SslbpPassthroughLink::open(card.target(0));
   read_modes(*link);
   const auto r = link->execute(rpc_slice(64));
@@ -239,7 +239,7 @@ TEST(EthBatching, AnRpcTableSliceStaysRightOnASlowSslbp) {
 TEST(EthBatching, AWaitTooShortForTheSerialTimeIsCaught) {
   // The estimate leaves out the remote's turnaround and SSLBP's processing: too short for
   // the virtual card's timing, which the checks must catch.
-  test::RunningCard card;
+  test::RunningBoard card;
   PassthroughOptions options;
   options.turnaround_characters = 0;
   options.overhead = 0us;
@@ -258,7 +258,7 @@ TEST(EthBatching, ASlowEepromIsWaitedForNotWrittenTwice) {
   ethsim::ServerOptions options;
   options.amplifier.eeprom_word_time = std::chrono::milliseconds(12);  // beyond the 5 ms estimate
   options.sslbp.remote_timeout = std::chrono::milliseconds(40);
-  test::RunningCard card(options);
+  test::RunningBoard card(options);
   const auto link = SslbpPassthroughLink::open(card.target(0));
   const auto writes = card.with_amplifier(0, 0, [](sim::Virtual8i20& a) { return a.stats().eeprom_writes; });
   const auto batch = nv_write(kNvBrakeOnV, 19000);
@@ -274,9 +274,9 @@ TEST(EthBatching, ASlowEepromIsWaitedForNotWrittenTwice) {
 
 TEST(EthBatching, CardsWithoutTheTimerSpacePollEveryDoit) {
   ethsim::ServerOptions options;
-  options.config = ethsim::CardConfig::preset(ethsim::CardKind::I7i96s);
+  options.config = ethsim::BoardConfig::preset(ethsim::BoardKind::I7i96s);
   options.config->lbp16_version = 2;  // older firmware: no space 4, no WaituS
-  test::RunningCard card(options);
+  test::RunningBoard card(options);
   const auto link = SslbpPassthroughLink::open(card.target(0));
   const auto batch = dump_like();
   const auto r = link->execute(batch);
@@ -286,7 +286,7 @@ TEST(EthBatching, CardsWithoutTheTimerSpacePollEveryDoit) {
 }
 
 TEST(EthBatching, ALostReplyIsResentWhenTheBatchMayRunTwice) {
-  test::RunningCard card;
+  test::RunningBoard card;
   auto bus = std::make_unique<LosingTransport>(card.address(), 0);
   auto* losing = bus.get();
   SslbpPassthroughLink link(std::move(bus), card.target(0));
@@ -301,7 +301,7 @@ TEST(EthBatching, ALostReplyIsResentWhenTheBatchMayRunTwice) {
 }
 
 TEST(EthBatching, ALostReplyOfAResetIsNeverResent) {
-  test::RunningCard card;
+  test::RunningBoard card;
   auto bus = std::make_unique<LosingTransport>(card.address(), 0);
   auto* losing = bus.get();
   SslbpPassthroughLink link(std::move(bus), card.target(0));
@@ -324,9 +324,9 @@ TEST(EthBatching, ALostReplyOfAResetIsNeverResent) {
 
 TEST(EthBatching, OneDoitServesEveryChannelOfThePort) {
   ethsim::ServerOptions options;
-  options.card = ethsim::CardKind::I7i92t;
+  options.card = ethsim::BoardKind::I7i92t;
   options.amplifiers = {{0, 0}, {0, 1}, {0, 2}, {0, 3}};
-  test::RunningCard card(options);
+  test::RunningBoard card(options);
   const auto port = PassthroughPort::open(card.address(), 0, 0x0F);
   const auto batch = dump_like();
   std::vector<PassthroughPort::Batch> batches;
@@ -349,9 +349,9 @@ TEST(EthBatching, OneDoitServesEveryChannelOfThePort) {
 
 TEST(EthBatching, ChannelsOfDifferentLengthsAndAFailingChannel) {
   ethsim::ServerOptions options;
-  options.card = ethsim::CardKind::I7i92t;
+  options.card = ethsim::BoardKind::I7i92t;
   options.amplifiers = {{0, 0}, {0, 1}, {0, 5}};
-  test::RunningCard card(options);
+  test::RunningBoard card(options);
   const auto port = PassthroughPort::open(card.address(), 0, 0x23);
   card.with_amplifier(0, 1, [](sim::Virtual8i20& amp) {
     sim::Injection mute;
@@ -379,9 +379,9 @@ TEST(EthBatching, ChannelsOfDifferentLengthsAndAFailingChannel) {
 
 TEST(EthBatching, LinksOfSeveralThreadsShareTheirDoits) {
   ethsim::ServerOptions options;
-  options.card = ethsim::CardKind::I7i92t;
+  options.card = ethsim::BoardKind::I7i92t;
   options.amplifiers = {{1, 2}, {1, 3}, {1, 4}};
-  test::RunningCard card(options);
+  test::RunningBoard card(options);
   const auto port = PassthroughPort::open(card.address(), 1, 0x1C);
   std::vector<std::unique_ptr<link::Link>> links;
   for (unsigned ch = 2; ch <= 4; ++ch) links.push_back(port->link(ch));
@@ -408,7 +408,7 @@ TEST(EthBatching, LinksOfSeveralThreadsShareTheirDoits) {
 TEST(EthReadOnly, ALatchedFaultSurvivesAnyNumberOfPassthroughReads) {
   // Reading is read-only: a setup start does no device specific setup (8I20 manual, SETUP
   // START), so FAULT stays latched however often faults are looked at this way.
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto fault = [&] {
     return card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) { return amp.amplifier().value("FAULT"); });
   };
@@ -440,7 +440,7 @@ TEST(EthReadOnly, ALatchedFaultSurvivesAnyNumberOfPassthroughReads) {
 TEST(EthReadOnly, LinuxCncsMaxcurrentReadFindsMaxcurrent) {
   // LinuxCNC reads 2 bytes at RAM 0x08E8 in setup mode to scale its current pin
   // (docs/facts.md s2): the virtual card answers MAXCURRENT there, not 0.
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   EXPECT_EQ(value(link->execute_one(lbp::read(kMaxCurrent, DataSize::Two))), 1000u);
 }
@@ -449,10 +449,10 @@ TEST(EthBatching, TwoPortsOfOneCardAtOnceShareOneTransport) {
   // A fleet over both ports of a 7I92T: over one card transport each port counts the
   // other's packets as ours; over two UDP clients they would be another host's.
   ethsim::ServerOptions options;
-  options.card = ethsim::CardKind::I7i92t;
+  options.card = ethsim::BoardKind::I7i92t;
   options.amplifiers = {{0, 0}, {1, 0}};
-  test::RunningCard card(options);
-  const auto bus = PassthroughPort::card_transport(card.address());
+  test::RunningBoard card(options);
+  const auto bus = PassthroughPort::board_transport(card.address());
   const auto port0 = PassthroughPort::open(bus, 0, 0x01);
   const auto port1 = PassthroughPort::open(bus, 1, 0x01);
   const auto batch = dump_like();

@@ -27,9 +27,9 @@
 #include "ethsim/faulty_network.hpp"
 #include "fixtures.hpp"
 #include "lbp/header.hpp"
+#include "ops/amp.hpp"
+#include "ops/amp_cell_access.hpp"
 #include "ops/cancel.hpp"
-#include "ops/card.hpp"
-#include "ops/device_access.hpp"
 #include "ops/link_options.hpp"
 #include "ops/read.hpp"
 #include "sim/param_map.hpp"
@@ -50,8 +50,8 @@ ops::RetryPolicy budget_only() {
 // One batch of three reads: over Ethernet three DOITs in one packet.
 const std::vector<std::string> kRead{"BUSV", "FAULT", "STATUS"};
 
-// Reads kRead as every i20 command does (Card::with_retries); the error's text when it fails.
-std::string read_or_error(ops::Card& card) {
+// Reads kRead as every i20 command does (Amp::with_retries); the error's text when it fails.
+std::string read_or_error(ops::Amp& card) {
   try {
     ops::read_values(card, kRead, ops::Unconfirmed::Read);
   } catch (const link::LinkError& e) {
@@ -85,11 +85,11 @@ class CountingLink final : public link::Link {
   std::unique_ptr<link::Link> inner_;
 };
 
-// The serial simulator behind the link ops builds for a serial port, opened as a Card.
+// The serial simulator behind the link ops builds for a serial port, opened as an ops::Amp.
 struct SerialRig {
   sim::SimStream* stream = nullptr;
   CountingLink* counting = nullptr;
-  std::unique_ptr<ops::Card> card;
+  std::unique_ptr<ops::Amp> card;
 
   explicit SerialRig(const ops::RetryPolicy& retry = budget_only()) {
     ops::LinkSettings settings;
@@ -101,7 +101,7 @@ struct SerialRig {
     auto link = std::make_unique<CountingLink>(
         std::make_unique<link::PipelinedLink>(std::move(s), ops::serial_link_options(settings, retry)));
     counting = link.get();
-    card = ops::Card::attach(std::move(link), ops::parse_endpoint("sim"), params::ParamDb::builtin(), retry);
+    card = ops::Amp::attach(std::move(link), ops::parse_endpoint("sim"), params::ParamDb::builtin(), retry);
   }
   std::uint64_t executed() {
     return stream->with_card([](sim::Virtual8i20& c) { return c.stats().commands_executed; });
@@ -127,7 +127,7 @@ TEST(RetryBudget, SerialReadWithEveryReplyLostIsSentAtMostThreeTimes) {
 
 TEST(RetryBudget, SerialWriteWithEveryReplyLostIsSentOnceAndReadBackAtMostThreeTimes) {
   SerialRig rig;
-  ops::DeviceCardAccess access(*rig.card, device::WriteOptions{});
+  ops::AmpCellAccess access(*rig.card, device::WriteOptions{});
   const std::int64_t kqp = ops::read_values(*rig.card, std::vector<std::string>{"KQP"}).front().raw.value();
   access.check_write("KQP", kqp + 1);
   rig.stream->control("drop 1");
@@ -190,17 +190,17 @@ eth::PassthroughOptions eth_options(const ops::RetryPolicy& retry) {
   return options;
 }
 
-std::uint64_t executed(test::RunningCard& card) {
+std::uint64_t executed(test::RunningBoard& card) {
   return card.with_amplifier(0, 0, [](sim::Virtual8i20& a) { return a.stats().commands_executed; });
 }
 
-std::unique_ptr<ops::Card> open_eth(const eth::HostPort& at, const eth::PassthroughOptions& options,
-                                    const ops::RetryPolicy& retry, std::unique_ptr<eth::Lbp16Transport> bus) {
+std::unique_ptr<ops::Amp> open_eth(const eth::HostPort& at, const eth::PassthroughOptions& options,
+                                   const ops::RetryPolicy& retry, std::unique_ptr<eth::Lbp16Transport> bus) {
   auto port = std::make_shared<eth::PassthroughPort>(std::shared_ptr<eth::Lbp16Transport>(std::move(bus)), 0,
                                                      std::uint8_t{1}, options);
   const eth::EthTarget target{.card = at, .sserial_port = 0, .channel = 0};
-  return ops::Card::attach(port->link(0), ops::parse_endpoint(target.url()), params::ParamDb::builtin(),
-                           retry);
+  return ops::Amp::attach(port->link(0), ops::parse_endpoint(target.url()), params::ParamDb::builtin(),
+                          retry);
 }
 
 void PrintTo(LosingDoits::Lose lose, std::ostream* os) {
@@ -210,7 +210,7 @@ void PrintTo(LosingDoits::Lose lose, std::ostream* os) {
 class EthLoss : public ::testing::TestWithParam<LosingDoits::Lose> {};
 
 TEST_P(EthLoss, AReadWhoseDoitPacketsAreAllLostIsSentAtMostThreeTimes) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const ops::RetryPolicy retry = budget_only();
   const auto options = eth_options(retry);
   auto losing = std::make_unique<LosingDoits>(
@@ -245,7 +245,7 @@ INSTANTIATE_TEST_SUITE_P(RetryBudget, EthLoss,
 // Every reply on the network lost (the faulty network's proxy drops them all), probes
 // included: the read reaches the 8I20 at most three times and the error says why.
 TEST(RetryBudget, EthReadWithEveryReplyOnTheNetworkLostIsSentAtMostThreeTimes) {
-  test::RunningCard card;
+  test::RunningBoard card;
   ethsim::FaultyNetwork network(card.address(), ethsim::NetworkFaults{});
   const eth::HostPort proxy = eth::parse_host_port(network.address());
   const ops::RetryPolicy retry = budget_only();
@@ -347,7 +347,7 @@ TEST(SilenceWindow, AStopRequestEndsTheWait) {
     rig.stream = s.get();
     ops::LinkSettings settings;
     settings.timeout_ms = 20;
-    rig.card = ops::Card::attach(
+    rig.card = ops::Amp::attach(
         std::make_unique<link::PipelinedLink>(std::move(s), ops::serial_link_options(settings, retry)),
         ops::parse_endpoint("sim"), params::ParamDb::builtin(), retry, ops::Cancel(stop, {}));
   }
@@ -362,7 +362,7 @@ TEST(SilenceWindow, AStopRequestEndsTheWait) {
 // the card, finds the value (or writes it again), and the write is verified, not uncertain.
 TEST(SilenceWindow, AWriteDuringAShortSilenceEndsVerified) {
   SerialRig rig{ops::RetryPolicy{}};
-  ops::DeviceCardAccess access(*rig.card, device::WriteOptions{});
+  ops::AmpCellAccess access(*rig.card, device::WriteOptions{});
   const std::int64_t kqp = ops::read_values(*rig.card, std::vector<std::string>{"KQP"}).front().raw.value();
   access.check_write("KQP", kqp + 1);
   rig.stream->control("drop 1");
@@ -377,12 +377,12 @@ TEST(SilenceWindow, AWriteDuringAShortSilenceEndsVerified) {
 // exchange finds the channel not ready, the port is set up again (the running-host watch
 // first), and the read answers instead of failing.
 TEST(SilenceWindow, AnEthernetCardThatResetsIsSetUpAgainAndRead) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const ops::RetryPolicy retry;
   const auto options = eth_options(retry);
   auto port = eth::PassthroughPort::open(card.address(), 0, std::uint8_t{1}, options);
-  auto opened = ops::Card::attach(port->link(0), ops::parse_endpoint(card.target().url()),
-                                  params::ParamDb::builtin(), retry);
+  auto opened = ops::Amp::attach(port->link(0), ops::parse_endpoint(card.target().url()),
+                                 params::ParamDb::builtin(), retry);
   ASSERT_EQ(read_or_error(*opened), "");
   card.server().go_dark(5ms, /*power_loss=*/false);
   std::this_thread::sleep_for(20ms);
@@ -437,7 +437,7 @@ TEST(OperationDeadline, PastItALostReadIsSentOnceAndNotWaitedFor) {
 // card), with the default options' policy, waits shortened as for the tests above.
 TEST(OperationDeadline, OverEthernetPastItALostReadIsSentOnce) {
   for (const bool past : {false, true}) {
-    test::RunningCard card;
+    test::RunningBoard card;
     ops::RetryPolicy retry;
     if (past) retry.operation_deadline = 0ms;
     const auto options = eth_options(retry);

@@ -33,7 +33,7 @@ ethsim::ServerOptions with_running_host() {
 }
 
 // The DOITs the stand-in has run ("..., N DOITs (F failed)"), 0 before it runs.
-unsigned long host_doits(test::RunningCard& card) {
+unsigned long host_doits(test::RunningBoard& card) {
   const auto status = card.server().host_status();
   if (!status) return 0;
   const auto end = status->find(" DOITs");
@@ -44,17 +44,17 @@ unsigned long host_doits(test::RunningCard& card) {
 
 // Lets the stand-in get through its stop and normal start and run some cycles (a loaded
 // machine delays its thread: wait for the cycles, not for a time).
-void let_host_run(test::RunningCard& card) {
+void let_host_run(test::RunningBoard& card) {
   ASSERT_TRUE(test::eventually([&] { return host_doits(card) >= 20; }, 30s)) << *card.server().host_status();
 }
 
-ethsim::ChannelMode mode_of(test::RunningCard& card) {
-  return card.server().with_card([](ethsim::VirtualCard& c) { return c.sslbp(0).mode(0); });
+ethsim::ChannelMode mode_of(test::RunningBoard& card) {
+  return card.server().with_card([](ethsim::VirtualBoard& c) { return c.sslbp(0).mode(0); });
 }
 
 // Answers reads of the space 6 counters and COMMAND with values the test scripts; every
 // other read is 0. Counts its packets like a UdpClient.
-class CounterCard final : public Lbp16Transport {
+class CounterBoard final : public Lbp16Transport {
  public:
   std::uint16_t received = 0, sent = 0, command = 0;
   std::uint16_t foreign_per_packet = 0;  // another host's packets between two of ours
@@ -119,7 +119,7 @@ const SserialPort kPort{.index = 0, .registers = {.command = 0x5B00, .data = 0x5
 }  // namespace
 
 TEST(EthRunningHost, OwnPacketsAreNotForeignEvenWhenTheCountersWrap) {
-  CounterCard bus;
+  CounterBoard bus;
   bus.received = 0xFFFE;  // wraps during the window
   bus.sent = 0xFFFF;
   RunningHostCheck check;
@@ -133,7 +133,7 @@ TEST(EthRunningHost, OwnPacketsAreNotForeignEvenWhenTheCountersWrap) {
 }
 
 TEST(EthRunningHost, ForeignPacketsAndABusyCommandAreNamed) {
-  CounterCard bus;
+  CounterBoard bus;
   bus.foreign_per_packet = 5;  // a 1 ms servo loop between our samples
   bus.command = 0x1001;        // its DOIT on channel 0 in flight
   RunningHostCheck check;
@@ -166,13 +166,13 @@ TEST(EthRunningHost, OurOwnResentReadIsNeitherForeignNorHidesAForeignPacket) {
   RunningHostCheck check;
   check.window = 4ms;
   {
-    CounterCard idle;
+    CounterBoard idle;
     idle.resent_transactions = {1};  // the window's first counter read
     const HostActivity seen = observe_host_activity(idle, std::span(&kPort, 1), check);
     EXPECT_EQ(seen.foreign_packets(), 0u) << seen.describe();
   }
   {
-    CounterCard idle;  // the opening's watch, its first read in the survey
+    CounterBoard idle;  // the opening's watch, its first read in the survey
     idle.resent_transactions = {1};
     const auto counters = udp_counters_read();
     CounterSample first;
@@ -184,7 +184,7 @@ TEST(EthRunningHost, OurOwnResentReadIsNeitherForeignNorHidesAForeignPacket) {
     const HostActivity seen = require_no_running_host(idle, std::span(&kPort, 1), check, "stop", first);
     EXPECT_EQ(seen.foreign_packets(), 0u) << seen.describe();
   }
-  CounterCard busy;
+  CounterBoard busy;
   busy.foreign_per_packet = 3;     // 3 of another host's packets before each of ours
   busy.resent_transactions = {5};  // the last counter read (1 + 3 COMMAND samples + 1)
   const HostActivity seen = observe_host_activity(busy, std::span(&kPort, 1), check);
@@ -200,7 +200,7 @@ TEST(EthRunningHost, OneForeignExchangeInTheWindowIsWatchedLonger) {
   RunningHostCheck check;
   check.window = 4ms;
   {
-    CounterCard stray;
+    CounterBoard stray;
     stray.foreign_exchange_before = {3};  // one query from another PC, in the first window
     const HostActivity seen = observe_host_activity(stray, std::span(&kPort, 1), check);
     EXPECT_EQ(seen.foreign_packets(), 2u) << seen.describe();
@@ -208,10 +208,10 @@ TEST(EthRunningHost, OneForeignExchangeInTheWindowIsWatchedLonger) {
     EXPECT_EQ(stray.transactions, 5u + check.extra_windows) << "every extra window was watched";
     EXPECT_GE(seen.window, check.window * (1 + check.extra_windows)) << seen.describe();
   }
-  CounterCard slow;
+  CounterBoard slow;
   slow.foreign_exchange_before = {3, 7};  // the first window (5 requests) and the second extra one
   EXPECT_TRUE(host_is_running(observe_host_activity(slow, std::span(&kPort, 1), check), check));
-  CounterCard idle;
+  CounterBoard idle;
   EXPECT_FALSE(host_is_running(observe_host_activity(idle, std::span(&kPort, 1), check), check));
   EXPECT_EQ(idle.transactions, 5u) << "an idle card is watched for one window";
 }
@@ -222,7 +222,7 @@ TEST(EthRunningHost, OneForeignExchangeInTheWindowIsWatchedLonger) {
 // a card that waits serves no other host, and the watch runs beside a host that may be
 // running a machine.
 TEST(EthRunningHost, TheOpeningsWatchIsOneRequestAndTheCardNeverWaits) {
-  CounterCard bus;
+  CounterBoard bus;
   RunningHostCheck check;
   check.window = 30ms;
   check.command_samples = 1;
@@ -262,13 +262,13 @@ TEST(EthRunningHost, TheOpeningsWatchIsOneRequestAndTheCardNeverWaits) {
 }
 
 TEST(EthRunningHost, AnIdleCardIsNotRunByAnyone) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto link = SslbpPassthroughLink::open(card.target(0));
   EXPECT_EQ(link->port().host_activity().foreign_packets(), 0u);
 }
 
 TEST(EthRunningHost, PassthroughOpenIsRefusedBesideARunningMachineAndTheMachineRunsOn) {
-  test::RunningCard card(with_running_host());
+  test::RunningBoard card(with_running_host());
   let_host_run(card);
   ASSERT_EQ(mode_of(card), ethsim::ChannelMode::Normal);
   try {
@@ -293,7 +293,7 @@ TEST(EthRunningHost, PassthroughOpenIsRefusedBesideARunningMachineAndTheMachineR
 // its start runs (SSLBP ignores a command written while busy: its start would be lost and
 // its machine left in our setup mode), and closing leaves its port alone.
 TEST(EthRunningHost, AHostThatStartsDuringTheSessionOwnsThePortFromThen) {
-  test::RunningCard card;
+  test::RunningBoard card;
   {
     const auto link = SslbpPassthroughLink::open(card.target(0));
     ASSERT_EQ(lbp::read_le(link->execute_one(lbp::read(2344, lbp::DataSize::Four))), 0x00012345u);
@@ -331,7 +331,7 @@ class AnotherClientAfter final : public Lbp16Transport {
         after_(after),
         exchanges_(exchanges),
         keep_talking_(keep_talking),
-        inner_(PassthroughPort::card_transport(card)) {}
+        inner_(PassthroughPort::board_transport(card)) {}
   ~AnotherClientAfter() override {
     stop_ = true;
     if (talker_.joinable()) talker_.join();
@@ -382,7 +382,7 @@ class AnotherClientAfter final : public Lbp16Transport {
 // host's channel in setup mode before this check). Here a client that talks every
 // millisecond from the watch's end on stands for the host: refused, and never setup-started.
 TEST(EthRunningHost, AHostThatTalksRightAfterTheWatchIsWatchedAgainBeforeTheSetupStart) {
-  test::RunningCard card;
+  test::RunningBoard card;
   // The survey, then the watch's last counter read: the other client starts after packet 2.
   const auto bus = std::make_shared<AnotherClientAfter>(card.address(), 2, 3, true);
   try {
@@ -397,14 +397,14 @@ TEST(EthRunningHost, AHostThatTalksRightAfterTheWatchIsWatchedAgainBeforeTheSetu
 // One stray exchange after the watch (a mesaflash query from another PC, a repeated datagram)
 // is watched again and shows no running host: the opening goes on.
 TEST(EthRunningHost, AStrayQueryRightAfterTheWatchDoesNotRefuseTheOpening) {
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto bus = std::make_shared<AnotherClientAfter>(card.address(), 2, 1, false);
   const auto port = PassthroughPort::open(bus, 0, 1);
   EXPECT_EQ(mode_of(card), ethsim::ChannelMode::Setup);
 }
 
 TEST(EthRunningHost, TakeOverStopsTheMachineAsItSays) {
-  test::RunningCard card(with_running_host());
+  test::RunningBoard card(with_running_host());
   let_host_run(card);
   PassthroughOptions options;
   options.running_host.take_over = true;
@@ -426,7 +426,7 @@ TEST(EthRunningHost, TakeOverStopsTheMachineAsItSays) {
 }
 
 TEST(EthRunningHost, ScanIsRefusedAndWithTakeOverProceeds) {
-  test::RunningCard card(with_running_host());
+  test::RunningBoard card(with_running_host());
   let_host_run(card);
   ScanOptions options;
   try {
@@ -454,7 +454,7 @@ TEST(EthRunningHost, AHostSlowerThanThirtyMillisecondsIsSeen) {
   EXPECT_GT(RunningHostCheck{}.window, 40ms) << "longer than the 8I20's watchdog";
   ethsim::ServerOptions o;
   o.host = ethsim::HostOptions{.period = 35ms};
-  test::RunningCard card(o);
+  test::RunningBoard card(o);
   ASSERT_TRUE(test::eventually([&] { return host_doits(card) >= 3; }, 30s)) << *card.server().host_status();
   int refused = 0;
   for (int i = 0; i < 20; ++i) {
@@ -475,7 +475,7 @@ TEST(EthRunningHost, AHostSlowerThanThirtyMillisecondsIsSeen) {
 }
 
 TEST(EthRunningHost, NormalStartIsRefusedBesideARunningMachine) {
-  test::RunningCard card(with_running_host());
+  test::RunningBoard card(with_running_host());
   let_host_run(card);
   EXPECT_THROW(NormalModeSession::open(card.target(0)), RunningHostError);
   NormalModeOptions options;
@@ -485,7 +485,7 @@ TEST(EthRunningHost, NormalStartIsRefusedBesideARunningMachine) {
 
 TEST(EthRunningHost, ASecondClientInNormalModeCountsAsARunningHost) {
   // The stand-in for LinuxCNC: another client watching in normal mode.
-  test::RunningCard card;
+  test::RunningBoard card;
   const auto watching = NormalModeSession::open(card.target(0));
   watching->wait_for_sample(500ms);
   EXPECT_THROW(SslbpPassthroughLink::open(card.target(0)), RunningHostError);
@@ -498,7 +498,7 @@ TEST(EthRunningHost, ASecondClientInNormalModeCountsAsARunningHost) {
 }
 
 TEST(EthRunningHost, AStoppedHostNoLongerCounts) {
-  test::RunningCard card(with_running_host());
+  test::RunningBoard card(with_running_host());
   let_host_run(card);
   // While it runs it counts: without this the test would pass with no host at all.
   EXPECT_THROW(SslbpPassthroughLink::open(card.target(0)), RunningHostError);

@@ -8,7 +8,7 @@
 #include <algorithm>
 
 #include "ethsim/virtual_8i20_remote.hpp"
-#include "ethsim/virtual_card.hpp"
+#include "ethsim/virtual_board.hpp"
 
 using namespace i20;
 using namespace i20::ethsim;
@@ -24,11 +24,11 @@ class EthSslbpEngine : public ::testing::Test {
  protected:
   Clock::time_point t = Clock::time_point{} + 1h;
   sim::Virtual8i20* amp = nullptr;  // the last amplifier built
-  std::unique_ptr<VirtualCard> card = make(CardKind::I7i96s, {0});
+  std::unique_ptr<VirtualBoard> card = make(BoardKind::I7i96s, {0});
 
-  std::unique_ptr<VirtualCard> make(CardKind kind, std::vector<unsigned> channels_with_8i20) {
-    VirtualCardOptions options;
-    options.config = CardConfig::preset(kind);
+  std::unique_ptr<VirtualBoard> make(BoardKind kind, std::vector<unsigned> channels_with_8i20) {
+    VirtualBoardOptions options;
+    options.config = BoardConfig::preset(kind);
     options.remotes = [this, channels_with_8i20](unsigned, unsigned ch) -> std::unique_ptr<RemoteLbpDevice> {
       if (std::find(channels_with_8i20.begin(), channels_with_8i20.end(), ch) == channels_with_8i20.end())
         return nullptr;
@@ -36,7 +36,7 @@ class EthSslbpEngine : public ::testing::Test {
       amp = &remote->device();
       return remote;
     };
-    return std::make_unique<VirtualCard>(std::move(options), t);
+    return std::make_unique<VirtualBoard>(std::move(options), t);
   }
 
   std::uint32_t read(std::uint16_t address) {
@@ -82,7 +82,7 @@ TEST_F(EthSslbpEngine, CommandWrittenWhileBusyIsIgnored) {
 }
 
 TEST_F(EthSslbpEngine, SetupStartReportsNameAndUnitAndFailedChannels) {
-  card = make(CardKind::I7i92t, {1});
+  card = make(BoardKind::I7i92t, {1});
   EXPECT_EQ(command(sslbp::start_setup(0x03)), 0x01);  // channel 0 is empty
   EXPECT_EQ(read(kIf1 + 4), sslbp::kName8i20);
   EXPECT_EQ(read(kIf0 + 4), 0x00012345u);

@@ -13,7 +13,7 @@ using namespace i20;
 using namespace i20::eth;
 using namespace std::chrono_literals;
 namespace lbp16 = i20::lbp::lbp16;
-using test::ScriptedCard;
+using test::ScriptedBoard;
 
 namespace {
 
@@ -30,7 +30,7 @@ UdpOptions patient(unsigned retries = 2) {
 
 // Waits until the scripted card has logged `n` requests (its thread logs them after the
 // client sent them), then says whether it logged exactly that many.
-bool logged_requests(const ScriptedCard& card, std::size_t n) {
+bool logged_requests(const ScriptedBoard& card, std::size_t n) {
   test::eventually([&] { return card.requests() >= n; });
   return card.requests() == n;
 }
@@ -40,7 +40,7 @@ const lbp16::Command kCookie = lbp16::read_hm2(0x0100);
 }  // namespace
 
 TEST(EthUdpClient, ReadsTheCookieFromTheVirtualCard) {
-  test::RunningCard card;
+  test::RunningBoard card;
   UdpClient client(card.address().ip, card.address().port);
   const auto reply = client.transact(std::span(&kCookie, 1));
   ASSERT_EQ(reply.size(), 1u);
@@ -50,7 +50,7 @@ TEST(EthUdpClient, ReadsTheCookieFromTheVirtualCard) {
 }
 
 TEST(EthUdpClient, RepliesFromAnotherSenderAreIgnored) {
-  ScriptedCard card([](const lbp::Bytes& request, const auto& client, ScriptedCard::Sockets s) {
+  ScriptedBoard card([](const lbp::Bytes& request, const auto& client, ScriptedBoard::Sockets s) {
     const lbp::Bytes good = test::zero_card_reply(request);
     lbp::Bytes forged = good;
     forged.back() = 0xEE;
@@ -66,7 +66,7 @@ TEST(EthUdpClient, RepliesFromAnotherSenderAreIgnored) {
 }
 
 TEST(EthUdpClient, OnlyForeignRepliesMeanTimeout) {
-  ScriptedCard card([](const lbp::Bytes& request, const auto& client, ScriptedCard::Sockets s) {
+  ScriptedBoard card([](const lbp::Bytes& request, const auto& client, ScriptedBoard::Sockets s) {
     s.impostor.send_to(boost::asio::buffer(test::zero_card_reply(request)), client);
   });
   UdpClient client("127.0.0.1", card.port(), quick(0));
@@ -76,7 +76,7 @@ TEST(EthUdpClient, OnlyForeignRepliesMeanTimeout) {
 
 TEST(EthUdpClient, ReplyOfTheWrongSizeIsAnError) {
   for (int delta : {-1, +2}) {
-    ScriptedCard card([delta](const lbp::Bytes& request, const auto& client, ScriptedCard::Sockets s) {
+    ScriptedBoard card([delta](const lbp::Bytes& request, const auto& client, ScriptedBoard::Sockets s) {
       lbp::Bytes reply = test::zero_card_reply(request);
       reply.resize(static_cast<std::size_t>(static_cast<int>(reply.size()) + delta));
       s.card.send_to(boost::asio::buffer(reply), client);
@@ -95,7 +95,7 @@ TEST(EthUdpClient, ReplyOfTheWrongSizeIsAnError) {
 TEST(EthUdpClient, StaleRepliesAreDroppedBySequenceNumber) {
   // The card answers every request twice: once with a stale tag (as a late reply to an
   // earlier packet would), then properly.
-  ScriptedCard card([](const lbp::Bytes& request, const auto& client, ScriptedCard::Sockets s) {
+  ScriptedBoard card([](const lbp::Bytes& request, const auto& client, ScriptedBoard::Sockets s) {
     lbp::Bytes stale = test::zero_card_reply(request);
     stale[0] ^= 0x55;
     stale.resize(stale.size() + 4);  // a different size too: still not an error, it is not ours
@@ -108,7 +108,7 @@ TEST(EthUdpClient, StaleRepliesAreDroppedBySequenceNumber) {
 }
 
 TEST(EthUdpClient, SilentCardTimesOutAfterBoundedResendsOfReads) {
-  ScriptedCard card([](const lbp::Bytes&, const auto&, ScriptedCard::Sockets) {});
+  ScriptedBoard card([](const lbp::Bytes&, const auto&, ScriptedBoard::Sockets) {});
   UdpClient client("127.0.0.1", card.port(), quick(2));
   const auto t0 = std::chrono::steady_clock::now();
   try {
@@ -124,7 +124,7 @@ TEST(EthUdpClient, SilentCardTimesOutAfterBoundedResendsOfReads) {
 }
 
 TEST(EthUdpClient, PacketsWithWritesAreNotResentUnlessIdempotent) {
-  ScriptedCard card([](const lbp::Bytes&, const auto&, ScriptedCard::Sockets) {});
+  ScriptedBoard card([](const lbp::Bytes&, const auto&, ScriptedBoard::Sockets) {});
   UdpClient client("127.0.0.1", card.port(), quick(2));
   const lbp16::Command write = lbp16::write_hm2(0x1000, 0x1234u);
   try {
@@ -142,7 +142,7 @@ TEST(EthUdpClient, PacketsWithWritesAreNotResentUnlessIdempotent) {
 
 TEST(EthUdpClient, LostReplyIsRecoveredByResendingAReadOnlyPacket) {
   std::atomic<int> seen{0};
-  ScriptedCard card([&](const lbp::Bytes& request, const auto& client, ScriptedCard::Sockets s) {
+  ScriptedBoard card([&](const lbp::Bytes& request, const auto& client, ScriptedBoard::Sockets s) {
     if (seen++ == 0) return;  // the first reply is lost
     s.card.send_to(boost::asio::buffer(test::zero_card_reply(request)), client);
   });
@@ -154,7 +154,7 @@ TEST(EthUdpClient, LostReplyIsRecoveredByResendingAReadOnlyPacket) {
 }
 
 TEST(EthUdpClient, WriteOnlyPacketStillGetsAReplyThroughTheSequenceTag) {
-  test::RunningCard card;
+  test::RunningBoard card;
   UdpClient client(card.address().ip, card.address().port, patient());
   const lbp16::Command write = lbp16::write_hm2(0x7000, 0xCAFEF00Du);
   const auto reply = client.transact(std::span(&write, 1));
@@ -172,7 +172,7 @@ TEST(EthUdpClient, RejectsBadAddresses) {
 
 TEST(EthUdpClient, ASlowCardsRoundTripIsLearntAndItsWritesAreAnsweredInTime) {
   // Every reply leaves 40 ms after its request arrived (a loaded host), past the 10 ms floor.
-  ScriptedCard card([](const lbp::Bytes& request, const auto& client, ScriptedCard::Sockets s) {
+  ScriptedBoard card([](const lbp::Bytes& request, const auto& client, ScriptedBoard::Sockets s) {
     std::this_thread::sleep_for(40ms);
     s.card.send_to(boost::asio::buffer(test::zero_card_reply(request)), client);
   });

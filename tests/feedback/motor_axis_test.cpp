@@ -14,7 +14,7 @@
 #include "ethsim/server.hpp"
 #include "ethsim/simulated_host.hpp"
 #include "ethsim/virtual_8i20_remote.hpp"
-#include "ethsim/virtual_card.hpp"
+#include "ethsim/virtual_board.hpp"
 #include "hostmot2/hostmot2.hpp"
 #include "lbp16/lbp16.hpp"
 #include "motor/loader.hpp"
@@ -89,9 +89,9 @@ class Axis {
   }
 
  private:
-  static VirtualCardOptions options(motor::MotorParams params, Clock::time_point t0) {
-    VirtualCardOptions o;
-    o.config = CardConfig::preset_7i92t_servo();
+  static VirtualBoardOptions options(motor::MotorParams params, Clock::time_point t0) {
+    VirtualBoardOptions o;
+    o.config = BoardConfig::preset_7i92t_servo();
     o.remotes = [params, t0](unsigned port, unsigned channel) -> std::unique_ptr<RemoteLbpDevice> {
       if (port != 0 || channel != 0) return nullptr;
       sim::DeviceOptions device = Virtual8i20Remote::default_options();
@@ -134,7 +134,7 @@ class Axis {
 
   Clock::time_point t0_ = Clock::time_point{} + 1h;
   Clock::time_point now_ = t0_;
-  VirtualCard card_;
+  VirtualBoard card_;
   sim::Virtual8i20* amplifier_ = nullptr;
   std::optional<unsigned> axis_;
   std::optional<SimulatedHost> host_;
@@ -219,22 +219,22 @@ TEST(MotorAxis, HallInputsMustBeTheAxissThree) {
 TEST(MotorAxis, TheServerWiresEachMotorToTheAxisOfItsChannel) {
   ServerOptions o;
   o.listen = eth::HostPort{.ip = "127.0.0.1", .port = 0};
-  o.card = CardKind::I7i92t;
-  o.config = CardConfig::preset_7i92t_servo();
+  o.card = BoardKind::I7i92t;
+  o.config = BoardConfig::preset_7i92t_servo();
   o.amplifiers = {{0, 0}, {0, 1}};
   auto second = servo();
   second.channel = 1;
   o.motors = {second};
-  CardServer server(o);
+  BoardServer server(o);
   ASSERT_EQ(server.motor_axes().size(), 1u);
   EXPECT_EQ(server.motor_axes()[0].channel, 1u);
   EXPECT_EQ(server.motor_axes()[0].axis, 1u) << "7I92T servo: axis 1 is port 0 channel 1";
 
   o.config.reset();
-  o.card = CardKind::I7i96s;
+  o.card = BoardKind::I7i96s;
   o.amplifiers = {{0, 0}};
-  EXPECT_THROW(CardServer{o}, UsageError) << "no 8I20 on channel 1 of the 7I96S";
+  EXPECT_THROW(BoardServer{o}, UsageError) << "no 8I20 on channel 1 of the 7I96S";
   o.motors[0].channel = 0;
-  CardServer on_7i96s(o);
+  BoardServer on_7i96s(o);
   EXPECT_EQ(on_7i96s.motor_axes()[0].axis, 0u);
 }

@@ -4,7 +4,7 @@
 // working twin holds something else, on the whole card.
 #include <gtest/gtest.h>
 
-#include "fake_card_access.hpp"
+#include "fake_cell_access.hpp"
 #include "ops/apply_run.hpp"
 #include "ops/pending.hpp"
 #include "ops/transaction.hpp"

@@ -29,7 +29,7 @@ struct SetResult {
 };
 
 // `i20 set A=1 B=2` (or `wpd NAME VALUE` with raw syntax) on an open card, as the apps run it.
-SetResult set(Card& card, const std::vector<std::string>& assignments,
+SetResult set(Amp& card, const std::vector<std::string>& assignments,
               ValueSyntax syntax = ValueSyntax::Engineering, device::WriteOptions write = {},
               Cancel cancel = {}) {
   SetResult r;
@@ -295,7 +295,7 @@ TEST(OpsDiscover, TwinsWithEqualValuesAreAmbiguousAndTheOverlayLoadsBack) {
   loaded.apply_overlay_file(result.written);
   const auto resolved = loaded.for_firmware(result.report.swrevision);
   EXPECT_TRUE(resolved.address_confirmed(resolved.get("BRAKEONV")));
-  auto again = Card::attach(
+  auto again = Amp::attach(
       std::make_unique<link::PipelinedLink>(std::make_unique<sim::SimStream>(), link::PipelinedLinkOptions{}),
       parse_endpoint("sim"), loaded);
   (void)again;

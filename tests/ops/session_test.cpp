@@ -144,7 +144,7 @@ TEST(FailureMeaning, EveryFailureHasOneOutcomeAndOneLabel) {
   const Case cases[] = {
       {[] { throw UsageError("bad"); }, Outcome::BadInput, "error"},
       {[] { throw SafetyError("no"); }, Outcome::Refused, "refused"},
-      {[] { throw CardStateError("NV access mode may be on"); }, Outcome::Uncertain, "card state"},
+      {[] { throw AmpStateError("NV access mode may be on"); }, Outcome::Uncertain, "card state"},
       {[] { throw Cancelled("Ctrl-C"); }, Outcome::Interrupted, "interrupted"},
       {[] { throw LinkError("no answer"); }, Outcome::Failed, "error"},
       {[] { throw Error("faults remain", ErrorKind::FaultsRemain); }, Outcome::FaultsRemain, "faults remain"},

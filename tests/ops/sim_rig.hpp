@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // An in-process virtual 8I20 behind the toolkit's usual setup-mode link, opened as an
-// ops::Card, with the simulator's own memory as the ground truth: every test judges the
+// ops::Amp, with the simulator's own memory as the ground truth: every test judges the
 // card by what the simulator holds, never by what the tool reports.
 #pragma once
 
@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "link/pipelined_link.hpp"
-#include "ops/card.hpp"
+#include "ops/amp.hpp"
 #include "params/param_db.hpp"
 #include "sim/ground_truth.hpp"
 #include "sim/param_map.hpp"
@@ -57,9 +57,9 @@ class SimRig {
   }
 
   // Opens (identifies) the card over the rig's link; the rig keeps the simulator for the truth.
-  std::unique_ptr<Card> open(Cancel cancel = {}) {
-    return Card::attach(std::make_unique<Forward>(*link_, before_), parse_endpoint("sim"), loaded_,
-                        RetryPolicy{}, cancel);
+  std::unique_ptr<Amp> open(Cancel cancel = {}) {
+    return Amp::attach(std::make_unique<Forward>(*link_, before_), parse_endpoint("sim"), loaded_,
+                       RetryPolicy{}, cancel);
   }
   // Runs before every batch the opened cards send (an injection at the right moment).
   void before_each_batch(std::function<void(std::span<const lbp::Command>)> hook) {
@@ -88,7 +88,7 @@ class SimRig {
   link::PipelinedLink& link() { return *link_; }
 
  private:
-  // A Link that forwards to the rig's, so a Card can own "its" link while the rig keeps it.
+  // A Link that forwards to the rig's, so an ops::Amp can own "its" link while the rig keeps it.
   class Forward final : public link::Link {
    public:
     using Hook = std::function<void(std::span<const lbp::Command>)>;

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "fake_card_access.hpp"
+#include "fake_cell_access.hpp"
 #include "ops/reset.hpp"
 #include "profile/loader.hpp"
 #include "test_util.hpp"

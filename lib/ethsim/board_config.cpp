@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include "ethsim/card_config.hpp"
+#include "ethsim/board_config.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -82,8 +82,8 @@ void encoder_pins(std::vector<hm2::PinDescriptor>& pins, std::uint8_t unit) {
     pins.push_back(pin(hm2::gtag::kEncoder, unit, p));
 }
 
-CardConfig preset_7i96s() {
-  CardConfig c;
+BoardConfig preset_7i96s() {
+  BoardConfig c;
   c.card_name = "7I96S";
   c.idrom = base_idrom("MESA7I96", 3, 17);
   c.modules = {module(hm2::gtag::kWatchdog, 0, 1, 0x0C00, 3, 0x00, 0),
@@ -111,8 +111,8 @@ CardConfig preset_7i96s() {
   return c;
 }
 
-CardConfig preset_7i92t() {
-  CardConfig c;
+BoardConfig preset_7i92t() {
+  BoardConfig c;
   c.card_name = "7I92T";
   c.mac = {0x00, 0x60, 0x1B, 0x92, 0x00, 0x01};
   c.idrom = base_idrom("MESA7I92", 2, 17);
@@ -130,8 +130,8 @@ CardConfig preset_7i92t() {
 
 // Per connector (17 pins) two axes: SSERIAL channels 0 and 1 of the connector's port (RX, TX
 // each), two encoders (A, B, index each), two groups of three GPIO Hall inputs, one spare.
-CardConfig preset_7i92t_servo_config() {
-  CardConfig c = preset_7i92t();
+BoardConfig preset_7i92t_servo_config() {
+  BoardConfig c = preset_7i92t();
   constexpr unsigned kAxesPerConnector = 2;
   constexpr unsigned kPortWidth = 17;
   c.modules = {module(hm2::gtag::kWatchdog, 0, 1, 0x0C00, 3, 0x00, 0),
@@ -161,33 +161,33 @@ CardConfig preset_7i92t_servo_config() {
 
 }  // namespace
 
-CardKind parse_card_kind(std::string_view text) {
+BoardKind parse_board_kind(std::string_view text) {
   std::string lower(text);
   std::transform(lower.begin(), lower.end(), lower.begin(),
                  [](unsigned char ch) { return std::tolower(ch); });
-  if (lower == "7i96s") return CardKind::I7i96s;
-  if (lower == "7i92t") return CardKind::I7i92t;
+  if (lower == "7i96s") return BoardKind::I7i96s;
+  if (lower == "7i92t") return BoardKind::I7i92t;
   throw UsageError("unknown card '" + std::string(text) + "': the virtual card can be 7i96s or 7i92t");
 }
 
-std::string_view card_kind_name(CardKind kind) {
-  return kind == CardKind::I7i96s ? "7I96S" : "7I92T";
+std::string_view board_kind_name(BoardKind kind) {
+  return kind == BoardKind::I7i96s ? "7I96S" : "7I92T";
 }
 
-CardConfig CardConfig::preset(CardKind kind) {
-  return kind == CardKind::I7i96s ? preset_7i96s() : preset_7i92t();
+BoardConfig BoardConfig::preset(BoardKind kind) {
+  return kind == BoardKind::I7i96s ? preset_7i96s() : preset_7i92t();
 }
 
-CardConfig CardConfig::preset_7i92t_servo() {
+BoardConfig BoardConfig::preset_7i92t_servo() {
   return preset_7i92t_servo_config();
 }
 
-const hm2::ModuleDescriptor* CardConfig::find_module(std::uint8_t gtag) const {
+const hm2::ModuleDescriptor* BoardConfig::find_module(std::uint8_t gtag) const {
   const auto it = std::find_if(modules.begin(), modules.end(), [&](const auto& m) { return m.gtag == gtag; });
   return it == modules.end() ? nullptr : &*it;
 }
 
-const hm2::ModuleDescriptor& CardConfig::sserial_module() const {
+const hm2::ModuleDescriptor& BoardConfig::sserial_module() const {
   const auto it =
       std::find_if(modules.begin(), modules.end(), [](const auto& m) { return hm2::is_sserial(m.gtag); });
   if (it == modules.end()) throw UsageError("card configuration without an SSERIAL module");

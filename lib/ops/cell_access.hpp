@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The seam between the write transaction and a real (or simulated, or fake) 8I20.
 //
-// DeviceCardAccess adapts an open ops::Card to it; tests use a fake with injected failures.
+// AmpCellAccess adapts an open ops::Amp to it; tests use a fake with injected failures.
 // The transaction relies only on what is written here.
 #pragma once
 
@@ -15,9 +15,9 @@ namespace i20::ops {
 
 using profile::RawValues;
 
-class CardAccess {
+class CellAccess {
  public:
-  virtual ~CardAccess() = default;
+  virtual ~CellAccess() = default;
 
   // Reads every named parameter (NV ones from the EEPROM) and returns all of them, or
   // throws i20::Error if any could not be read. Reading never changes the card. Names the

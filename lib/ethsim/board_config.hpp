@@ -26,11 +26,11 @@
 
 namespace i20::ethsim {
 
-enum class CardKind { I7i96s, I7i92t };
+enum class BoardKind { I7i96s, I7i92t };
 
 // "7i96s"/"7I96S" or "7i92t"/"7I92T". Throws UsageError on anything else.
-CardKind parse_card_kind(std::string_view text);
-std::string_view card_kind_name(CardKind kind);
+BoardKind parse_board_kind(std::string_view text);
+std::string_view board_kind_name(BoardKind kind);
 
 // One servo axis on the card: the encoder instance, the SSERIAL channel of its 8I20 and the
 // IO pins (IDROM pin numbers) its three Hall sensors are wired to.
@@ -42,7 +42,7 @@ struct AxisWiring {
   bool operator==(const AxisWiring&) const = default;
 };
 
-struct CardConfig {
+struct BoardConfig {
   std::string card_name;  // space 7 and EEPROM: "7I96S"
   std::uint16_t lbp16_version = 3;
   std::uint16_t firmware_version = 17;
@@ -62,8 +62,8 @@ struct CardConfig {
   // The axes the configuration is laid out for (empty: no encoders).
   std::vector<AxisWiring> axes;
 
-  static CardConfig preset(CardKind kind);
-  static CardConfig preset_7i92t_servo();
+  static BoardConfig preset(BoardKind kind);
+  static BoardConfig preset_7i92t_servo();
   // The module with this GTag, or nullptr.
   const lbp::hm2::ModuleDescriptor* find_module(std::uint8_t gtag) const;
   // The SSERIAL module descriptor (there is exactly one in the presets).

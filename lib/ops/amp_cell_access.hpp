@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// The transaction's CardAccess over an open ops::Card: the one place where the retry policy
+// The transaction's CellAccess over an open ops::Amp: the one place where the retry policy
 // meets writes, and where what the card did meanwhile (it reset itself, a stray write had
 // to be cleared) is recorded for the report.
 //
@@ -14,18 +14,18 @@
 #include <vector>
 
 #include "device/amp.hpp"
-#include "ops/card.hpp"
-#include "ops/card_access.hpp"
+#include "ops/amp.hpp"
+#include "ops/cell_access.hpp"
 
 namespace i20::ops {
 
-class DeviceCardAccess final : public CardAccess {
+class AmpCellAccess final : public CellAccess {
  public:
   // Told what the card client is doing, for progress displays: "reading",
   // "writing NVBRAKEONV (2/5)", "restoring NVBRAKEONV", "resetting".
   using Activity = std::function<void(const std::string&)>;
 
-  DeviceCardAccess(Card& card, device::WriteOptions write, Activity activity = {});
+  AmpCellAccess(Amp& card, device::WriteOptions write, Activity activity = {});
 
   RawValues read(const std::vector<std::string>& names) override;
   void check_write(const std::string& name, std::int64_t raw) override;
@@ -45,8 +45,8 @@ class DeviceCardAccess final : public CardAccess {
   std::optional<bool> holds(const std::string& name, std::int64_t raw);
   void note(const std::string& what);
 
-  Card& card_;
-  Card::Uninterruptible uninterruptible_;
+  Amp& card_;
+  Amp::Uninterruptible uninterruptible_;
   device::WriteOptions write_;
   Activity activity_;
   std::size_t planned_ = 0;  // check_write() calls: the transaction asks once per planned write

@@ -11,12 +11,12 @@
 #include <vector>
 
 #include "error/error.hpp"
-#include "ops/card_access.hpp"
+#include "ops/cell_access.hpp"
 #include "params/param_db.hpp"
 
 namespace i20::ops::testing {
 
-class FakeCard : public CardAccess {
+class FakeCard : public CellAccess {
  public:
   // Every writable parameter at its default (working ones at their NV twin's), others 0.
   explicit FakeCard(const params::ParamDb& db) : db_(db) {

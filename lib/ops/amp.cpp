@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include "ops/card.hpp"
+#include "ops/amp.hpp"
 
 #include <algorithm>
 #include <csignal>
@@ -50,28 +50,28 @@ std::string Cancel::cause() const {
   }
 }
 
-Card::Card(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retry, Cancel cancel)
+Amp::Amp(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retry, Cancel cancel)
     : link_(std::move(link)),
       endpoint_(std::move(endpoint)),
       retry_(retry),
       cancel_(cancel),
       deadline_(std::chrono::steady_clock::now() + retry.operation_deadline) {}
 
-std::unique_ptr<Card> Card::open(const Endpoint& endpoint, const params::ParamDb& loaded,
-                                 const OpenOptions& options, Cancel cancel) {
+std::unique_ptr<Amp> Amp::open(const Endpoint& endpoint, const params::ParamDb& loaded,
+                               const OpenOptions& options, Cancel cancel) {
   cancel.check("connecting");
   return attach(open_link(endpoint, loaded, options.link, options.retry), endpoint, loaded, options.retry,
                 cancel);
 }
 
-std::unique_ptr<Card> Card::attach(std::unique_ptr<link::Link> link, Endpoint endpoint,
-                                   const params::ParamDb& loaded, RetryPolicy retry, Cancel cancel) {
-  std::unique_ptr<Card> card(new Card(std::move(link), std::move(endpoint), retry, cancel));
+std::unique_ptr<Amp> Amp::attach(std::unique_ptr<link::Link> link, Endpoint endpoint,
+                                 const params::ParamDb& loaded, RetryPolicy retry, Cancel cancel) {
+  std::unique_ptr<Amp> card(new Amp(std::move(link), std::move(endpoint), retry, cancel));
   card->identify(loaded);
   return card;
 }
 
-void Card::identify(const params::ParamDb& loaded) {
+void Amp::identify(const params::ParamDb& loaded) {
   // The identity reads use only public addresses (SWREVISION, UNITNUMBER).
   device::Amp8i20 bootstrap(*link_, loaded, cancel_.flag());
   identity_.info = with_retries([&] { return bootstrap.info(); });
@@ -96,20 +96,20 @@ void Card::identify(const params::ParamDb& loaded) {
   identity_.info.working_map_confirmed = device::working_map_confirmed(*db_);
 }
 
-Card::Uninterruptible::Uninterruptible(Card& card) : card_(card) {
+Amp::Uninterruptible::Uninterruptible(Amp& card) : card_(card) {
   card_.uninterruptible_ = true;
-  card_.amp().set_cancel(nullptr);
+  card_.device().set_cancel(nullptr);
 }
 
-Card::Uninterruptible::~Uninterruptible() {
+Amp::Uninterruptible::~Uninterruptible() {
   card_.uninterruptible_ = false;
-  card_.amp().set_cancel(card_.cancel_.flag());
+  card_.device().set_cancel(card_.cancel_.flag());
 }
 
 // The table is read a slice at a time until SSLBP's cycle RPC decodes, so a card whose
 // cycle RPC sits near the start costs a few commands, not the whole table. A table that
 // cannot be read is not fatal: the card then confirms nothing by itself, and says so.
-std::vector<params::ParamDb::Evidence> Card::read_rpc_evidence(const params::ParamDb& resolved) {
+std::vector<params::ParamDb::Evidence> Amp::read_rpc_evidence(const params::ParamDb& resolved) {
   constexpr std::size_t kSlice = 64;
   const std::size_t size = identity_.info.rpc_size;
   if (size == 0 || size > kMaxRpcTableBytes) {
@@ -133,18 +133,18 @@ std::vector<params::ParamDb::Evidence> Card::read_rpc_evidence(const params::Par
   return rpc_evidence(decoded, identity_.rpc_note);
 }
 
-void Card::answered() {
+void Amp::answered() {
   if (silent_since_) ++silences_ended_;
   silent_since_.reset();
 }
 
-void Card::unanswered(const link::LinkError&) {
+void Amp::unanswered(const link::LinkError&) {
   if (!silent_since_) silent_since_ = std::chrono::steady_clock::now();
 }
 
 // Line faults and a silent card heal; a host that took the port or a command the transport
 // cannot carry do not, so they are not waited for.
-bool Card::wait_for_answer(const link::LinkError& e) {
+bool Amp::wait_for_answer(const link::LinkError& e) {
   if (dynamic_cast<const eth::ForeignHostError*>(&e) || dynamic_cast<const link::UnsupportedCommand*>(&e))
     return false;
   using Clock = std::chrono::steady_clock;
@@ -162,7 +162,7 @@ bool Card::wait_for_answer(const link::LinkError& e) {
   return true;
 }
 
-std::string Card::settle() {
+std::string Amp::settle() {
   const std::string mode = amp_->unsettled_mode();
   unsettled_said_ = false;
   if (mode.empty()) return {};
@@ -187,20 +187,20 @@ std::string Card::settle() {
   }
   uninterruptible_ = was_uninterruptible;
   unsettled_said_ = true;
-  throw device::CardStateError(
+  throw device::AmpStateError(
       "the 8I20 on " + endpoint_.text + " stopped answering while in " + mode +
       " and may still be in it: when it answers again, run any i20 command on it (it leaves "
       "the mode first), or `i20 " +
       endpoint_.flags() + " reset`, before the machine uses it");
 }
 
-std::string Card::describe() const {
+std::string Amp::describe() const {
   const auto& info = identity_.info;
   return info.card_name + " unit " + lbp::hex_value(info.unit_number.value_or(0), 8) + ", SWREVISION " +
          lbp::hex_value(info.swrevision.value_or(0), 4) + ", on " + endpoint_.text;
 }
 
-std::string Card::unconfirmed_reason(const params::Param& param) const {
+std::string Amp::unconfirmed_reason(const params::Param& param) const {
   if (!param.address) return "address not known (" + param.provenance.source + ")";
   if (db_->address_confirmed(param)) return {};
   return "address not confirmed for SWREVISION " + lbp::hex_value(swrevision(), 4);

@@ -10,13 +10,13 @@ namespace i20::profile {
 
 // Manual, MAXCURRENT ("or to 30A if the motor has a higher than 30 A RMS current rating")
 // and SPECIFICATIONS (MAX MOTOR CURRENT 25C CASE: 30 A RMS).
-inline constexpr double kCardMaxCurrentA = 30.0;
+inline constexpr double kAmpMaxCurrentA = 30.0;
 
 // Manual, FAULT CONDITIONS (MAXBUSVFAULT: high motor voltage fault, fixed at 400 V) and
 // MOTOR POWER (35 to 400 VDC). A property of a FAULT bit, so it lives in the fault table
 // (params/faults.yaml, the live check of max-bus-voltage), which the diagnosis of that
 // fault reads too.
-double card_max_bus_v();
+double amp_max_bus_v();
 
 // "30 A", "400 V": a limit as the messages quote it.
 std::string limit_text(double value, const char* unit);

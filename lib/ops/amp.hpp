@@ -25,7 +25,7 @@
 namespace i20::ops {
 
 struct Identity {
-  device::CardInfo info;                   // as read when the card was opened
+  device::AmpInfo info;                    // as read when the card was opened
   std::vector<std::string> modes_left;     // modes found on and switched off ("NV access mode")
   std::string rpc_note;                    // which RPC named addresses, or why none did
   std::vector<std::string> rpc_confirmed;  // parameters the RPC table confirmed
@@ -36,21 +36,21 @@ struct OpenOptions {
   RetryPolicy retry;
 };
 
-class Card {
+class Amp {
  public:
   // Opens the endpoint and identifies the card. Throws i20::Error (link errors when the
   // card does not answer; UsageError for a target that is not an 8I20).
-  static std::unique_ptr<Card> open(const Endpoint& endpoint, const params::ParamDb& loaded,
-                                    const OpenOptions& options, Cancel cancel = {});
+  static std::unique_ptr<Amp> open(const Endpoint& endpoint, const params::ParamDb& loaded,
+                                   const OpenOptions& options, Cancel cancel = {});
   // The same over a link the caller opened (tests, the simulator with injected faults).
-  static std::unique_ptr<Card> attach(std::unique_ptr<link::Link> link, Endpoint endpoint,
-                                      const params::ParamDb& loaded, RetryPolicy retry = {},
-                                      Cancel cancel = {});
+  static std::unique_ptr<Amp> attach(std::unique_ptr<link::Link> link, Endpoint endpoint,
+                                     const params::ParamDb& loaded, RetryPolicy retry = {},
+                                     Cancel cancel = {});
 
   const Identity& identity() const { return identity_; }
   // The database resolved for this card: every address a command uses comes from here.
   const params::ParamDb& db() const { return *db_; }
-  device::Amp8i20& amp() { return *amp_; }
+  device::Amp8i20& device() { return *amp_; }
   link::Link& link() { return *link_; }
   const Endpoint& endpoint() const { return endpoint_; }
   const Cancel& cancel() const { return cancel_; }
@@ -68,17 +68,17 @@ class Card {
   // sequence or a restore).
   class Uninterruptible {
    public:
-    explicit Uninterruptible(Card& card);
+    explicit Uninterruptible(Amp& card);
     ~Uninterruptible();
     Uninterruptible(const Uninterruptible&) = delete;
     Uninterruptible& operator=(const Uninterruptible&) = delete;
 
    private:
-    Card& card_;
+    Amp& card_;
   };
 
   // Runs `step` again on a link error, `retry().attempts` times in all: the one loop over
-  // a lost exchange, since the links under a Card send each exchange once (retry.hpp). A
+  // a lost exchange, since the links under an ops::Amp send each exchange once (retry.hpp). A
   // card still silent after that is asked again within the silence window (retry.hpp).
   // `step` must be harmless to run twice: reads, or the writes that switch a mode off.
   // Past the operation's deadline (retry.hpp) an exchange is sent once, unless it is the
@@ -116,7 +116,7 @@ class Card {
 
   // When the line died while the card was in NV access or RPC memory mode and leaving it
   // failed, asks the card again to leave (per the retry policy, Ctrl-C or not). Returns the
-  // mode it left, "" when there was none; throws CardStateError (exit 4) naming the mode
+  // mode it left, "" when there was none; throws AmpStateError (exit 4) naming the mode
   // and the way back when the card still does not confirm. Every use case ends with it.
   std::string settle();
   // The last settle() threw: its warning has been given (in a run's report or an error
@@ -125,7 +125,7 @@ class Card {
   void count_retry() { ++retries_; }
 
  private:
-  Card(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retry, Cancel cancel);
+  Amp(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retry, Cancel cancel);
   void identify(const params::ParamDb& loaded);
   // Sleeps until the next probe when the error is one a card recovers from and the silence
   // window is still open; false (at once) otherwise. A stop request ends the wait unless

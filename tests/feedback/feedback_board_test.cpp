@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "error/error.hpp"
-#include "ethsim/virtual_card.hpp"
+#include "ethsim/virtual_board.hpp"
 #include "hostmot2/hostmot2.hpp"
 #include "lbp16/lbp16.hpp"
 
@@ -24,7 +24,7 @@ constexpr std::uint32_t kArmIndex = hm2::encoder_bit::kLatchOnIndex | hm2::encod
 // A host that knows the card only by what its IDROM says, like hostmot2.
 class Host {
  public:
-  Host(VirtualCard& card, Clock::time_point t0) : card_(card), t0_(t0) {
+  Host(VirtualBoard& card, Clock::time_point t0) : card_(card), t0_(t0) {
     const auto ident = hm2::IdentArea::parse(read_bytes(hm2::kCookieAddress, 4));
     idrom_address_ = static_cast<std::uint16_t>(ident.idrom_address);
     idrom = hm2::Idrom::parse(read_bytes(idrom_address_, 16));
@@ -70,7 +70,7 @@ class Host {
     return lbp16::split_reply(commands, card_.handle(lbp16::encode_packet(commands), now_).value())[0];
   }
 
-  VirtualCard& card_;
+  VirtualBoard& card_;
   Clock::time_point t0_;
   Clock::time_point now_ = t0_;
   std::uint16_t idrom_address_ = 0;
@@ -85,7 +85,7 @@ unsigned input_bits(unsigned code) {
   return (code >> 2 & 1u) | (code >> 1 & 1u) << 1 | (code & 1u) << 2;
 }
 
-class FeedbackCard : public ::testing::Test {
+class FeedbackBoard : public ::testing::Test {
  protected:
   Clock::time_point t0 = Clock::time_point{} + 1h;
   // 5 rev/s from t0: 10 counts per ms with a 2000-count encoder.
@@ -94,8 +94,8 @@ class FeedbackCard : public ::testing::Test {
 
 }  // namespace
 
-TEST_F(FeedbackCard, The7i96sIdromHasTheFeedbackHostmot2NeedsWhere7i96sDPutsIt) {
-  VirtualCard card(VirtualCardOptions{}, t0);
+TEST_F(FeedbackBoard, The7i96sIdromHasTheFeedbackHostmot2NeedsWhere7i96sDPutsIt) {
+  VirtualBoard card(VirtualBoardOptions{}, t0);
   Host host(card, t0);
   EXPECT_EQ(host.module(hm2::gtag::kEncoder).instances, 1);
   EXPECT_EQ(host.module(hm2::gtag::kInm).instances, 1);
@@ -111,8 +111,8 @@ TEST_F(FeedbackCard, The7i96sIdromHasTheFeedbackHostmot2NeedsWhere7i96sDPutsIt) 
   EXPECT_EQ(host.pins[30].secondary_tag, hm2::gtag::kSserial);
 }
 
-TEST_F(FeedbackCard, Hostmot2sPeriodicReadSeesCountsTimestampsAndTheIndex) {
-  VirtualCard card(VirtualCardOptions{}, t0);
+TEST_F(FeedbackBoard, Hostmot2sPeriodicReadSeesCountsTimestampsAndTheIndex) {
+  VirtualBoard card(VirtualBoardOptions{}, t0);
   card.feedback().connect_axis(0, EncoderSpec{.counts_per_turn = 2000, .index_turns = 0.1}, HallSpec{},
                                turning);
   Host host(card, t0);
@@ -144,8 +144,8 @@ TEST_F(FeedbackCard, Hostmot2sPeriodicReadSeesCountsTimestampsAndTheIndex) {
   EXPECT_TRUE(index_seen);
 }
 
-TEST_F(FeedbackCard, HallsOnThe7i96sIsolatedInputsReadThroughInm) {
-  VirtualCard card(VirtualCardOptions{}, t0);
+TEST_F(FeedbackBoard, HallsOnThe7i96sIsolatedInputsReadThroughInm) {
+  VirtualBoard card(VirtualBoardOptions{}, t0);
   double angle = 0.0;
   const unsigned group = card.feedback().connect_axis(0, EncoderSpec{}, HallSpec{.pole_pairs = 4},
                                                       [&angle](Clock::time_point) { return angle; });
@@ -171,8 +171,8 @@ TEST_F(FeedbackCard, HallsOnThe7i96sIsolatedInputsReadThroughInm) {
   }
 }
 
-TEST_F(FeedbackCard, The7i92tServoConfigurationHasAnEncoderAndHallsPerAxis) {
-  VirtualCard card(VirtualCardOptions{.config = CardConfig::preset_7i92t_servo()}, t0);
+TEST_F(FeedbackBoard, The7i92tServoConfigurationHasAnEncoderAndHallsPerAxis) {
+  VirtualBoard card(VirtualBoardOptions{.config = BoardConfig::preset_7i92t_servo()}, t0);
   ASSERT_EQ(card.config().axes.size(), 4u);
   double angle = 0.0;
   const auto scripted = [&angle](Clock::time_point) { return angle; };
@@ -208,8 +208,8 @@ TEST_F(FeedbackCard, The7i92tServoConfigurationHasAnEncoderAndHallsPerAxis) {
   }
 }
 
-TEST_F(FeedbackCard, GpioOutputsReadBackAndEncoderPinsShowTheirSignals) {
-  VirtualCard card(VirtualCardOptions{}, t0);
+TEST_F(FeedbackBoard, GpioOutputsReadBackAndEncoderPinsShowTheirSignals) {
+  VirtualBoard card(VirtualBoardOptions{}, t0);
   double angle = 0.0;
   card.feedback().connect_axis(0, EncoderSpec{.counts_per_turn = 2000}, HallSpec{},
                                [&angle](Clock::time_point) { return angle; });
@@ -233,8 +233,8 @@ TEST_F(FeedbackCard, GpioOutputsReadBackAndEncoderPinsShowTheirSignals) {
   EXPECT_EQ(card.hm2_register(port2), 0x1u) << "the written value stays visible to tests";
 }
 
-TEST_F(FeedbackCard, EncoderRegistersOfEveryInstanceAnswer) {
-  VirtualCard card(VirtualCardOptions{.config = CardConfig::preset_7i92t_servo()}, t0);
+TEST_F(FeedbackBoard, EncoderRegistersOfEveryInstanceAnswer) {
+  VirtualBoard card(VirtualBoardOptions{.config = BoardConfig::preset_7i92t_servo()}, t0);
   for (unsigned e = 0; e < 4; ++e)
     card.feedback().connect_encoder(e, EncoderSpec{.counts_per_turn = 1000 * static_cast<int>(e + 1)},
                                     [t0 = t0](Clock::time_point t) { return seconds(t - t0); });

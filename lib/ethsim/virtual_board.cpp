@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include "ethsim/virtual_card.hpp"
+#include "ethsim/virtual_board.hpp"
 
 #include <algorithm>
 
@@ -66,7 +66,7 @@ constexpr std::uint16_t kEepromWritableFrom = 0x0020;
 
 }  // namespace
 
-VirtualCard::VirtualCard(VirtualCardOptions options, Clock::time_point now)
+VirtualBoard::VirtualBoard(VirtualBoardOptions options, Clock::time_point now)
     : config_(std::move(options.config)), feedback_(config_, now), start_(now), now_(now) {
   const auto store = [this](std::uint32_t address, const lbp::Bytes& bytes) {
     for (std::size_t i = 0; i < bytes.size(); ++i) {
@@ -115,13 +115,13 @@ VirtualCard::VirtualCard(VirtualCardOptions options, Clock::time_point now)
   }
 }
 
-void VirtualCard::advance(Clock::time_point now) {
+void VirtualBoard::advance(Clock::time_point now) {
   now_ = std::max(now_, now);
   for (auto& port : ports_) port->advance(now_);
   feedback_.advance(now_);
 }
 
-std::optional<lbp::Bytes> VirtualCard::handle(lbp::ByteView request, Clock::time_point now) {
+std::optional<lbp::Bytes> VirtualBoard::handle(lbp::ByteView request, Clock::time_point now) {
   advance(now);
   ++stats_.packets;
   ++status_[status_reg::kRxPackets / 2];
@@ -143,7 +143,7 @@ std::optional<lbp::Bytes> VirtualCard::handle(lbp::ByteView request, Clock::time
   return reply;
 }
 
-void VirtualCard::execute(const lbp16::Command& command, lbp::Bytes& reply) {
+void VirtualBoard::execute(const lbp16::Command& command, lbp::Bytes& reply) {
   const auto& word = command.word;
   const std::uint8_t space = word.space;
   std::uint16_t& pointer = word.info_area ? info_pointer_[space] : pointer_[space];
@@ -163,14 +163,14 @@ void VirtualCard::execute(const lbp16::Command& command, lbp::Bytes& reply) {
   }
 }
 
-bool VirtualCard::width_allowed(std::uint8_t space, Width width, bool info) const {
+bool VirtualBoard::width_allowed(std::uint8_t space, Width width, bool info) const {
   const SpaceInfo s = space_info(space);
   if (!s.present) return false;
   if (info) return width == Width::Bits16;
   return s.sizes.allows(width);
 }
 
-lbp16::InfoArea VirtualCard::info_area(std::uint8_t space) const {
+lbp16::InfoArea VirtualBoard::info_area(std::uint8_t space) const {
   const SpaceInfo s = space_info(space);
   return lbp16::InfoArea{.cookie = static_cast<std::uint16_t>(lbp16::kInfoCookieBase | space),
                          .sizes = s.sizes,
@@ -179,7 +179,7 @@ lbp16::InfoArea VirtualCard::info_area(std::uint8_t space) const {
                          .name = s.name};
 }
 
-std::uint64_t VirtualCard::read_element(std::uint8_t space, std::uint16_t address, Width width, bool info) {
+std::uint64_t VirtualBoard::read_element(std::uint8_t space, std::uint16_t address, Width width, bool info) {
   const std::size_t n = lbp16::bytes_of(width);
   if (address % n != 0) {
     mem_error();
@@ -215,7 +215,8 @@ std::uint64_t VirtualCard::read_element(std::uint8_t space, std::uint16_t addres
   }
 }
 
-void VirtualCard::write_element(std::uint8_t space, std::uint16_t address, Width width, std::uint64_t value) {
+void VirtualBoard::write_element(std::uint8_t space, std::uint16_t address, Width width,
+                                 std::uint64_t value) {
   const std::size_t n = lbp16::bytes_of(width);
   if (address % n != 0) return mem_error();
   const auto put16 = [&](std::vector<std::uint16_t>& words) {
@@ -240,7 +241,7 @@ void VirtualCard::write_element(std::uint8_t space, std::uint16_t address, Width
   }
 }
 
-std::optional<VirtualCard::SserialTarget> VirtualCard::sserial_at(std::uint16_t address) const {
+std::optional<VirtualBoard::SserialTarget> VirtualBoard::sserial_at(std::uint16_t address) const {
   const hm2::ModuleDescriptor& m = config_.sserial_module();
   const std::uint32_t reg_stride = m.register_stride(config_.idrom);
   const std::uint32_t instance_stride = m.instance_stride(config_.idrom);
@@ -257,13 +258,13 @@ std::optional<VirtualCard::SserialTarget> VirtualCard::sserial_at(std::uint16_t 
   return SserialTarget{port, reg, channel};
 }
 
-bool VirtualCard::hm2_read_only(std::uint16_t address) const {
+bool VirtualBoard::hm2_read_only(std::uint16_t address) const {
   const bool ident = address >= hm2::kCookieAddress && address < hm2::kCookieAddress + 16;
   const bool idrom = address >= config_.idrom_address && address < idrom_end_;
   return ident || idrom;
 }
 
-std::uint32_t VirtualCard::hm2_read(std::uint16_t address) {
+std::uint32_t VirtualBoard::hm2_read(std::uint16_t address) {
   if (address % 4 != 0) {
     mem_error();
     return 0;
@@ -273,14 +274,14 @@ std::uint32_t VirtualCard::hm2_read(std::uint16_t address) {
   return hm2_[address / 4];
 }
 
-void VirtualCard::hm2_write(std::uint16_t address, std::uint32_t value) {
+void VirtualBoard::hm2_write(std::uint16_t address, std::uint32_t value) {
   if (hm2_read_only(address)) return write_error();
   if (const auto s = sserial_at(address)) return ports_[s->port]->write(s->reg, s->channel, value, now_);
   hm2_[address / 4] = value;
   feedback_.write(address, value, now_);
 }
 
-std::uint32_t VirtualCard::flash_read(std::uint16_t address) {
+std::uint32_t VirtualBoard::flash_read(std::uint16_t address) {
   switch (address) {
     case kFlashAddress: return flash_address_;
     case kFlashId: return config_.flash_id;
@@ -294,7 +295,7 @@ std::uint32_t VirtualCard::flash_read(std::uint16_t address) {
   }
 }
 
-void VirtualCard::flash_write(std::uint16_t address, std::uint32_t value) {
+void VirtualBoard::flash_write(std::uint16_t address, std::uint32_t value) {
   const bool enabled =
       status_[status_reg::kEepromWriteEnable / 2] == (lbp16::kInfoCookieBase | lbp16::space::kFpgaFlash);
   switch (address) {
@@ -314,23 +315,23 @@ void VirtualCard::flash_write(std::uint16_t address, std::uint32_t value) {
   }
 }
 
-void VirtualCard::mem_error() {
+void VirtualBoard::mem_error() {
   ++stats_.mem_errors;
   ++status_[status_reg::kMemErrors / 2];
   status_[status_reg::kErrors / 2] |= status_reg::kMemErrorBit;
 }
 
-void VirtualCard::write_error() {
+void VirtualBoard::write_error() {
   ++stats_.write_errors;
   ++status_[status_reg::kWriteErrors / 2];
   status_[status_reg::kErrors / 2] |= status_reg::kWriteErrorBit;
 }
 
-std::uint16_t VirtualCard::status_register(std::uint16_t address) const {
+std::uint16_t VirtualBoard::status_register(std::uint16_t address) const {
   return status_.at(address / 2);
 }
 
-std::uint16_t VirtualCard::eeprom_word(std::uint16_t address) const {
+std::uint16_t VirtualBoard::eeprom_word(std::uint16_t address) const {
   return eeprom_.at(address / 2);
 }
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The virtual Ethernet card: LBP16 request packets in, reply packets out, like a 7I96S
 // or 7I92T (manuals, "LBP16", "SUPPORTED MEMORY SPACES"). Pure logic driven by the time
-// you give it; CardServer adds the UDP socket.
+// you give it; BoardServer adds the UDP socket.
 //
 // Spaces and their rules:
 //   0 HostMot2 registers, 32-bit: cookie, "HOSTMOT2", IDROM pointer, IDROM, modules,
@@ -35,7 +35,7 @@
 #include <optional>
 #include <vector>
 
-#include "ethsim/card_config.hpp"
+#include "ethsim/board_config.hpp"
 #include "ethsim/feedback_bank.hpp"
 #include "ethsim/remote_device.hpp"
 #include "ethsim/sslbp_engine.hpp"
@@ -46,13 +46,13 @@ namespace i20::ethsim {
 // Builds the device on one channel; nullptr leaves the channel empty.
 using RemoteFactory = std::function<std::unique_ptr<RemoteLbpDevice>(unsigned port, unsigned channel)>;
 
-struct VirtualCardOptions {
-  CardConfig config = CardConfig::preset(CardKind::I7i96s);
+struct VirtualBoardOptions {
+  BoardConfig config = BoardConfig::preset(BoardKind::I7i96s);
   SslbpConfig sslbp{};  // `channels` is taken from the card configuration
   RemoteFactory remotes{};
 };
 
-struct CardStats {
+struct BoardStats {
   std::uint64_t packets = 0;
   std::uint64_t replies = 0;
   std::uint64_t parse_errors = 0;
@@ -81,9 +81,9 @@ inline constexpr std::uint16_t kMemErrorBit = 0x02;
 inline constexpr std::uint16_t kWriteErrorBit = 0x04;
 }  // namespace status_reg
 
-class VirtualCard {
+class VirtualBoard {
  public:
-  explicit VirtualCard(VirtualCardOptions options = {}, Clock::time_point now = Clock::now());
+  explicit VirtualBoard(VirtualBoardOptions options = {}, Clock::time_point now = Clock::now());
 
   // Executes one request packet received at `now`. Returns the reply, or nullopt when the
   // packet holds no reads (the card sends nothing).
@@ -91,12 +91,12 @@ class VirtualCard {
   // Time passes without packets: SSLBP completes commands, chatters, remotes tick.
   void advance(Clock::time_point now);
   // The card's own clock: later than real time after a WaituS; the reply leaves then.
-  Clock::time_point card_time() const { return now_; }
+  Clock::time_point board_time() const { return now_; }
 
   SslbpEngine& sslbp(unsigned port) { return *ports_.at(port); }
   unsigned sserial_ports() const { return static_cast<unsigned>(ports_.size()); }
-  const CardConfig& config() const { return config_; }
-  const CardStats& stats() const { return stats_; }
+  const BoardConfig& config() const { return config_; }
+  const BoardStats& stats() const { return stats_; }
   std::uint16_t status_register(std::uint16_t address) const;
   std::uint16_t eeprom_word(std::uint16_t address) const;
   // The value last written to a space 0 register (or the IDROM's content there).
@@ -129,7 +129,7 @@ class VirtualCard {
   void mem_error();
   void write_error();
 
-  CardConfig config_;
+  BoardConfig config_;
   std::vector<std::unique_ptr<SslbpEngine>> ports_;
   FeedbackBank feedback_;
   std::vector<std::uint32_t> hm2_ = std::vector<std::uint32_t>(0x4000, 0);
@@ -145,7 +145,7 @@ class VirtualCard {
   std::uint16_t idrom_end_ = 0;
   Clock::time_point start_;
   Clock::time_point now_;
-  CardStats stats_;
+  BoardStats stats_;
 };
 
 }  // namespace i20::ethsim

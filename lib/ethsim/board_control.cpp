@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include "ethsim/card_control.hpp"
+#include "ethsim/board_control.hpp"
 
 #include <charconv>
 #include <sstream>
@@ -50,11 +50,11 @@ unsigned number(const std::string& text, const char* what, const char* form) {
   return value;
 }
 
-std::string on_amplifier(CardServer& server, ChannelAddress where, std::string_view line) {
+std::string on_amplifier(BoardServer& server, ChannelAddress where, std::string_view line) {
   if (line.empty())
     throw sim::ControlError("nothing to do for port " + std::to_string(where.port) + " ch " +
                             std::to_string(where.channel) + "; expected e.g. ch 2 busv 24");
-  return server.with_card([&](VirtualCard& card) {
+  return server.with_card([&](VirtualBoard& card) {
     auto* amp = server.amplifier(card, where.port, where.channel);
     if (!amp)
       throw sim::ControlError("no 8I20 on SSERIAL port " + std::to_string(where.port) + " channel " +
@@ -63,12 +63,12 @@ std::string on_amplifier(CardServer& server, ChannelAddress where, std::string_v
   });
 }
 
-ChannelAddress first_amplifier(const CardServer& server) {
+ChannelAddress first_amplifier(const BoardServer& server) {
   const auto list = server.amplifiers();
   return list.empty() ? ChannelAddress{0, 0} : list.front();
 }
 
-std::string host_control(CardServer& server, const std::vector<std::string>& w) {
+std::string host_control(BoardServer& server, const std::vector<std::string>& w) {
   const char* form = "host on [PERIOD_MS] [port P] | host off | host";
   if (w.size() == 1) {
     const auto status = server.host_status();
@@ -99,11 +99,11 @@ std::string host_control(CardServer& server, const std::vector<std::string>& w) 
 
 }  // namespace
 
-std::string card_control_help() {
+std::string board_control_help() {
   return kHelp;
 }
 
-std::string apply_card_control(CardServer& server, std::string_view line) {
+std::string apply_board_control(BoardServer& server, std::string_view line) {
   const auto w = words(line.substr(0, line.find('#')));
   if (w.empty()) return "";
   const std::string& head = w[0];
@@ -149,7 +149,7 @@ std::string apply_card_control(CardServer& server, std::string_view line) {
     }
     throw sim::ControlError(std::string("expected ") + form);
   }
-  if (head == "help") return card_control_help() + sim::control_help();
+  if (head == "help") return board_control_help() + sim::control_help();
   return on_amplifier(server, first_amplifier(server), line);
 }
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include "profile/card_limits.hpp"
+#include "profile/amp_limits.hpp"
 
 #include <cstdio>
 
@@ -7,7 +7,7 @@
 
 namespace i20::profile {
 
-double card_max_bus_v() {
+double amp_max_bus_v() {
   // Throws if the compiled-in table lost the limit: a missing safety check must not pass.
   static const double limit = faults::FaultTable::builtin().fixed_limit("max-bus-voltage");
   return limit;

@@ -25,9 +25,9 @@ namespace i20::ethsim {
 
 // Applies `line` at the current time. Throws sim::ControlError (a one-line reason and the
 // expected form) for anything it does not understand. Blank lines and # comments: "".
-std::string apply_card_control(CardServer& server, std::string_view line);
+std::string apply_board_control(BoardServer& server, std::string_view line);
 
 // The card-level forms above, one per line, for --help and "help".
-std::string card_control_help();
+std::string board_control_help();
 
 }  // namespace i20::ethsim

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include "ops/device_access.hpp"
+#include "ops/amp_cell_access.hpp"
 
 #include "device/errors.hpp"
 #include "lbp/bytes.hpp"
@@ -12,18 +12,18 @@ namespace i20::ops {
 // The transaction decides when Ctrl-C stops the work (before the first write, between
 // writes, never inside a rollback), so the card client under it must not throw Cancelled
 // in the middle of an EEPROM sequence or of a restore: its own polling is off meanwhile.
-DeviceCardAccess::DeviceCardAccess(Card& card, device::WriteOptions write, Activity activity)
+AmpCellAccess::AmpCellAccess(Amp& card, device::WriteOptions write, Activity activity)
     : card_(card), uninterruptible_(card), write_(write), activity_(std::move(activity)) {}
 
-void DeviceCardAccess::note(const std::string& what) {
+void AmpCellAccess::note(const std::string& what) {
   if (activity_) activity_(what);
 }
 
-RawValues DeviceCardAccess::read(const std::vector<std::string>& names) {
+RawValues AmpCellAccess::read(const std::vector<std::string>& names) {
   if (!failed_ && written_ == 0) note("reading");
   RawValues out;
   // Reads change nothing on the card, so they are simply asked again: read_values when a
-  // reply is lost (Card::with_retries, the retry budget), here when the card reset in the
+  // reply is lost (Amp::with_retries, the retry budget), here when the card reset in the
   // middle of an NV read.
   for (unsigned attempt = 1;; ++attempt) {
     try {
@@ -32,24 +32,24 @@ RawValues DeviceCardAccess::read(const std::vector<std::string>& names) {
       for (const auto& r : read_values(card_, names, unconfirmed))
         if (r.raw) out[r.param->name] = *r.raw;
       return out;
-    } catch (const device::CardStateError&) {
+    } catch (const device::AmpStateError&) {
       if (attempt >= card_.retry().attempts || card_.past_deadline()) throw;
       card_.count_retry();
     }
   }
 }
 
-void DeviceCardAccess::check_write(const std::string& name, std::int64_t raw) {
+void AmpCellAccess::check_write(const std::string& name, std::int64_t raw) {
   ++planned_;
   try {
-    card_.amp().check_write(card_.db().get(name), raw, write_);
+    card_.device().check_write(card_.db().get(name), raw, write_);
   } catch (const device::SafetyError&) {
     refused_ = true;
     throw;
   }
 }
 
-void DeviceCardAccess::write(const std::string& name, std::int64_t raw) {
+void AmpCellAccess::write(const std::string& name, std::int64_t raw) {
   // After a stop request the transaction writes only to restore (it stops before the next write).
   const bool restoring = failed_ || written_ >= planned_ || card_.cancel().requested();
   if (restoring)
@@ -71,11 +71,11 @@ void DeviceCardAccess::write(const std::string& name, std::int64_t raw) {
 // budget. A read-back that gets no answer either leaves the write's fate unknown: the
 // error stands, nothing is written blindly. A read-back that disagrees with a completed
 // exchange (VerifyError) is an answer, not a line fault: it is not retried.
-void DeviceCardAccess::write_once(const std::string& name, std::int64_t raw) {
+void AmpCellAccess::write_once(const std::string& name, std::int64_t raw) {
   const unsigned attempts = card_.retry().attempts;
   for (unsigned attempt = 1;; ++attempt) {
     try {
-      const auto report = card_.amp().write(name, raw, write_);
+      const auto report = card_.device().write(name, raw, write_);
       if (!report.verified)
         throw device::VerifyError(name + " was written but the card cannot read it back to verify it");
       return;
@@ -89,7 +89,7 @@ void DeviceCardAccess::write_once(const std::string& name, std::int64_t raw) {
       const auto held = holds(name, raw);
       if (held == true) return;
       if (!held || attempt >= attempts || card_.past_deadline()) throw;
-    } catch (const device::CardStateError&) {
+    } catch (const device::AmpStateError&) {
       // Leaving NV mode failed after the write. An NV read-back enters and leaves NV mode
       // again, so a successful one also proves the card is back in normal access mode.
       const auto held = holds(name, raw);
@@ -104,20 +104,20 @@ void DeviceCardAccess::write_once(const std::string& name, std::int64_t raw) {
 // the EEPROM as it was then. If working memory at the EEPROM address now holds the value
 // written, the write went there instead: a reset re-initialises that memory, and the card
 // has just reset anyway, so it is reset once more before anything else is sent.
-void DeviceCardAccess::recover_from_mode_loss(const device::NvModeLost& lost) {
+void AmpCellAccess::recover_from_mode_loss(const device::NvModeLost& lost) {
   events_.push_back("the card reset itself while " + lost.cell() +
                     " was being written: its working values were reloaded from the EEPROM as it was then");
   if (!lost.stray_ram_value()) return;
   note("resetting");
-  card_.amp().reset();
+  card_.device().reset();
   events_.push_back("working memory at " + lbp::hex_value(lost.address(), 4) + " held the value meant for " +
                     lost.cell() + "'s EEPROM cell: the tool reset the card to re-initialise it");
 }
 
-// read_values repeats a read whose reply is lost (Card::with_retries): that spends the
+// read_values repeats a read whose reply is lost (Amp::with_retries): that spends the
 // budget, so a lost read-back is not repeated here on top. Only a card that reset in the
-// middle of an NV read-back (CardStateError) is asked again, within the same budget.
-std::optional<bool> DeviceCardAccess::holds(const std::string& name, std::int64_t raw) {
+// middle of an NV read-back (AmpStateError) is asked again, within the same budget.
+std::optional<bool> AmpCellAccess::holds(const std::string& name, std::int64_t raw) {
   for (unsigned attempt = 1;; ++attempt) {
     try {
       const auto unconfirmed = write_.allow_unverified ? Unconfirmed::Read : Unconfirmed::Skip;
@@ -125,16 +125,16 @@ std::optional<bool> DeviceCardAccess::holds(const std::string& name, std::int64_
       return r.front().raw == raw;
     } catch (const link::LinkError&) {
       return std::nullopt;
-    } catch (const device::CardStateError&) {
+    } catch (const device::AmpStateError&) {
       if (attempt >= card_.retry().attempts || card_.past_deadline()) return std::nullopt;
       card_.count_retry();
     }
   }
 }
 
-void DeviceCardAccess::reset() {
+void AmpCellAccess::reset() {
   note("resetting");
-  card_.amp().reset();
+  card_.device().reset();
 }
 
 }  // namespace i20::ops

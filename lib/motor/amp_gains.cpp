@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include "motor/card_gains.hpp"
+#include "motor/amp_gains.hpp"
 
 #include <numbers>
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The virtual card's LBP16 spaces, driven packet by packet without sockets.
-#include "ethsim/virtual_card.hpp"
+#include "ethsim/virtual_board.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,10 +12,10 @@ using lbp16::Width;
 
 namespace {
 
-class EthVirtualCard : public ::testing::Test {
+class EthVirtualBoard : public ::testing::Test {
  protected:
   Clock::time_point t0 = Clock::time_point{} + 1h;
-  VirtualCard card{VirtualCardOptions{}, t0};
+  VirtualBoard card{VirtualBoardOptions{}, t0};
 
   std::optional<lbp::Bytes> send(const std::vector<lbp16::Command>& commands, Clock::duration at = 0s) {
     return card.handle(lbp16::encode_packet(commands), t0 + at);
@@ -31,11 +31,11 @@ class EthVirtualCard : public ::testing::Test {
 
 }  // namespace
 
-TEST_F(EthVirtualCard, AnswersTheElbpcomCookieRead) {
+TEST_F(EthVirtualBoard, AnswersTheElbpcomCookieRead) {
   EXPECT_EQ(card.handle(lbp::from_hex("01420001"), t0), lbp::from_hex("fecaaa55"));
 }
 
-TEST_F(EthVirtualCard, IdentAreaAndIdromAreWhereHostMot2PutsThem) {
+TEST_F(EthVirtualBoard, IdentAreaAndIdromAreWhereHostMot2PutsThem) {
   const auto parts = transact({lbp16::read_hm2(0x0100, 4), lbp16::read_hm2(0x0400, 16)});
   const auto ident = lbp::hm2::IdentArea::parse(parts[0]);
   EXPECT_EQ(ident.config_name, "HOSTMOT2");
@@ -43,7 +43,7 @@ TEST_F(EthVirtualCard, IdentAreaAndIdromAreWhereHostMot2PutsThem) {
   EXPECT_EQ(lbp::hm2::Idrom::parse(parts[1]).board_name, "MESA7I96");
 }
 
-TEST_F(EthVirtualCard, EveryImplementedSpaceHasItsInfoArea) {
+TEST_F(EthVirtualBoard, EveryImplementedSpaceHasItsInfoArea) {
   for (std::uint8_t space : {0, 1, 2, 3, 4, 6, 7}) {
     const auto area = lbp16::InfoArea::parse(transact({lbp16::read_info(space, 0, 8)})[0]);
     EXPECT_TRUE(area.cookie_ok(space)) << int(space);
@@ -65,7 +65,7 @@ TEST_F(EthVirtualCard, EveryImplementedSpaceHasItsInfoArea) {
   EXPECT_TRUE(card.status_register(status_reg::kErrors) & status_reg::kMemErrorBit);
 }
 
-TEST_F(EthVirtualCard, Space7CarriesNameAndVersions) {
+TEST_F(EthVirtualBoard, Space7CarriesNameAndVersions) {
   const auto info = lbp16::BoardInfo::parse(transact({lbp16::read_board_info()})[0]);
   EXPECT_EQ(info.card_name, "7I96S");
   EXPECT_EQ(info.lbp16_version, 3);
@@ -75,7 +75,7 @@ TEST_F(EthVirtualCard, Space7CarriesNameAndVersions) {
   EXPECT_TRUE(card.status_register(status_reg::kErrors) & status_reg::kWriteErrorBit);
 }
 
-TEST_F(EthVirtualCard, EepromWritesNeedTheEnableInTheSamePacket) {
+TEST_F(EthVirtualBoard, EepromWritesNeedTheEnableInTheSamePacket) {
   const lbp::Bytes ip = lbp::to_le(0xC0A80020u, 4);
   const auto write_ip = lbp16::write(lbp16::space::kEthernetEeprom, 0x20, Width::Bits16, ip);
   // Without the enable: refused.
@@ -96,7 +96,7 @@ TEST_F(EthVirtualCard, EepromWritesNeedTheEnableInTheSamePacket) {
   EXPECT_EQ(card.eeprom_word(0x10), 'I' << 8 | '7');
 }
 
-TEST_F(EthVirtualCard, FlashIdReadWriteAndErase) {
+TEST_F(EthVirtualBoard, FlashIdReadWriteAndErase) {
   using lbp16::space::kFpgaFlash;
   EXPECT_EQ(lbp::read_le(transact({lbp16::read(kFpgaFlash, 8, Width::Bits32, 1, false)})[0]), 0x14u);
   const lbp::Bytes page = lbp16::bytes_of_words(std::vector<std::uint32_t>{1, 2, 3, 4});
@@ -117,23 +117,23 @@ TEST_F(EthVirtualCard, FlashIdReadWriteAndErase) {
   EXPECT_EQ(lbp::read_le(erased[1]), 0xFFFFFFFFu);
 }
 
-TEST_F(EthVirtualCard, WaitMicrosecondsDelaysTheRestOfThePacket) {
-  const Clock::time_point before = card.card_time();
+TEST_F(EthVirtualBoard, WaitMicrosecondsDelaysTheRestOfThePacket) {
+  const Clock::time_point before = card.board_time();
   const auto parts = transact({lbp16::read(4, 0, Width::Bits16, 1, false),
                                lbp16::write(4, 2, Width::Bits16, lbp::to_le(500, 2), false),
                                lbp16::read(4, 0, Width::Bits16, 1, false)});
-  EXPECT_EQ(card.card_time() - before, 500us);
+  EXPECT_EQ(card.board_time() - before, 500us);
   EXPECT_EQ(lbp::read_le(parts[2]) - lbp::read_le(parts[0]), 500u);
 }
 
-TEST_F(EthVirtualCard, CountersAndScratch) {
+TEST_F(EthVirtualBoard, CountersAndScratch) {
   send({lbp16::write(6, 0x18, Width::Bits16, lbp::to_le(0xBEEF, 2))});
   EXPECT_EQ(read16(6, 0x18), 0xBEEF);
   EXPECT_EQ(card.status_register(status_reg::kRxUdp), 2);
   EXPECT_EQ(card.status_register(status_reg::kTxUdp), 1);  // the write-only packet got no reply
 }
 
-TEST_F(EthVirtualCard, WrongWidthsAndMissingSpacesAreMemErrorsWithZeros) {
+TEST_F(EthVirtualBoard, WrongWidthsAndMissingSpacesAreMemErrorsWithZeros) {
   const auto parts = transact({lbp16::read(0, 0x100, Width::Bits16, 2), lbp16::read(5, 0, Width::Bits16, 1)});
   EXPECT_EQ(parts[0], lbp::Bytes(4, 0));
   EXPECT_EQ(parts[1], lbp::Bytes(2, 0));
@@ -141,7 +141,7 @@ TEST_F(EthVirtualCard, WrongWidthsAndMissingSpacesAreMemErrorsWithZeros) {
   EXPECT_EQ(card.stats().mem_errors, 2u);
 }
 
-TEST_F(EthVirtualCard, TruncatedPacketIsAParseErrorAfterTheGoodCommands) {
+TEST_F(EthVirtualBoard, TruncatedPacketIsAParseErrorAfterTheGoodCommands) {
   lbp::Bytes packet = lbp16::encode_packet(std::vector{lbp16::read_hm2(0x100)});
   packet.push_back(0x01);  // half a command word
   EXPECT_EQ(card.handle(packet, t0), lbp::from_hex("fecaaa55"));
@@ -149,7 +149,7 @@ TEST_F(EthVirtualCard, TruncatedPacketIsAParseErrorAfterTheGoodCommands) {
   EXPECT_EQ(card.status_register(status_reg::kParseErrors), 1);
 }
 
-TEST_F(EthVirtualCard, IdromIsReadOnlyOtherRegistersAreNot) {
+TEST_F(EthVirtualBoard, IdromIsReadOnlyOtherRegistersAreNot) {
   send({lbp16::write_hm2(0x0400, 0u), lbp16::write_hm2(0x1100, 0x7u)});
   EXPECT_EQ(card.hm2_register(0x0400), 3u);  // IDROM type
   EXPECT_EQ(card.hm2_register(0x1100), 7u);  // IOPORT DDR
