@@ -21,6 +21,7 @@
 #include "ops/errors.hpp"
 #include "ops/faults.hpp"
 #include "ops/live_source.hpp"
+#include "ops/timing.hpp"
 #include "passive.hpp"
 
 namespace i20::cli {
@@ -227,7 +228,7 @@ void run_mask(Context& ctx, const MaskOptions& o) {
 // ------------------------------------------------------------------ clear-faults
 struct ClearOptions {
   ops::WriteOptions write;
-  unsigned wait_ms = 1000;
+  unsigned wait_ms = static_cast<unsigned>(ops::timing::kClearFaultWait.count());
 };
 
 std::string why_remaining(const F::ReportLine& line, const Readings& r, const std::string& flags) {

@@ -17,6 +17,7 @@
 #include "ops/passive_monitor.hpp"
 #include "ops/passive_watch.hpp"
 #include "ops/scan.hpp"
+#include "ops/timing.hpp"
 #include "terminal.hpp"
 
 namespace i20::cli {
@@ -48,7 +49,7 @@ ops::HostPort passive_card(const Context& ctx, const char* command) {
 
 ops::PassiveMonitorOptions monitor_options(const Context& ctx) {
   ops::PassiveMonitorOptions m;
-  m.read.timeout = std::chrono::milliseconds(std::max(ctx.options.link.timeout_ms, 200u));
+  m.read = ops::timing::passive(ctx.options.link);
   return m;
 }
 

@@ -15,6 +15,7 @@
 #include "ops/errors.hpp"
 #include "ops/faults.hpp"
 #include "ops/signals.hpp"
+#include "ops/timing.hpp"
 #include "options.hpp"
 #include "params/value.hpp"
 #include "terminal.hpp"
@@ -25,7 +26,7 @@ using namespace i20;
 namespace {
 
 int clear_faults(ops::Session& session, const ops::WriteOptions& write) {
-  const auto result = ops::clear_faults(session.card(), write, std::chrono::milliseconds(1000));
+  const auto result = ops::clear_faults(session.card(), write, ops::timing::kClearFaultWait);
   std::cout << "FAULT cleared through CLEARFAULT: was " << lbp::hex_value(result.fault_before, 4) << ", now "
             << lbp::hex_value(result.after.fault, 4) << "\n";
   if (result.faults_remain())

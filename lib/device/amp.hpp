@@ -132,12 +132,13 @@ class Amp8i20 {
   // confirmed again after each cell (NvModeLost when it is gone).
   std::vector<WriteReport> write(std::span<const Assignment> assignments, const WriteOptions& options);
 
-  // 0xFE 0x5A, then waits until the card answers again (NV values become live).
-  void reset(std::chrono::milliseconds wait = std::chrono::milliseconds(3000));
+  // 0xFE 0x5A, then waits up to `wait` until the card answers again (NV values become
+  // live). The wait is the caller's (ops/timing.hpp).
+  void reset(std::chrono::milliseconds wait);
 
-  // Sets CLEARFAULT, polls until the card clears it (deadline), re-reads FAULT/STATUS.
-  ClearFaultsResult clear_faults(const WriteOptions& options,
-                                 std::chrono::milliseconds deadline = std::chrono::milliseconds(1000));
+  // Sets CLEARFAULT, polls until the card clears it (up to `deadline`, the caller's),
+  // re-reads FAULT/STATUS.
+  ClearFaultsResult clear_faults(const WriteOptions& options, std::chrono::milliseconds deadline);
 
   // Raw reads for discovery and diagnostics (read-only, any address).
   lbp::Bytes read_memory(params::Space space, std::uint16_t address, std::size_t count);

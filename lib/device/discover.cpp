@@ -208,7 +208,7 @@ DiscoveryReport discover(Amp8i20& amp, const DiscoveryOptions& o) {
 
   // 2. Reset, read the NV values, scan RAM for them.
   if (o.reset_first) {
-    amp.reset();
+    amp.reset(o.reset_wait);
     report.was_reset = true;
   }
   std::vector<const Param*> nv_params, working;

@@ -213,7 +213,7 @@ DriveReading DriveLoop::cycle(DriveSetpoint setpoint) {
 }
 
 std::uint32_t DriveLoop::foreign_packets() {
-  return foreign_packets_since(*bus_, activity_);
+  return foreign_packets_since(*bus_, activity_, options_.running_host);
 }
 
 void DriveLoop::stop() {

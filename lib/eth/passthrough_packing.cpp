@@ -22,9 +22,6 @@ namespace {
 // Scratch), FencedTransport's read of RXUDPCount and our own.
 constexpr std::size_t kTagRequestBytes = 6 + 4 + 4 + 4;
 constexpr std::size_t kTagReplyBytes = 2 + 2 + 2;
-// Late DOITs tolerated in one execute() before the link gives up: each costs a replay,
-// and a remote that is always slower than its estimate is better reported than chased.
-constexpr unsigned kMaxReplays = 16;
 
 // A register's value from its reply bytes.
 constexpr auto word = lbp::read_le32;
@@ -254,7 +251,7 @@ void PassthroughPort::run(std::vector<Channel>& channels) {
       PacketResult result = run_packet(packet, channels);
       restore = std::move(result.restore);
       slow = result.slow;
-      if (result.next == PacketResult::Next::Replay && ++replays > kMaxReplays)
+      if (result.next == PacketResult::Next::Replay && ++replays > options_.max_replays)
         throw link::TimeoutError(
             "SSLBP DOITs on " + describe() + " keep finishing later than their serial traffic needs (" +
             std::to_string(replays) + " replays in one exchange): the remote answers too slowly");

@@ -104,7 +104,7 @@ struct PassthroughOptions {
   SslbpOptions sslbp;
   // How often a passthrough packet whose reply was lost is sent again, after the fence and
   // a read-only probe (PassthroughPort::lost_reply; a step that must not run twice never
-  // is). ops sends 0 (ops::passthrough_options): it repeats a lost exchange itself, within
+  // is). ops sends 0 (ops::timing::passthrough): it repeats a lost exchange itself, within
   // its retry budget, and a write only after a read-back.
   unsigned lost_packet_resends = 2;
   RunningHostCheck running_host;
@@ -127,6 +127,9 @@ struct PassthroughOptions {
   std::chrono::milliseconds max_slack{20};
   // How long a link waits for the links of other channels to join its execute().
   std::chrono::microseconds gather_window{2000};
+  // Late DOITs tolerated in one execute() before the link gives up: each costs a replay,
+  // and a remote that is always slower than its estimate is better reported than chased.
+  unsigned max_replays = 16;
 };
 
 // What answered on a channel at setup start.

@@ -31,9 +31,6 @@ Counters counters_of(const lbp::Bytes& words) {
   return Counters{.received = w.front(), .sent = w.back()};
 }
 
-// How often a counter read is sent again because its request went out more than once.
-constexpr unsigned kCounterReadAttempts = 4;
-
 // `packet` (read-only) as transact_counted(). With `counters`, until one request went out
 // once: a request resent after a late reply leaves a copy of ours that may reach the card
 // after the copy whose counters we took. Counted from the first read of the window, that
@@ -42,22 +39,22 @@ constexpr unsigned kCounterReadAttempts = 4;
 // A read sent after every copy counts them all (one path to the card: they arrive in
 // order), so the counters are read again.
 std::vector<lbp::Bytes> transact_for_counters(Lbp16Transport& bus, std::span<const lbp16::Command> packet,
-                                              bool counters, std::uint64_t& sent) {
+                                              bool counters, std::uint64_t& sent, unsigned attempts) {
   for (unsigned attempt = 1;; ++attempt) {
     const auto resends = bus.stats().resends;
     auto parts = bus.transact_counted(packet, Resend::IfReadOnly, sent);
-    if (!counters || bus.stats().resends == resends || attempt == kCounterReadAttempts) return parts;
+    if (!counters || bus.stats().resends == resends || attempt >= attempts) return parts;
   }
 }
 
 // One read-only packet: optionally the counters, then COMMAND of every port. Returns the
 // counters when asked for and records busy COMMANDs.
 std::optional<Counters> sample(Lbp16Transport& bus, std::span<const SserialPort> ports, bool counters,
-                               HostActivity& activity, std::uint64_t& sent) {
+                               const RunningHostCheck& check, HostActivity& activity, std::uint64_t& sent) {
   std::vector<lbp16::Command> packet;
   if (counters) packet.push_back(counters_read());
   for (const auto& port : ports) packet.push_back(lbp16::read_hm2(port.registers.command));
-  const auto parts = transact_for_counters(bus, packet, counters, sent);
+  const auto parts = transact_for_counters(bus, packet, counters, sent, check.counter_read_attempts);
   const std::size_t first = counters ? 1 : 0;
   for (std::size_t i = 0; i < ports.size(); ++i) {
     const auto command = static_cast<std::uint32_t>(lbp::read_le(parts[first + i])) & 0xFFFF;
@@ -92,12 +89,12 @@ HostActivity finish_window(Lbp16Transport& bus, std::span<const SserialPort> por
   const auto step = check.window / (between + 1);
   for (unsigned i = 0; i < between; ++i) {
     std::this_thread::sleep_until(start + step * (i + 1));
-    sample(bus, ports, false, activity, sent);
+    sample(bus, ports, false, check, activity, sent);
   }
   auto end = start + check.window;
   for (unsigned extra = 0;; ++extra) {
     std::this_thread::sleep_until(end);
-    const Counters last = *sample(bus, ports, true, activity, sent);
+    const Counters last = *sample(bus, ports, true, check, activity, sent);
     activity.window =
         std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start);
     // Every packet we sent after the first counter read was counted on the way in; every
@@ -168,14 +165,16 @@ HostActivity observe_host_activity(Lbp16Transport& bus, std::span<const SserialP
   HostActivity activity;
   const auto start = std::chrono::steady_clock::now();
   std::uint64_t sent_after_first = 0;
-  const Counters first = *sample(bus, ports, true, activity, sent_after_first);
+  const Counters first = *sample(bus, ports, true, check, activity, sent_after_first);
   return finish_window(bus, ports, check, std::move(activity), start, first, sent_after_first);
 }
 
-std::uint32_t foreign_packets_since(Lbp16Transport& bus, const HostActivity& since) {
+std::uint32_t foreign_packets_since(Lbp16Transport& bus, const HostActivity& since,
+                                    const RunningHostCheck& check) {
   const lbp16::Command read = counters_read();
   std::uint64_t sent = 0;
-  const Counters now = counters_of(transact_for_counters(bus, std::span(&read, 1), true, sent).front());
+  const Counters now = counters_of(
+      transact_for_counters(bus, std::span(&read, 1), true, sent, check.counter_read_attempts).front());
   const std::uint64_t ours = sent - since.sent_at_last;
   return beyond(since.last_received, now.received, static_cast<std::uint32_t>(ours));
 }

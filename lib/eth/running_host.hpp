@@ -54,6 +54,10 @@ struct RunningHostCheck {
   // exchange in 30 ms, as a stray query does; a longer watch tells them apart. An idle
   // card (nothing foreign) and a host above the limit cost no extra window.
   unsigned extra_windows = 2;
+  // How often a counter read is sent again because its request went out more than once
+  // (a late reply made the UDP client resend it, and a copy of ours may reach the card
+  // between the two counters).
+  unsigned counter_read_attempts = 4;
   // Setup starts to try before a channel counts as silent: in a take-over the other host's
   // DOITs can land inside ours and fail a channel that is there.
   unsigned setup_start_attempts() const { return take_over ? 4 : 1; }
@@ -112,7 +116,8 @@ HostActivity require_no_running_host(Lbp16Transport& bus, std::span<const Sseria
 
 // Packets that reached the card since `since` was observed and were not ours (one
 // read-only packet).
-std::uint32_t foreign_packets_since(Lbp16Transport& bus, const HostActivity& since);
+std::uint32_t foreign_packets_since(Lbp16Transport& bus, const HostActivity& since,
+                                    const RunningHostCheck& check);
 
 // Space 6 counters.
 inline constexpr std::uint16_t kRxUdpCountAddress = 0x000A;

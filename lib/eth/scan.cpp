@@ -72,7 +72,9 @@ ScanResult scan(Lbp16Transport& bus, ScanOptions options) {
   for (const SserialPort& port : ports)
     result.ports.push_back(
         scan_port(bus, port, result.card.has_timer_space(), options, result.card.card_name));
-  if (!ports.empty()) result.foreign_packets_during_scan = foreign_packets_since(bus, result.host_activity);
+  if (!ports.empty())
+    result.foreign_packets_during_scan =
+        foreign_packets_since(bus, result.host_activity, options.running_host);
   return result;
 }
 

@@ -10,7 +10,7 @@
 #include "device/errors.hpp"
 #include "eth/errors.hpp"
 #include "lbp/bytes.hpp"
-#include "ops/link_options.hpp"
+#include "ops/timing.hpp"
 
 namespace i20::ops {
 namespace {

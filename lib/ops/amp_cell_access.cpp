@@ -5,6 +5,7 @@
 #include "lbp/bytes.hpp"
 #include "link/link.hpp"
 #include "ops/read.hpp"
+#include "ops/timing.hpp"
 #include "params/value.hpp"
 
 namespace i20::ops {
@@ -109,7 +110,7 @@ void AmpCellAccess::recover_from_mode_loss(const device::NvModeLost& lost) {
                     " was being written: its working values were reloaded from the EEPROM as it was then");
   if (!lost.stray_ram_value()) return;
   note("resetting");
-  card_.device().reset();
+  card_.device().reset(timing::kResetWait);
   events_.push_back("working memory at " + lbp::hex_value(lost.address(), 4) + " held the value meant for " +
                     lost.cell() + "'s EEPROM cell: the tool reset the card to re-initialise it");
 }
@@ -134,7 +135,7 @@ std::optional<bool> AmpCellAccess::holds(const std::string& name, std::int64_t r
 
 void AmpCellAccess::reset() {
   note("resetting");
-  card_.device().reset();
+  card_.device().reset(timing::kResetWait);
 }
 
 }  // namespace i20::ops

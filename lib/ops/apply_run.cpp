@@ -12,6 +12,7 @@
 #include "ops/pending.hpp"
 #include "ops/read.hpp"
 #include "ops/reset.hpp"
+#include "ops/timing.hpp"
 #include "ops/undo.hpp"
 #include "profile/backup.hpp"
 
@@ -95,7 +96,7 @@ void check_silent_reset(Amp& c, const ApplyJob& job, std::size_t silences_before
 // restored ones again, instead of a mix nobody asked for.
 void reload_restored_values(Amp& c, TargetRun& run) {
   try {
-    c.device().reset();
+    c.device().reset(timing::kResetWait);
     run.result->events.push_back(
         "after restoring the EEPROM the tool reset the card once more, so its working values are the "
         "restored "

@@ -14,6 +14,7 @@
 #include "linuxcnc/hal_file.hpp"
 #include "ops/commission.hpp"
 #include "ops/commission_motion.hpp"
+#include "ops/timing.hpp"
 
 namespace i20::ops {
 
@@ -439,13 +440,8 @@ ClosedLoopCheck Procedure::closed_loop(const Rotor& rotor) {
 }
 
 eth::NormalModeOptions loop_options(const CommissionOptions& options, const Session& session) {
-  eth::NormalModeOptions o;
-  o.period = options.period;
-  // A lost reply must not cost the watchdog: one cycle's wait at most.
-  o.udp.timeout = options.period * 2;
-  o.udp.max_timeout = options.period * 2;
-  o.running_host.take_over = session.options().link.take_over;
-  return o;
+  // A lost reply must not cost the watchdog: two periods' wait at most.
+  return timing::normal_mode(session.options().link, options.period, options.period * 2);
 }
 
 }  // namespace

@@ -8,9 +8,11 @@
 
 #include "error/error.hpp"
 #include "eth/passthrough_link.hpp"
+#include "eth/passthrough_port.hpp"
 #include "eth/target.hpp"
+#include "link/pipelined_link.hpp"
 #include "link/serial_link.hpp"
-#include "ops/link_options.hpp"
+#include "ops/timing.hpp"
 #include "sim/param_map.hpp"
 #include "sim/sim_stream.hpp"
 
@@ -137,35 +139,13 @@ std::vector<Endpoint> resolve_endpoints(const std::vector<std::string>& texts,
   return out;
 }
 
-link::PipelinedLinkOptions serial_link_options(const LinkSettings& s, const RetryPolicy&) {
-  link::PipelinedLinkOptions options;
-  options.base_timeout = std::chrono::milliseconds(s.timeout_ms);
-  // ops repeats the exchanges itself (Amp::with_retries): a batch is sent once here.
-  options.retries = 0;
-  return options;
-}
-
-eth::PassthroughOptions passthrough_options(const LinkSettings& s, const RetryPolicy& retry) {
-  eth::PassthroughOptions options;
-  options.udp.timeout = std::chrono::milliseconds(s.timeout_ms);
-  options.running_host.take_over = s.take_over;
-  // ops repeats the exchanges itself: a passthrough packet whose reply is lost is not sent
-  // again by the port (it fences, probes, and reports the loss).
-  options.lost_packet_resends = 0;
-  // The Ethernet layers' own exchanges, which ops never sees: read-only packets and
-  // repeatable SSLBP commands, at most `attempts` sends each.
-  options.udp.retries = retry.resends();
-  options.sslbp.lost_reply_retries = retry.resends();
-  return options;
-}
-
 std::unique_ptr<link::Link> open_link(const Endpoint& e, const params::ParamDb& db, const LinkSettings& s) {
   return open_link(e, db, s, RetryPolicy{});
 }
 
 std::unique_ptr<link::Link> open_link(const Endpoint& e, const params::ParamDb& db, const LinkSettings& s,
                                       const RetryPolicy& retry) {
-  const link::PipelinedLinkOptions link_options = serial_link_options(s, retry);
+  const link::PipelinedLinkOptions link_options = timing::serial_link(s, retry);
   switch (e.kind) {
     case Endpoint::Kind::Sim: {
       sim::SimOptions sim;
@@ -177,7 +157,7 @@ std::unique_ptr<link::Link> open_link(const Endpoint& e, const params::ParamDb& 
       return std::make_unique<link::PipelinedLink>(std::move(stream), link_options);
     }
     case Endpoint::Kind::Eth: {
-      return eth::SslbpPassthroughLink::open(e.eth_target(), passthrough_options(s, retry));
+      return eth::SslbpPassthroughLink::open(e.eth_target(), timing::passthrough(s, retry));
     }
     case Endpoint::Kind::Serial: {
       link::SerialOptions serial;

@@ -19,6 +19,7 @@
 #include "eth/target.hpp"
 #include "link/link.hpp"
 #include "link/ports.hpp"
+#include "ops/retry.hpp"
 #include "params/param_db.hpp"
 
 namespace i20::ops {
@@ -87,5 +88,9 @@ using link::PortInfo;
 // sides. Throws i20::Error with advice when it cannot be opened.
 std::unique_ptr<link::Link> open_link(const Endpoint& endpoint, const params::ParamDb& db,
                                       const LinkSettings& settings);
+// The same with the links' options built from `retry` (ops/timing.hpp), the budget of the
+// ops::Amp that will own the link.
+std::unique_ptr<link::Link> open_link(const Endpoint& endpoint, const params::ParamDb& db,
+                                      const LinkSettings& settings, const RetryPolicy& retry);
 
 }  // namespace i20::ops

@@ -6,7 +6,7 @@
 
 #include "eth/passthrough_port.hpp"
 #include "eth/target.hpp"
-#include "ops/link_options.hpp"
+#include "ops/timing.hpp"
 
 namespace i20::ops {
 namespace {
@@ -45,7 +45,7 @@ std::vector<EthPort> by_port(const std::vector<Endpoint>& targets) {
 void open_ports(std::vector<EthPort>& ports, const OpenOptions& open) {
   std::map<std::string, std::shared_ptr<eth::Lbp16Transport>> transports;
   for (auto& p : ports) {
-    const eth::PassthroughOptions options = passthrough_options(open.link, open.retry);
+    const eth::PassthroughOptions options = timing::passthrough(open.link, open.retry);
     try {
       auto& transport = transports[p.card.describe()];
       if (!transport) transport = eth::PassthroughPort::board_transport(p.card, options.udp, options.fence);

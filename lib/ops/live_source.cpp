@@ -3,6 +3,7 @@
 
 #include "eth/normal_mode.hpp"
 #include "eth/target.hpp"
+#include "ops/timing.hpp"
 
 namespace i20::ops {
 namespace {
@@ -27,13 +28,12 @@ class RegisterSource final : public LiveSource {
 
 class NormalModeSource final : public LiveSource {
  public:
-  NormalModeSource(eth::EthTarget target, bool take_over) : target_(std::move(target)) {
-    options_.running_host.take_over = take_over;
-  }
+  NormalModeSource(eth::EthTarget target, const LinkSettings& link)
+      : target_(std::move(target)), options_(timing::normal_mode(link)) {}
 
   FaultReadings read() override {
     if (!session_) session_ = eth::NormalModeSession::open(target_, options_);
-    const auto status = session_->wait_for_sample(std::chrono::milliseconds(500));
+    const auto status = session_->wait_for_sample(timing::kNormalModeSample);
     const auto* ch = status.channel(target_.channel);
     if (!ch) throw Error("SSLBP normal mode returned no data for channel " + std::to_string(target_.channel));
     FaultReadings r;
@@ -62,8 +62,7 @@ bool is_eth_target(const Session& session) {
 
 std::unique_ptr<LiveSource> make_live_source(Session& session, LiveMode mode) {
   if (mode == LiveMode::NormalModeOnEthernet && is_eth_target(session))
-    return std::make_unique<NormalModeSource>(session.endpoint().eth_target(),
-                                              session.options().link.take_over);
+    return std::make_unique<NormalModeSource>(session.endpoint().eth_target(), session.options().link);
   return std::make_unique<RegisterSource>(session);
 }
 

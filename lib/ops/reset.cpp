@@ -6,6 +6,7 @@
 
 #include "device/errors.hpp"
 #include "ops/amp_cell_access.hpp"
+#include "ops/timing.hpp"
 #include "profile/validate.hpp"
 
 namespace i20::ops {
@@ -116,7 +117,7 @@ ResetRun reset_card(Amp& card, bool force) {
   }
   if (run.judgement.refused()) return run;
   try {
-    card.device().reset();
+    card.device().reset(timing::kResetWait);
   } catch (const Error& e) {
     // The reset was sent: the card may be running from its NV values, or not be back.
     if (e.kind() != ErrorKind::Failure) throw;

@@ -2,7 +2,7 @@
 // The retry budget: how often one logical exchange with a card (a read, a read-back, an
 // SSLBP command) may be sent when the line loses or garbles its replies, counted across
 // every layer. ops owns it and hands it down where the links are built
-// (link_options.hpp), so that the layers never multiply their resends:
+// (timing.hpp, with every other count and timeout), so that the layers never multiply their resends:
 //
 // - Exchanges ops starts (Amp::with_retries, the transaction's reads and read-backs):
 //   ops owns the loop and the links under it send each exchange once (the serial link's

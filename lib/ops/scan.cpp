@@ -2,6 +2,7 @@
 #include "ops/scan.hpp"
 
 #include "eth/running_host.hpp"
+#include "ops/timing.hpp"
 
 namespace i20::ops {
 
@@ -13,9 +14,7 @@ std::optional<HostPort> ethernet_card(const TargetFlags& target) {
 }
 
 ScanRun scan_card(const HostPort& card, const LinkSettings& link) {
-  eth::ScanOptions options;
-  options.udp.timeout = std::chrono::milliseconds(link.timeout_ms);
-  options.running_host.take_over = link.take_over;
+  const eth::ScanOptions options = timing::scan(link);
   ScanRun run{eth::scan(card, options)};
   run.stopped_running_host =
       link.take_over && eth::host_is_running(run.result.host_activity, options.running_host);

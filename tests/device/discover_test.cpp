@@ -35,6 +35,7 @@ const device::Finding& finding(const device::DiscoveryReport& r, const std::stri
 
 device::DiscoveryOptions whole_map_range() {
   device::DiscoveryOptions o;
+  o.reset_wait = std::chrono::milliseconds(3000);
   o.scan_begin = 0x0000;  // the shuffled simulator map uses 0x0400..0x0FFF
   o.scan_end = 0x1000;
   return o;

@@ -193,6 +193,25 @@ TEST(EthBatching, ASlowSslbpIsCaughtAndTheResultsStayRight) {
   EXPECT_EQ(value(link->execute_one(lbp::local_read(L::kGetNvAccess))), 0u) << "NV mode left";
 }
 
+TEST(EthBatching, LateDoitsAreReplayedOnlyAsOftenAsTheCallerAllows) {
+  // The replay bound is the caller's (PassthroughOptions::max_replays, set by
+  // ops/timing.hpp): with none allowed, the first late DOIT ends the exchange with a
+  // timeout that says why, instead of a replay.
+  ethsim::ServerOptions options;
+  options.sslbp.processing = std::chrono::microseconds(400);
+  test::RunningBoard card(options);
+  PassthroughOptions strict;
+  strict.max_replays = 0;
+  const auto link = SslbpPassthroughLink::open(card.target(0), strict);
+  try {
+    link->execute(dump_like());
+    FAIL() << "a late DOIT was replayed although no replay was allowed";
+  } catch (const link::TimeoutError& e) {
+    EXPECT_NE(std::string(e.what()).find("keep finishing later"), std::string::npos) << e.what();
+  }
+  EXPECT_GT(link->stats().late_doits, 0u);
+}
+
 // A slice of the RPC table as the device layer reads it (Amp8i20::read_rpc_table): RPC
 // memory access on, the reads, off again and the check. One packet: the 0xEA that turns the
 // mode off may follow the reads, because a replay's bracket turns it on again. With a slow

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Issue 19, "one retry budget": ops owns it (ops/retry.hpp) and hands it down where the
-// links are built (ops::serial_link_options, ops::passthrough_options), so the layers
+// links are built (ops::timing::serial_link, ops::timing::passthrough), so the layers
 // never multiply their resends. The worst case asserted here: a read whose replies are all
 // lost reaches the card at most RetryPolicy::attempts (3) times in all, over serial and over
 // Ethernet, and ends with an error that says so; a write whose replies are lost is sent
@@ -30,8 +30,8 @@
 #include "ops/amp.hpp"
 #include "ops/amp_cell_access.hpp"
 #include "ops/cancel.hpp"
-#include "ops/link_options.hpp"
 #include "ops/read.hpp"
+#include "ops/timing.hpp"
 #include "sim/param_map.hpp"
 #include "sim/sim_stream.hpp"
 
@@ -99,7 +99,7 @@ struct SerialRig {
     auto s = std::make_unique<sim::SimStream>(std::move(sim));
     stream = s.get();
     auto link = std::make_unique<CountingLink>(
-        std::make_unique<link::PipelinedLink>(std::move(s), ops::serial_link_options(settings, retry)));
+        std::make_unique<link::PipelinedLink>(std::move(s), ops::timing::serial_link(settings, retry)));
     counting = link.get();
     card = ops::Amp::attach(std::move(link), ops::parse_endpoint("sim"), params::ParamDb::builtin(), retry);
   }
@@ -184,7 +184,7 @@ class LosingDoits final : public eth::Lbp16Transport {
 eth::PassthroughOptions eth_options(const ops::RetryPolicy& retry) {
   ops::LinkSettings settings;
   settings.timeout_ms = 20;
-  auto options = ops::passthrough_options(settings, retry);
+  auto options = ops::timing::passthrough(settings, retry);
   options.udp.max_timeout = 100ms;
   options.fence.bound = 100ms;
   return options;
@@ -348,7 +348,7 @@ TEST(SilenceWindow, AStopRequestEndsTheWait) {
     ops::LinkSettings settings;
     settings.timeout_ms = 20;
     rig.card = ops::Amp::attach(
-        std::make_unique<link::PipelinedLink>(std::move(s), ops::serial_link_options(settings, retry)),
+        std::make_unique<link::PipelinedLink>(std::move(s), ops::timing::serial_link(settings, retry)),
         ops::parse_endpoint("sim"), params::ParamDb::builtin(), retry, ops::Cancel(stop, {}));
   }
   rig.stream->control("drop 1");

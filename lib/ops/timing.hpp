@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Every count and every timeout the programs use, set here and nowhere else: how often a
+// byte is sent and how long anything may wait, per path. The layers below ops keep the
+// mechanisms (resend a read-only packet, fence, replay, poll) and take their figures from
+// the options built here; the defaults in their option structs serve only their own unit
+// tests. The budget per exchange and the operation's deadline are ops' RetryPolicy
+// (retry.hpp), spent in Amp::with_retries and Amp::wait_for_answer.
+//
+// What one lost exchange costs, worst case (the README's "How long a command may take";
+// the figures are proved by OperationDeadline.* in tests/eth/retry_budget_test.cpp):
+// - ops, both paths: RetryPolicy::attempts (3) sends, then one probe per probe_interval
+//   (100 ms) until silence_window (2 s) after the first unanswered one; past
+//   operation_deadline (20 s) one send. A write is sent once; a read-back decides.
+// - serial link: each batch once (ops repeats), waiting --timeout (50 ms) + the wire time.
+// - passthrough packet: once (ops repeats), waiting the UDP reply timeout (from --timeout,
+//   backed off up to kUdpMaxTimeout) plus its WaituS; a lost packet with writes is fenced:
+//   read-only probes for up to kFenceBound. Late DOITs: replayed at most kMaxReplays times.
+// - the Ethernet layers' own exchanges (opening, SSLBP commands, IDROM): read-only packets
+//   and SSLBP commands a probe found not run, RetryPolicy::attempts sends each; an SSLBP
+//   command is polled for up to kSslbpCommandTimeout.
+// - the running-host watch: kRunningHostWindow, and up to 2 more; a counter read repeated
+//   up to kCounterReadAttempts times when a resend doubled its request.
+// - --passive: one send per read, waiting max(--timeout, kPassiveReadFloor).
+// - normal mode: one DOIT per period (watch, console: kNormalModePeriod, reply within
+//   kNormalModeReply; commissioning: its period, reply within two periods).
+// - 8I20 reset: answered again within kResetWait; CLEARFAULT cleared within kClearFaultWait.
+#pragma once
+
+#include <chrono>
+#include <optional>
+
+#include "ops/endpoint.hpp"
+#include "ops/retry.hpp"
+
+namespace i20::link {
+struct PipelinedLinkOptions;
+}
+namespace i20::eth {
+struct UdpOptions;
+struct FenceOptions;
+struct SslbpOptions;
+struct RunningHostCheck;
+struct PassthroughOptions;
+struct ScanOptions;
+struct PassiveOptions;
+struct NormalModeOptions;
+}  // namespace i20::eth
+
+namespace i20::ops::timing {
+
+// The longest wait for one UDP reply, back-off included: what a dead card costs per send.
+inline constexpr std::chrono::milliseconds kUdpMaxTimeout{1000};
+// How long after its last send a passthrough packet with writes may still reach the card
+// (a congested switch held one back 400 ms, issue 18); only paid for a lost request.
+inline constexpr std::chrono::milliseconds kFenceBound{1000};
+inline constexpr std::chrono::milliseconds kFenceProbePause{2};
+inline constexpr std::chrono::milliseconds kFenceMaxProbePause{20};
+// An SSLBP start probes every selected channel and "may be many mS" (manual): 2 s.
+inline constexpr std::chrono::milliseconds kSslbpCommandTimeout{2000};
+// Late DOITs one execute() replays before the link reports the remote too slow.
+inline constexpr unsigned kMaxReplays = 16;
+// Longer than the 8I20's 40 ms watchdog, so a host that keeps an 8I20 running always shows
+// (RunningHostCheck::window explains the figure).
+inline constexpr std::chrono::milliseconds kRunningHostWindow{45};
+// Counter reads repeated because the request went out more than once (a late reply).
+inline constexpr unsigned kCounterReadAttempts = 4;
+// One attempt per request of the passive reader, never shorter than this.
+inline constexpr std::chrono::milliseconds kPassiveReadFloor{200};
+// Normal mode for watch and the console: the DOIT period and its reply timeout.
+inline constexpr std::chrono::milliseconds kNormalModePeriod{10};
+inline constexpr std::chrono::milliseconds kNormalModeReply{20};
+// How long a reading waits for the normal-mode session's next sample (50 periods).
+inline constexpr std::chrono::milliseconds kNormalModeSample{500};
+// How long an 8I20 may take to answer again after a reset, and to clear CLEARFAULT.
+inline constexpr std::chrono::milliseconds kResetWait{3000};
+inline constexpr std::chrono::milliseconds kClearFaultWait{1000};
+
+// The serial link (3I21/3I22, the built-in simulator): each batch sent once, ops repeats.
+link::PipelinedLinkOptions serial_link(const LinkSettings& settings, const RetryPolicy& retry);
+// The UDP client of a passthrough, a scan or a normal-mode session.
+eth::UdpOptions udp(const LinkSettings& settings, const RetryPolicy& retry);
+eth::FenceOptions fence();
+eth::SslbpOptions sslbp(const RetryPolicy& retry);
+eth::RunningHostCheck running_host(const LinkSettings& settings);
+// The SSLBP setup-mode passthrough under an 8I20 command over Ethernet.
+eth::PassthroughOptions passthrough(const LinkSettings& settings, const RetryPolicy& retry);
+eth::ScanOptions scan(const LinkSettings& settings, const RetryPolicy& retry = {});
+eth::PassiveOptions passive(const LinkSettings& settings);
+// Normal mode at `period` (watch, the console, commissioning). The commissioning loop gives
+// `reply` (two periods), so that a lost reply never costs the 8I20's 40 ms watchdog.
+// `reply` bounds each reply's wait, back-off included, when given.
+eth::NormalModeOptions normal_mode(const LinkSettings& settings,
+                                   std::chrono::milliseconds period = kNormalModePeriod,
+                                   std::optional<std::chrono::milliseconds> reply = std::nullopt);
+
+}  // namespace i20::ops::timing
