@@ -58,9 +58,10 @@ struct RunningHostCheck {
   // (a late reply made the UDP client resend it, and a copy of ours may reach the card
   // between the two counters).
   unsigned counter_read_attempts = 4;
-  // Setup starts to try before a channel counts as silent: in a take-over the other host's
-  // DOITs can land inside ours and fail a channel that is there.
-  unsigned setup_start_attempts() const { return take_over ? 4 : 1; }
+  // Setup starts to try before a channel counts as silent in a take-over: the other host's
+  // DOITs can land inside ours and fail a channel that is there. Otherwise one.
+  unsigned take_over_setup_starts = 4;
+  unsigned setup_start_attempts() const { return take_over ? take_over_setup_starts : 1; }
 };
 
 struct BusyCommand {

@@ -51,6 +51,7 @@ eth::RunningHostCheck running_host(const LinkSettings& settings) {
   check.take_over = settings.take_over;
   check.window = kRunningHostWindow;
   check.counter_read_attempts = kCounterReadAttempts;
+  check.take_over_setup_starts = kTakeOverSetupStarts;
   return check;
 }
 
@@ -86,6 +87,7 @@ eth::NormalModeOptions normal_mode(const LinkSettings& settings, milliseconds pe
                                    std::optional<milliseconds> reply) {
   eth::NormalModeOptions options;
   options.period = period;
+  options.max_missed_cycles = kNormalModeMissedCycles;
   options.udp = udp(settings, RetryPolicy{});
   options.udp.timeout = reply.value_or(kNormalModeReply);
   options.udp.max_timeout = reply.value_or(kUdpMaxTimeout);

@@ -19,10 +19,12 @@
 //   and SSLBP commands a probe found not run, RetryPolicy::attempts sends each; an SSLBP
 //   command is polled for up to kSslbpCommandTimeout.
 // - the running-host watch: kRunningHostWindow, and up to 2 more; a counter read repeated
-//   up to kCounterReadAttempts times when a resend doubled its request.
+//   up to kCounterReadAttempts times when a resend doubled its request; in a take-over,
+//   kTakeOverSetupStarts setup starts per channel.
 // - --passive: one send per read, waiting max(--timeout, kPassiveReadFloor).
 // - normal mode: one DOIT per period (watch, console: kNormalModePeriod, reply within
-//   kNormalModeReply; commissioning: its period, reply within two periods).
+//   kNormalModeReply; commissioning: its period, reply within two periods); the session
+//   ends after kNormalModeMissedCycles cycles in a row without a reply.
 // - 8I20 reset: answered again within kResetWait; CLEARFAULT cleared within kClearFaultWait.
 #pragma once
 
@@ -64,11 +66,16 @@ inline constexpr unsigned kMaxReplays = 16;
 inline constexpr std::chrono::milliseconds kRunningHostWindow{45};
 // Counter reads repeated because the request went out more than once (a late reply).
 inline constexpr unsigned kCounterReadAttempts = 4;
+// Setup starts per channel in a take-over (--take-over), where the other host's DOITs can
+// land inside ours; without a take-over a channel gets one.
+inline constexpr unsigned kTakeOverSetupStarts = 4;
 // One attempt per request of the passive reader, never shorter than this.
 inline constexpr std::chrono::milliseconds kPassiveReadFloor{200};
 // Normal mode for watch and the console: the DOIT period and its reply timeout.
 inline constexpr std::chrono::milliseconds kNormalModePeriod{10};
 inline constexpr std::chrono::milliseconds kNormalModeReply{20};
+// Cycles in a row without a reply before a normal-mode session gives up.
+inline constexpr unsigned kNormalModeMissedCycles = 3;
 // How long a reading waits for the normal-mode session's next sample (50 periods).
 inline constexpr std::chrono::milliseconds kNormalModeSample{500};
 // How long an 8I20 may take to answer again after a reset, and to clear CLEARFAULT.
