@@ -41,6 +41,8 @@ eth::FenceOptions fence() {
 eth::SslbpOptions sslbp(const RetryPolicy& retry) {
   eth::SslbpOptions options;
   options.command_timeout = kSslbpCommandTimeout;
+  options.poll_pause = kSslbpPollPause;
+  options.local_settle = kSslbpLocalSettle;
   // SSLBP commands that a read-only probe found not run: the budget's resends.
   options.lost_reply_retries = retry.resends();
   return options;
@@ -50,6 +52,8 @@ eth::RunningHostCheck running_host(const LinkSettings& settings) {
   eth::RunningHostCheck check;
   check.take_over = settings.take_over;
   check.window = kRunningHostWindow;
+  check.command_samples = kRunningHostCommandSamples;
+  check.extra_windows = kRunningHostExtraWindows;
   check.counter_read_attempts = kCounterReadAttempts;
   check.take_over_setup_starts = kTakeOverSetupStarts;
   return check;

@@ -1,10 +1,16 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// Every count and every timeout the programs use, set here and nowhere else: how often a
-// byte is sent and how long anything may wait, per path. The layers below ops keep the
-// mechanisms (resend a read-only packet, fence, replay, poll) and take their figures from
-// the options built here; the defaults in their option structs serve only their own unit
-// tests. The budget per exchange and the operation's deadline are ops' RetryPolicy
-// (retry.hpp), spent in Amp::with_retries and Amp::wait_for_answer.
+// Every count and every timeout the programs use, set here: how often a byte is sent and
+// how long anything may wait, per path. The layers below ops keep the mechanisms (resend a
+// read-only packet, fence, replay, poll) and take their figures from the options built
+// here; the defaults in their option structs serve only their own unit tests. The budget
+// per exchange and the operation's deadline are ops' RetryPolicy (retry.hpp), spent in
+// Amp::with_retries and Amp::wait_for_answer.
+//
+// Left below ops, as parts of a mechanism rather than policy: the passthrough's packing
+// waits (WaituS sized from the wire time, eth/passthrough_port.hpp), the serial stream's
+// grace for asio's cancellation and its hung-driver bound, the pipelined link's drain
+// bound, the device layer's poll sleeps, and ModeGuard's second try at leaving a mode
+// right after the error that brought it there (ops' settle() asks again after it).
 //
 // What one lost exchange costs, worst case (the README's "How long a command may take";
 // the figures are proved by OperationDeadline.* in tests/eth/retry_budget_test.cpp):
@@ -18,7 +24,8 @@
 // - the Ethernet layers' own exchanges (opening, SSLBP commands, IDROM): read-only packets
 //   and SSLBP commands a probe found not run, RetryPolicy::attempts sends each; an SSLBP
 //   command is polled for up to kSslbpCommandTimeout.
-// - the running-host watch: kRunningHostWindow, and up to 2 more; a counter read repeated
+// - the running-host watch: kRunningHostWindow, and up to kRunningHostExtraWindows more; a counter read
+// repeated
 //   up to kCounterReadAttempts times when a resend doubled its request; in a take-over,
 //   kTakeOverSetupStarts setup starts per channel.
 // - --passive: one send per read, waiting max(--timeout, kPassiveReadFloor).
@@ -59,11 +66,19 @@ inline constexpr std::chrono::milliseconds kFenceProbePause{2};
 inline constexpr std::chrono::milliseconds kFenceMaxProbePause{20};
 // An SSLBP start probes every selected channel and "may be many mS" (manual): 2 s.
 inline constexpr std::chrono::milliseconds kSslbpCommandTimeout{2000};
+// Pause between read-back polls of a slow SSLBP command, and the WaituS after a local
+// parameter request or a stop (SSLBP answers those in microseconds).
+inline constexpr std::chrono::microseconds kSslbpPollPause{250};
+inline constexpr std::chrono::microseconds kSslbpLocalSettle{50};
 // Late DOITs one execute() replays before the link reports the remote too slow.
 inline constexpr unsigned kMaxReplays = 16;
 // Longer than the 8I20's 40 ms watchdog, so a host that keeps an 8I20 running always shows
 // (RunningHostCheck::window explains the figure).
 inline constexpr std::chrono::milliseconds kRunningHostWindow{45};
+// COMMAND reads spread over the window, and windows added while a few foreign packets were
+// seen (a slow host and a stray query look alike in one window).
+inline constexpr unsigned kRunningHostCommandSamples = 4;
+inline constexpr unsigned kRunningHostExtraWindows = 2;
 // Counter reads repeated because the request went out more than once (a late reply).
 inline constexpr unsigned kCounterReadAttempts = 4;
 // Setup starts per channel in a take-over (--take-over), where the other host's DOITs can

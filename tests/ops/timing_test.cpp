@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// ops/timing.hpp builds every lower layer's options: the rules those figures must keep,
+// against the budget (retry.hpp) and the 8I20's 40 ms watchdog (8I20 manual, "8I20 DEVICE
+// SPECIFIC SETUP": SSLBP's normal start sets it to 40 mS).
+#include "ops/timing.hpp"
+
+#include <gtest/gtest.h>
+
+#include "eth/normal_mode.hpp"
+#include "eth/passive_reader.hpp"
+#include "eth/passthrough_port.hpp"
+#include "eth/scan.hpp"
+#include "link/pipelined_link.hpp"
+
+namespace i20::ops {
+namespace {
+
+using std::chrono::milliseconds;
+
+constexpr milliseconds kWatchdog{40};
+
+LinkSettings with_timeout(unsigned ms, bool take_over = false) {
+  LinkSettings s;
+  s.timeout_ms = ms;
+  s.take_over = take_over;
+  return s;
+}
+
+TEST(Timing, TheLinksUnderOpsSendEachOfItsExchangesOnce) {
+  // ops repeats a lost exchange itself (Amp::with_retries): a link that resent too would
+  // multiply the budget.
+  RetryPolicy retry;
+  retry.attempts = 5;
+  EXPECT_EQ(timing::serial_link(LinkSettings{}, retry).retries, 0u);
+  EXPECT_EQ(timing::passthrough(LinkSettings{}, retry).lost_packet_resends, 0u);
+}
+
+TEST(Timing, TheEthernetLayersOwnExchangesSpendTheBudget) {
+  // What ops never sees (opening, SSLBP commands, IDROM reads) gets the same sends in all
+  // as an exchange of ops': attempts, the first included.
+  RetryPolicy retry;
+  retry.attempts = 5;
+  const auto p = timing::passthrough(LinkSettings{}, retry);
+  EXPECT_EQ(p.udp.retries, 4u);
+  EXPECT_EQ(p.sslbp.lost_reply_retries, 4u);
+  const auto s = timing::scan(LinkSettings{}, retry);
+  EXPECT_EQ(s.udp.retries, 4u);
+  EXPECT_EQ(s.sslbp.lost_reply_retries, 4u);
+  retry.attempts = 1;
+  EXPECT_EQ(timing::passthrough(LinkSettings{}, retry).udp.retries, 0u);
+}
+
+TEST(Timing, TheReplyTimeoutIsTheUsersOnEveryPath) {
+  const auto settings = with_timeout(120);
+  EXPECT_EQ(timing::serial_link(settings, {}).base_timeout, milliseconds(120));
+  EXPECT_EQ(timing::passthrough(settings, {}).udp.timeout, milliseconds(120));
+  EXPECT_EQ(timing::scan(settings).udp.timeout, milliseconds(120));
+  // A reply timeout above the UDP ceiling raises the ceiling instead of being cut.
+  const auto slow = timing::passthrough(with_timeout(1500), {});
+  EXPECT_EQ(slow.udp.timeout, milliseconds(1500));
+  EXPECT_GE(slow.udp.max_timeout, slow.udp.timeout);
+  // --passive sends each read once: never shorter than its floor, longer when asked.
+  EXPECT_EQ(timing::passive(with_timeout(50)).timeout, timing::kPassiveReadFloor);
+  EXPECT_EQ(timing::passive(with_timeout(300)).timeout, milliseconds(300));
+}
+
+TEST(Timing, ARunningHostShowsWithinOneWatchAndAStartedAmpStaysFed) {
+  // A host that keeps an 8I20 running DOITs within every 40 ms, so a watch longer than
+  // that always sees it.
+  EXPECT_GT(timing::running_host(LinkSettings{}).window, kWatchdog);
+  // Normal mode: one lost cycle still leaves the watchdog fed.
+  const auto watch = timing::normal_mode(LinkSettings{});
+  EXPECT_LE(2 * watch.period, kWatchdog);
+  EXPECT_LE(watch.period + watch.udp.timeout, kWatchdog);
+  // Commissioning's loop at its slowest period: a reply is waited for two periods at most,
+  // back-off included.
+  const auto loop = timing::normal_mode(LinkSettings{}, milliseconds(20), milliseconds(40));
+  EXPECT_EQ(loop.udp.timeout, milliseconds(40));
+  EXPECT_EQ(loop.udp.max_timeout, milliseconds(40));
+}
+
+TEST(Timing, OnlyATakeOverTriesASetupStartMoreThanOnce) {
+  EXPECT_EQ(timing::running_host(with_timeout(50, false)).setup_start_attempts(), 1u);
+  EXPECT_FALSE(timing::passthrough(with_timeout(50, false), {}).running_host.take_over);
+  const auto take_over = timing::passthrough(with_timeout(50, true), {});
+  EXPECT_TRUE(take_over.running_host.take_over);
+  EXPECT_EQ(take_over.running_host.setup_start_attempts(), timing::kTakeOverSetupStarts);
+  EXPECT_TRUE(timing::scan(with_timeout(50, true)).running_host.take_over);
+  EXPECT_TRUE(timing::normal_mode(with_timeout(50, true)).running_host.take_over);
+}
+
+}  // namespace
+}  // namespace i20::ops
