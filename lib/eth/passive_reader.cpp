@@ -53,7 +53,7 @@ std::unique_ptr<Lbp16Transport> open_udp(const HostPort& card, const PassiveOpti
   udp.sequence_tags = false;  // the tag is a write to space 6 Scratch
   udp.retries = 0;
   udp.timeout = options.timeout;
-  udp.max_timeout = std::max(options.timeout, udp.max_timeout);
+  udp.max_timeout = std::max(options.timeout, options.max_timeout);
   return std::make_unique<UdpClient>(card.ip, card.port, udp);
 }
 

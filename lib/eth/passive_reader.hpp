@@ -86,6 +86,8 @@ struct PassiveSnapshot {
 struct PassiveOptions {
   unsigned max_requests_per_second = kPassiveMaxRequestsPerSecond;
   std::chrono::milliseconds timeout{200};  // one attempt per request
+  // The longest that attempt may wait once measured round trips have raised it.
+  std::chrono::milliseconds max_timeout{1000};
 };
 
 // The channels SSERIAL port `port` has, from the IDROM pin table (one RX input pin per

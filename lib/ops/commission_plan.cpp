@@ -10,6 +10,7 @@
 #include "lbp/bytes.hpp"
 #include "ops/commission.hpp"
 #include "ops/read.hpp"
+#include "ops/timing.hpp"
 
 namespace i20::ops {
 
@@ -93,7 +94,8 @@ Preflight read_preflight(Session& session) {
                 ErrorKind::Refused);
   if (!(p.max_current_a > 0))
     throw Error("MAXCURRENT is 0 A: the 8I20 would drive no current", ErrorKind::Refused);
-  eth::UdpClient bus(p.target.card.ip, p.target.card.port);
+  eth::UdpClient bus(p.target.card.ip, p.target.card.port,
+                     timing::udp(session.options().link, RetryPolicy{}));
   p.board = eth::identify(bus).card_name;
   const auto info = eth::read_hostmot2(bus);
   if (eth::feedback_map(info).encoders.empty())

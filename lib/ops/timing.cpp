@@ -84,6 +84,7 @@ eth::PassiveOptions passive(const LinkSettings& settings) {
   eth::PassiveOptions options;
   // One attempt per request: a reply a busy host sends late is still taken.
   options.timeout = std::max(milliseconds(settings.timeout_ms), kPassiveReadFloor);
+  options.max_timeout = std::max(kUdpMaxTimeout, options.timeout);
   return options;
 }
 

@@ -26,9 +26,24 @@ ip=192.168.1.121
 printf '[KINS]\nKINEMATICS = trivkins coordinates=X\nJOINTS = 1\n[EMCMOT]\nEMCMOT = motmod\nSERVO_PERIOD = 1000000\n' >"$work/axis.ini"
 printf '[JOINT_0]\nENCODER_SCALE = 10000\nP = 0\nI = 0\nD = 0\nFF0 = 0\nFF1 = 0\nFF2 = 0\nBIAS = 0\nDEADBAND = 0\n' >>"$work/axis.ini"
 
+# `i20 hal lint --load` into OUT and ERR, its exit code in $status. A run in which LinuxCNC's
+# realtime did not start (hm2_eth gave up on the virtual card: a host too loaded to answer
+# it in time, as a sanitizer build under CI once was) judged nothing, and the tool says so:
+# it is run again, up to 3 runs in all, each re-run noted; a card hm2_eth never loads still
+# fails after the third.
+lint_load() { # OUT ERR FILE...
+  local out=$1 err=$2 try
+  shift 2
+  for try in 1 2 3; do
+    "$I20" hal lint --load --ini "$work/axis.ini" "$@" >"$out" 2>"$err"
+    status=$?
+    grep -q "realtime (rtapi_app) did not start, so nothing was judged" "$err" || return 0
+    echo "lint_load_test: run $try: LinuxCNC's realtime did not start ($(tail -1 "$err")); running it again"
+  done
+}
+
 # 1. What i20 hal writes: clean.
-"$I20" hal lint --load --ini "$work/axis.ini" "$work/axis.hal" >"$work/clean.out" 2>"$work/clean.err"
-status=$?
+lint_load "$work/clean.out" "$work/clean.err" "$work/axis.hal"
 cat "$work/clean.err"
 ((status == 0)) || fail "the generated HAL did not load clean (exit $status): $(cat "$work/clean.out")"
 grep -q "against a virtual 7I96S at $ip: 0 names halcmd rejected" "$work/clean.err" || fail "no load summary"
@@ -40,8 +55,7 @@ printf 'net spindle-fb hm2_7i96s.0.encoder.07.position\n' >>"$work/bad.hal"
 bad_line=$(wc -l <"$work/bad.hal")
 printf 'loadusr -W hal_manualtoolchange\nnet tool-change hal_manualtoolchange.change => hm2_7i96s.0.ssr.00.out-00\n' >>"$work/bad.hal"
 "$I20" hal lint "$work/bad.hal" >/dev/null 2>&1 || fail "the lint alone already complains: the test shows nothing"
-"$I20" hal lint --load --ini "$work/axis.ini" "$work/bad.hal" >"$work/bad.out" 2>"$work/bad.err"
-status=$?
+lint_load "$work/bad.out" "$work/bad.err" "$work/bad.hal"
 cat "$work/bad.out" "$work/bad.err"
 ((status == 1)) || fail "exit $status, not 1 (findings)"
 grep -q "^$work/bad.hal:$bad_line: error: halcmd: .*hm2_7i96s.0.encoder.07.position" "$work/bad.out" ||

@@ -62,6 +62,7 @@ TEST(Timing, TheReplyTimeoutIsTheUsersOnEveryPath) {
   // --passive sends each read once: never shorter than its floor, longer when asked.
   EXPECT_EQ(timing::passive(with_timeout(50)).timeout, timing::kPassiveReadFloor);
   EXPECT_EQ(timing::passive(with_timeout(300)).timeout, milliseconds(300));
+  EXPECT_EQ(timing::passive(with_timeout(1500)).max_timeout, milliseconds(1500));
 }
 
 TEST(Timing, ARunningHostShowsWithinOneWatchAndAStartedAmpStaysFed) {
