@@ -15,6 +15,7 @@
 
 #include "device/amp.hpp"
 #include "link/serial_link.hpp"
+#include "ops/timing.hpp"
 #include "sim_process.hpp"
 
 namespace {
@@ -53,7 +54,7 @@ int bench_main(int argc, char** argv) {
   std::vector<double> in_process;
   link::LinkStatistics stats;
   for (int i = 0; i < runs; ++i) {
-    auto link = link::open_serial_link(sim.address());
+    auto link = link::open_serial_link(sim.address(), ops::timing::serial_link({}, {}));
     auto fresh_db = db;  // not identified yet, as in a new i20 process
     device::Amp8i20 amp(*link, fresh_db);
     const auto t0 = Clock::now();

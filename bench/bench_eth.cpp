@@ -22,12 +22,18 @@
 #include "eth/target.hpp"
 #include "eth/udp_client.hpp"
 #include "lbp/local.hpp"
+#include "ops/timing.hpp"
 #include "sim_process.hpp"
 
 namespace {
 
 using namespace i20;
 using Clock = std::chrono::steady_clock;
+
+// The passthrough as the programs open it (ops/timing.hpp): what the figures describe.
+eth::PassthroughOptions passthrough_options() {
+  return ops::timing::passthrough({}, {});
+}
 
 // Counts the execute() calls the device layer makes, so packets per execute() show.
 class CountingLink final : public link::Link {
@@ -129,7 +135,7 @@ void nv_write_two_batches(link::Link& link, const params::Param& p, std::uint16_
 }
 
 OneAmp one_amp(const std::string& address, unsigned doits_per_packet, int runs) {
-  eth::PassthroughOptions options;
+  auto options = passthrough_options();
   options.max_doits_per_packet = doits_per_packet;
   auto link = eth::SslbpPassthroughLink::open(eth::make_target(address, 0), options);
   CountingLink counting(*link);
@@ -166,7 +172,7 @@ OneAmp one_amp(const std::string& address, unsigned doits_per_packet, int runs) 
 // own link to the shared port, all starting together.
 Cost four_amps_shared(const std::string& address, unsigned amps, int runs) {
   auto port = eth::PassthroughPort::open(eth::parse_host_port(address), 0,
-                                         static_cast<std::uint8_t>((1u << amps) - 1));
+                                         static_cast<std::uint8_t>((1u << amps) - 1), passthrough_options());
   std::vector<std::unique_ptr<link::Link>> links;
   std::vector<params::ParamDb> dbs;
   for (unsigned ch = 0; ch < amps; ++ch) {
@@ -211,7 +217,7 @@ Cost four_amps_shared(const std::string& address, unsigned amps, int runs) {
 Cost four_amps_one_execute(const std::string& address, unsigned amps, const std::vector<lbp::Command>& batch,
                            int runs) {
   auto port = eth::PassthroughPort::open(eth::parse_host_port(address), 0,
-                                         static_cast<std::uint8_t>((1u << amps) - 1));
+                                         static_cast<std::uint8_t>((1u << amps) - 1), passthrough_options());
   std::vector<eth::PassthroughPort::Batch> batches;
   for (unsigned ch = 0; ch < amps; ++ch) batches.push_back({.channel = ch, .commands = batch});
   Cost c;
@@ -235,7 +241,7 @@ Cost four_amps_one_execute(const std::string& address, unsigned amps, const std:
 Cost four_amps_one_by_one(const std::string& address, unsigned amps) {
   Cost total;
   for (unsigned ch = 0; ch < amps; ++ch) {
-    eth::PassthroughOptions options;
+    auto options = passthrough_options();
     options.max_doits_per_packet = 1;
     auto link = eth::SslbpPassthroughLink::open(eth::make_target(address, ch), options);
     CountingLink counting(*link);
@@ -256,7 +262,7 @@ Cost four_amps_one_by_one(const std::string& address, unsigned amps) {
 // it is part of the value it reads.
 std::uint16_t requests_received(const eth::HostPort& card) {
   namespace lbp16 = lbp::lbp16;
-  eth::UdpClient client(card.ip, card.port);
+  eth::UdpClient client(card.ip, card.port, ops::timing::udp({}, {}));
   const auto read = lbp16::read(lbp16::space::kStatus, eth::kRxUdpCountAddress, lbp16::Width::Bits16);
   return lbp16::words16(client.transact(std::span(&read, 1)).front()).front();
 }
@@ -358,7 +364,7 @@ int bench_main(int argc, char** argv) {
   std::printf(
       "    a thread and a link each on the shared port (as a fleet)            %6.2f packets %7.3f ms "
       "(a thread later than the %lld us gather window runs alone)\n",
-      shared.packets, shared.ms, static_cast<long long>(eth::PassthroughOptions{}.gather_window.count()));
+      shared.packets, shared.ms, static_cast<long long>(ops::timing::kPassthroughGatherWindow.count()));
 
   std::printf("Targets (request packets):\n");
   std::printf("  dump of one 8I20 <= 2:                 %5.2f  %s\n", after.dump.packets,

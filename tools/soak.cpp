@@ -21,6 +21,7 @@
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
 #include "ops/fleet.hpp"
+#include "ops/timing.hpp"
 #include "sim/ground_truth.hpp"
 #include "sim/param_map.hpp"
 #include "sim/sim_stream.hpp"
@@ -41,8 +42,10 @@ void run_single(const Scenario& s, std::size_t index, const params::ParamDb& db,
   options.device.world.bus_volts = s.busv;
   auto stream = std::make_unique<sim::SimStream>(std::move(options));
   sim::SimStream& sim = *stream;
-  link::PipelinedLinkOptions link_options;
-  link_options.base_timeout = std::chrono::milliseconds(5);
+  // The programs' serial link, with a 5 ms reply timeout (the simulator answers at once).
+  ops::LinkSettings settings;
+  settings.timeout_ms = 5;
+  const auto link_options = ops::timing::serial_link(settings, ops::RetryPolicy{});
   ops::StopRequest stop;
   const ops::Cancel cancel(stop, [](const std::string&) {});  // the apps print the acknowledgement
   const auto map = sim.with_card([](sim::Virtual8i20& c) { return c.amplifier().map(); });

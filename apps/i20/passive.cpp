@@ -48,9 +48,7 @@ ops::HostPort passive_card(const Context& ctx, const char* command) {
 }
 
 ops::PassiveMonitorOptions monitor_options(const Context& ctx) {
-  ops::PassiveMonitorOptions m;
-  m.read = ops::timing::passive(ctx.options.link);
-  return m;
+  return {.read = ops::timing::passive(ctx.options.link)};
 }
 
 std::string clock_text(WallClock::time_point t, bool with_date) {

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "device/amp.hpp"
+#include "link/given.hpp"
 
 namespace i20::device {
 
@@ -31,7 +32,7 @@ struct DiscoveryOptions {
   std::uint32_t scan_end = 0x2800;  // exclusive
   bool reset_first = true;          // working == NV only right after a reset
   // How long the card may take to answer again after that reset (ops/timing.hpp).
-  std::chrono::milliseconds reset_wait{0};
+  link::Given<std::chrono::milliseconds> reset_wait;
   unsigned alignment = 2;           // 16/32-bit parameters start at even addresses
   std::function<void(std::size_t done, std::size_t total)> progress{};
 };

@@ -112,8 +112,8 @@ class DriveLoop {
  public:
   // Over any transport; starts `channel` of SSERIAL `sserial_port` (start_normal_mode).
   DriveLoop(std::unique_ptr<Lbp16Transport> bus, unsigned sserial_port, unsigned channel,
-            NormalModeOptions options = {});
-  static std::unique_ptr<DriveLoop> open(const EthTarget& target, NormalModeOptions options = {});
+            NormalModeOptions options);
+  static std::unique_ptr<DriveLoop> open(const EthTarget& target, NormalModeOptions options);
   ~DriveLoop();
   DriveLoop(const DriveLoop&) = delete;
   DriveLoop& operator=(const DriveLoop&) = delete;

@@ -154,7 +154,7 @@ FenceReport FencedTransport::fence() {
       break;
     }
     std::this_thread::sleep_for(pause);
-    pause = std::min(pause * 2, options_.max_probe_pause);
+    pause = std::min(pause * 2, options_.max_probe_pause.get());
   }
   writers_at_risk_ = 0;
   unsettled_ = false;

@@ -38,15 +38,15 @@ struct FenceOptions {
   // under a millisecond, a congested switch or a busy host holds a datagram back for a few
   // hundred (issue 18 measured up to 400 ms); a second covers that with room. Only paid when
   // a packet with writes went unanswered and never arrived (a lost, not a late, request).
-  std::chrono::milliseconds bound{1000};
+  link::Given<std::chrono::milliseconds> bound;
   // Pause between read-only probes while fencing; doubles up to `max_probe_pause`.
-  std::chrono::milliseconds probe_pause{2};
-  std::chrono::milliseconds max_probe_pause{20};
+  link::Given<std::chrono::milliseconds> probe_pause;
+  link::Given<std::chrono::milliseconds> max_probe_pause;
 };
 
 class FencedTransport final : public Lbp16Transport {
  public:
-  explicit FencedTransport(std::unique_ptr<Lbp16Transport> inner, FenceOptions options = {});
+  explicit FencedTransport(std::unique_ptr<Lbp16Transport> inner, FenceOptions options);
 
   std::vector<lbp::Bytes> transact(std::span<const lbp::lbp16::Command> commands,
                                    Resend resend = Resend::IfReadOnly) override;

@@ -51,13 +51,13 @@ inline constexpr std::string_view kNormalStartEffect =
     "loop and arms its 40 ms watchdog (8I20 manual, 8I20 DEVICE SPECIFIC SETUP)";
 
 struct NormalModeOptions {
-  UdpOptions udp{.timeout = std::chrono::milliseconds{20}};
+  UdpOptions udp;
   SslbpOptions sslbp;
   RunningHostCheck running_host;
   // DOIT period; at most 20 ms so that one lost cycle still leaves the 40 ms watchdog fed.
-  std::chrono::milliseconds period{10};
+  link::Given<std::chrono::milliseconds> period;
   // Consecutive cycles without a reply before the session gives up.
-  unsigned max_missed_cycles = 3;
+  link::Given<unsigned> max_missed_cycles;
 };
 
 struct ChannelSample {
@@ -108,13 +108,13 @@ NormalStart start_normal_mode(Lbp16Transport& bus, unsigned sserial_port, std::u
 class NormalModeSession {
  public:
   // One channel, from the target.
-  static std::unique_ptr<NormalModeSession> open(const EthTarget& target, NormalModeOptions options = {});
+  static std::unique_ptr<NormalModeSession> open(const EthTarget& target, NormalModeOptions options);
   // Several channels of one SSERIAL port.
   static std::unique_ptr<NormalModeSession> open(const HostPort& card, unsigned sserial_port,
-                                                 std::uint8_t channel_mask, NormalModeOptions options = {});
+                                                 std::uint8_t channel_mask, NormalModeOptions options);
   // Over any transport. Throws DiscoveryError when a channel does not start.
   NormalModeSession(std::unique_ptr<Lbp16Transport> bus, unsigned sserial_port, std::uint8_t channel_mask,
-                    NormalModeOptions options = {});
+                    NormalModeOptions options);
   ~NormalModeSession();
   NormalModeSession(const NormalModeSession&) = delete;
   NormalModeSession& operator=(const NormalModeSession&) = delete;

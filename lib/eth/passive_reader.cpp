@@ -49,11 +49,12 @@ class ReadOnlyPacedTransport final : public Lbp16Transport {
 };
 
 std::unique_ptr<Lbp16Transport> open_udp(const HostPort& card, const PassiveOptions& options) {
-  UdpOptions udp;
-  udp.sequence_tags = false;  // the tag is a write to space 6 Scratch
-  udp.retries = 0;
-  udp.timeout = options.timeout;
-  udp.max_timeout = std::max(options.timeout, options.max_timeout);
+  const UdpOptions udp{
+      .timeout = options.timeout,
+      .max_timeout = std::max(options.timeout.get(), options.max_timeout.get()),
+      .retries = 0u,
+      .sequence_tags = false,  // the tag is a write to space 6 Scratch
+  };
   return std::make_unique<UdpClient>(card.ip, card.port, udp);
 }
 

@@ -31,9 +31,6 @@
 
 namespace i20::eth {
 
-// The documented bound: at most this many UDP requests a second from a passive monitor.
-inline constexpr unsigned kPassiveMaxRequestsPerSecond = 20;
-
 // Spaces requests at least 1 s / rate apart, so no one-second window holds more than
 // `rate` of them. Not thread-safe (one reader, one thread).
 class RequestPacer {
@@ -84,10 +81,10 @@ struct PassiveSnapshot {
 };
 
 struct PassiveOptions {
-  unsigned max_requests_per_second = kPassiveMaxRequestsPerSecond;
-  std::chrono::milliseconds timeout{200};  // one attempt per request
+  link::Given<unsigned> max_requests_per_second;
+  link::Given<std::chrono::milliseconds> timeout;  // one attempt per request
   // The longest that attempt may wait once measured round trips have raised it.
-  std::chrono::milliseconds max_timeout{1000};
+  link::Given<std::chrono::milliseconds> max_timeout;
 };
 
 // The channels SSERIAL port `port` has, from the IDROM pin table (one RX input pin per
@@ -100,9 +97,9 @@ class PassiveReader {
   // Opens a UDP socket without sequence tags (those write space 6 Scratch) and surveys the
   // card (identification and IDROM, read-only, one request where the IDROM is where
   // HostMot2 keeps it). Throws DiscoveryError for a card without SSERIAL.
-  PassiveReader(const HostPort& card, PassiveOptions options = {});
+  PassiveReader(const HostPort& card, PassiveOptions options);
   // Over any transport (tests); the caller made sure it writes nothing on its own.
-  PassiveReader(std::unique_ptr<Lbp16Transport> bus, PassiveOptions options = {});
+  PassiveReader(std::unique_ptr<Lbp16Transport> bus, PassiveOptions options);
 
   // One request: every port's DATA, every channel's CS, INTERFACE0 and INTERFACE1, and the
   // UDP counters. Waits for its turn under the rate bound first. Throws link::TimeoutError

@@ -29,11 +29,11 @@ class SslbpPassthroughLink final : public link::Link {
   // Opens UDP to target.card and sets the channel up. Throws RunningHostError,
   // DiscoveryError (not a HostMot2 card, no SSERIAL port, no 8I20 on the channel) or
   // link::LinkError.
-  static std::unique_ptr<SslbpPassthroughLink> open(const EthTarget& target, PassthroughOptions options = {});
+  static std::unique_ptr<SslbpPassthroughLink> open(const EthTarget& target, PassthroughOptions options);
 
   // The same over any transport (tests inject faults here).
   SslbpPassthroughLink(std::unique_ptr<Lbp16Transport> bus, const EthTarget& target,
-                       PassthroughOptions options = {});
+                       PassthroughOptions options);
 
   std::vector<lbp::Bytes> execute(std::span<const lbp::Command> batch) override;
   std::string describe() const override { return target_.describe(); }

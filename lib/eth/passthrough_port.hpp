@@ -106,7 +106,7 @@ struct PassthroughOptions {
   // a read-only probe (PassthroughPort::lost_reply; a step that must not run twice never
   // is). ops sends 0 (ops::timing::passthrough): it repeats a lost exchange itself, within
   // its retry budget, and a write only after a read-back.
-  unsigned lost_packet_resends = 2;
+  link::Given<unsigned> lost_packet_resends;
   RunningHostCheck running_host;
   // Refuse a channel whose remote is not an 8I20 (INTERFACE1 after setup start).
   bool require_8i20 = true;
@@ -122,14 +122,14 @@ struct PassthroughOptions {
   // command per round trip (the figures before batching).
   unsigned max_doits_per_packet = 0;
   // Total WaituS one packet may ask for; the card answers only after it.
-  std::chrono::milliseconds max_packet_wait{50};
+  link::Given<std::chrono::milliseconds> max_packet_wait;
   // Longest extra wait the link adds to every DOIT after DOITs outlived their WaituS.
-  std::chrono::milliseconds max_slack{20};
+  link::Given<std::chrono::milliseconds> max_slack;
   // How long a link waits for the links of other channels to join its execute().
-  std::chrono::microseconds gather_window{2000};
+  link::Given<std::chrono::microseconds> gather_window;
   // Late DOITs tolerated in one execute() before the link gives up: each costs a replay,
   // and a remote that is always slower than its estimate is better reported than chased.
-  unsigned max_replays = 16;
+  link::Given<unsigned> max_replays;
 };
 
 // What answered on a channel at setup start.
@@ -159,18 +159,18 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   // RunningHostError, DiscoveryError (not a HostMot2 card, no such port or channel, no
   // 8I20) or link::LinkError.
   static std::shared_ptr<PassthroughPort> open(const HostPort& card, unsigned sserial_port,
-                                               std::uint8_t channel_mask, PassthroughOptions options = {});
+                                               std::uint8_t channel_mask, PassthroughOptions options);
   // Several ports of one card at once (a fleet over a 7I92T's two ports): open them over
   // one board_transport(), or each one's check for another host sees the other's packets
   // (and refuses, or discards its results).
   static std::shared_ptr<PassthroughPort> open(std::shared_ptr<Lbp16Transport> card, unsigned sserial_port,
-                                               std::uint8_t channel_mask, PassthroughOptions options = {});
+                                               std::uint8_t channel_mask, PassthroughOptions options);
   // A SharedTransport over UDP to `card`, for the open() above.
-  static std::shared_ptr<Lbp16Transport> board_transport(const HostPort& card, const UdpOptions& options = {},
-                                                         const FenceOptions& fence = {});
+  static std::shared_ptr<Lbp16Transport> board_transport(const HostPort& card, const UdpOptions& options,
+                                                         const FenceOptions& fence);
   // The same over any transport (tests inject faults here).
   PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned sserial_port, std::uint8_t channel_mask,
-                  PassthroughOptions options = {});
+                  PassthroughOptions options);
   ~PassthroughPort();
   PassthroughPort(const PassthroughPort&) = delete;
   PassthroughPort& operator=(const PassthroughPort&) = delete;

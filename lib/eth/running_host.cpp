@@ -84,7 +84,7 @@ HostActivity finish_window(Lbp16Transport& bus, std::span<const SserialPort> por
                            const RunningHostCheck& check, HostActivity activity,
                            std::chrono::steady_clock::time_point start, Counters first,
                            std::uint64_t sent_after_first) {
-  const unsigned between = std::max(1u, check.command_samples) - 1;
+  const unsigned between = std::max(1u, check.command_samples.get()) - 1;
   std::uint64_t sent = 0;
   const auto step = check.window / (between + 1);
   for (unsigned i = 0; i < between; ++i) {

@@ -42,8 +42,8 @@ struct RunningHostCheck {
   // Longer than the 8I20's 40 ms watchdog (8I20 manual, "8I20 DEVICE SPECIFIC SETUP"): a host
   // that keeps an 8I20 running DOITs within every 40 ms, however late its cycles run, so it
   // always shows in the window. 30 ms let a host running late look idle.
-  std::chrono::milliseconds window{45};
-  unsigned command_samples = 4;  // COMMAND reads per port spread over the window
+  link::Given<std::chrono::milliseconds> window;
+  link::Given<unsigned> command_samples;  // COMMAND reads per port spread over the window
   // Foreign packets (received plus sent) in the window above which the card counts as in
   // use. One stray exchange (a mesaflash query from another PC) is tolerated; LinuxCNC's
   // servo loop moves both counters every millisecond, a 10 ms `i20 watch` every 10 ms.
@@ -53,15 +53,15 @@ struct RunningHostCheck {
   // watchdog fed), or a 10 ms one whose cycles run late on a loaded PC, can show a single
   // exchange in 30 ms, as a stray query does; a longer watch tells them apart. An idle
   // card (nothing foreign) and a host above the limit cost no extra window.
-  unsigned extra_windows = 2;
+  link::Given<unsigned> extra_windows;
   // How often a counter read is sent again because its request went out more than once
   // (a late reply made the UDP client resend it, and a copy of ours may reach the card
   // between the two counters).
-  unsigned counter_read_attempts = 4;
+  link::Given<unsigned> counter_read_attempts;
   // Setup starts to try before a channel counts as silent in a take-over: the other host's
   // DOITs can land inside ours and fail a channel that is there. Otherwise one.
-  unsigned take_over_setup_starts = 4;
-  unsigned setup_start_attempts() const { return take_over ? take_over_setup_starts : 1; }
+  link::Given<unsigned> take_over_setup_starts;
+  unsigned setup_start_attempts() const { return take_over ? take_over_setup_starts.get() : 1u; }
 };
 
 struct BusyCommand {

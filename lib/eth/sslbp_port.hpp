@@ -24,19 +24,19 @@ namespace i20::eth {
 
 struct SslbpOptions {
   // A start probes every selected channel and "may be many mS" (manual): allow 2 s.
-  std::chrono::milliseconds command_timeout{2000};
+  link::Given<std::chrono::milliseconds> command_timeout;
   // Pause between read-back polls after the first repeat, so a slow start is not
   // answered by a flood of packets.
-  std::chrono::microseconds poll_pause{250};
+  link::Given<std::chrono::microseconds> poll_pause;
   // WaituS after a local parameter request or a stop: SSLBP's processor answers those
   // in microseconds, so the read-back in the same packet normally finds them done.
-  std::chrono::microseconds local_settle{50};
+  link::Given<std::chrono::microseconds> local_settle;
   // How often an SSLBP command's packet (it holds writes) is resent when its reply is lost
   // and the operation is repeatable, only after a read-only probe found COMMAND idle; also
   // how often a command that found COMMAND busy with another one is issued again. Only
   // SslbpPort::run's own commands: passthrough packets follow
   // PassthroughOptions::lost_packet_resends. ops hands down its budget's resends.
-  unsigned lost_reply_retries = 2;
+  link::Given<unsigned> lost_reply_retries;
 };
 
 struct SslbpParameters {
@@ -72,7 +72,7 @@ struct Completion {
 class SslbpPort {
  public:
   // `timer_space`: the card has LBP16 space 4 (BoardIdentity::has_timer_space()).
-  SslbpPort(Lbp16Transport& bus, SserialPort port, bool timer_space, SslbpOptions options = {});
+  SslbpPort(Lbp16Transport& bus, SserialPort port, bool timer_space, SslbpOptions options);
 
   // The general operation: `before` (register writes), COMMAND = `command`, a WaituS of
   // `settle` when the card has the timer space, then COMMAND, DATA and `results` read

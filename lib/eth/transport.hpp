@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "lbp16/lbp16.hpp"
+#include "link/given.hpp"
 
 namespace i20::eth {
 

@@ -193,7 +193,7 @@ std::uint16_t UdpClient::local_port() const {
 std::vector<lbp::Bytes> UdpClient::transact(std::span<const lbp16::Command> commands, Resend resend) {
   const bool writes = has_writes(commands);
   const bool may_resend = resend == Resend::Idempotent || (resend == Resend::IfReadOnly && !writes);
-  const unsigned attempts = 1 + (may_resend ? options_.retries : 0);
+  const unsigned attempts = 1 + (may_resend ? options_.retries.get() : 0u);
   const std::size_t prefix = options_.sequence_tags ? 2 : 0;
 
   std::vector<std::uint16_t> tags;         // of this transaction's attempts: any of them is a valid reply

@@ -67,16 +67,16 @@ struct UdpOptions {
   // measured. A card on a LAN answers in well under a millisecond; 50 ms leaves room for
   // a busy host without making a dead card slow to report. Measured round trips raise it
   // (ReplyTimeout) up to max_timeout.
-  std::chrono::milliseconds timeout{50};
+  link::Given<std::chrono::milliseconds> timeout;
   // The longest wait for one reply (back-off included): a stalled host gets this much, a
   // dead card costs at most this much per attempt.
-  std::chrono::milliseconds max_timeout{1000};
+  link::Given<std::chrono::milliseconds> max_timeout;
   // Extra attempts for packets that may be resent (see Resend): a transaction is sent at
   // most 1 + retries times. Packets with writes are sent once unless the caller vouches
   // for them (Resend::Idempotent). ops hands down its budget's resends (ops/retry.hpp);
   // the passthrough's packets hold writes, so ops' own reads over Ethernet never get
   // resent here.
-  unsigned retries = 2;
+  link::Given<unsigned> retries;
   // Sequence-number tagging through space 6 Scratch (see above). Off only for cards
   // whose firmware lacks space 6; then stale replies cannot be told apart.
   bool sequence_tags = true;
@@ -86,7 +86,7 @@ class UdpClient final : public Lbp16Transport {
  public:
   // `ip` must be an IPv4 literal; throws UsageError otherwise. Binds an ephemeral local
   // port, to which the card routes its replies.
-  UdpClient(const std::string& ip, std::uint16_t port = lbp::lbp16::kUdpPort, UdpOptions options = {});
+  UdpClient(const std::string& ip, std::uint16_t port, UdpOptions options);
   ~UdpClient() override;
   UdpClient(const UdpClient&) = delete;
   UdpClient& operator=(const UdpClient&) = delete;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "link/byte_stream.hpp"
+#include "link/given.hpp"
 #include "link/link.hpp"
 
 namespace i20::link {
@@ -22,13 +23,13 @@ namespace i20::link {
 struct PipelinedLinkOptions {
   // Reply timeout per wait = base_timeout + wire time of the bytes in flight. 50 ms
   // covers a USB adapter's latency timer (16 ms on FTDI unless lowered) with margin.
-  std::chrono::milliseconds base_timeout{50};
+  Given<std::chrono::milliseconds> base_timeout;
   // Wire bytes (CRC included) of commands sent but not yet answered. A single command
   // larger than the window is still sent, alone.
   std::size_t window_bytes = 64;
   // How often a failed batch is resent. Only batches that cannot change the card's
   // state are ever retried (see PipelinedLink::retry_safe); writes never are.
-  unsigned retries = 0;
+  Given<unsigned> retries;
   // Quiet time that resynchronises the card's parser after an error. Zero: twice the
   // longest command timeout (25.5 character times) at the stream's baud, plus 2 ms.
   std::chrono::microseconds resync_idle{0};
@@ -54,7 +55,7 @@ class PipelinedLink final : public Link {
  public:
   using Options = PipelinedLinkOptions;
 
-  explicit PipelinedLink(std::unique_ptr<ByteStream> stream, Options options = {});
+  PipelinedLink(std::unique_ptr<ByteStream> stream, Options options);
 
   std::vector<lbp::Bytes> execute(std::span<const lbp::Command> batch) override;
   std::string describe() const override { return stream_->name(); }

@@ -14,8 +14,7 @@ namespace i20::link {
 // Opens `path` and returns a link over it. Throws LinkError naming the path and the
 // likely fix when the port cannot be opened. The result converts to
 // std::unique_ptr<Link>; keep the PipelinedLink type for statistics() and notes().
-std::unique_ptr<PipelinedLink> open_serial_link(const std::string& path,
-                                                const PipelinedLinkOptions& options = {},
+std::unique_ptr<PipelinedLink> open_serial_link(const std::string& path, const PipelinedLinkOptions& options,
                                                 const SerialOptions& serial = {});
 
 }  // namespace i20::link

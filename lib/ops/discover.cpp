@@ -6,7 +6,6 @@
 #include "error/error.hpp"
 #include "files/atomic_file.hpp"
 #include "lbp/bytes.hpp"
-#include "ops/timing.hpp"
 
 namespace i20::ops {
 namespace {
@@ -32,9 +31,7 @@ DiscoverResult discover(Amp& card, const params::ParamDb& loaded, const Discover
   const std::string file = result.written.string();
   if (!options.overwrite && std::filesystem::exists(result.written))
     throw UsageError(file + " exists; pass --overwrite to replace it (or choose another name with -o)");
-  device::DiscoveryOptions scan = options.scan;
-  scan.reset_wait = timing::kResetWait;
-  result.report = device::discover(card.device(), scan);
+  result.report = device::discover(card.device(), options.scan);
   const std::string yaml = result.report.overlay_yaml(options.generated_at);
   prove_loads(loaded, yaml, file, result.report.swrevision);
   files::write_file(result.written, yaml,

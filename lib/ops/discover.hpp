@@ -9,6 +9,7 @@
 
 #include "device/discover.hpp"
 #include "ops/amp.hpp"
+#include "ops/timing.hpp"
 #include "params/param_db.hpp"
 
 namespace i20::ops {
@@ -19,7 +20,8 @@ using device::Search;
 using device::to_string;
 
 struct DiscoverOptions {
-  device::DiscoveryOptions scan;
+  // The range and whether to reset are the caller's; the wait after the reset is timing's.
+  device::DiscoveryOptions scan{.reset_wait = timing::kResetWait};
   std::filesystem::path output;  // empty: i20-map-SWREVISION.yaml in the current directory
   bool overwrite = false;
   std::string generated_at;  // time stamp written into the file

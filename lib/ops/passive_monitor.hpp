@@ -19,11 +19,12 @@
 
 #include "eth/passive_reader.hpp"
 #include "ops/faults.hpp"
+#include "ops/timing.hpp"
 
 namespace i20::ops {
 
-// At most this many UDP requests a second (eth/passive_reader.hpp says why).
-using eth::kPassiveMaxRequestsPerSecond;
+// At most this many UDP requests a second (ops/timing.hpp).
+using timing::kPassiveMaxRequestsPerSecond;
 
 struct PassiveChange {
   enum class Kind {
@@ -78,7 +79,7 @@ struct PassiveSample {
 };
 
 struct PassiveMonitorOptions {
-  eth::PassiveOptions read{};
+  eth::PassiveOptions read;    // timing::passive
   double busv_step_v = 0.5;    // a bus voltage change line at this much movement
   int temperature_step_c = 1;  // and a temperature one
   unsigned board_index = 0;    // for the LinuxCNC names (eth/scan.hpp)
@@ -86,10 +87,10 @@ struct PassiveMonitorOptions {
 
 class PassiveMonitor {
  public:
-  PassiveMonitor(const eth::HostPort& card, PassiveMonitorOptions options = {});
+  PassiveMonitor(const eth::HostPort& card, PassiveMonitorOptions options);
   // Over any transport (tests).
   PassiveMonitor(const eth::HostPort& card, std::unique_ptr<eth::Lbp16Transport> bus,
-                 PassiveMonitorOptions options = {});
+                 PassiveMonitorOptions options);
 
   // One snapshot of every channel and what changed since the previous one. Throws
   // link::TimeoutError when the card does not answer (nothing was sent again).

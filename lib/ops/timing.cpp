@@ -14,91 +14,90 @@ namespace i20::ops::timing {
 using std::chrono::milliseconds;
 
 link::PipelinedLinkOptions serial_link(const LinkSettings& settings, const RetryPolicy&) {
-  link::PipelinedLinkOptions options;
-  options.base_timeout = milliseconds(settings.timeout_ms);
-  // ops repeats the exchanges itself (Amp::with_retries): a batch is sent once here.
-  options.retries = 0;
-  return options;
+  return {
+      .base_timeout = milliseconds(settings.timeout_ms),
+      // ops repeats the exchanges itself (Amp::with_retries): a batch is sent once here.
+      .retries = 0u,
+  };
 }
 
 eth::UdpOptions udp(const LinkSettings& settings, const RetryPolicy& retry) {
-  eth::UdpOptions options;
-  options.timeout = milliseconds(settings.timeout_ms);
-  options.max_timeout = std::max(kUdpMaxTimeout, options.timeout);
-  // Only packets without writes (or vouched idempotent) are resent, within the budget.
-  options.retries = retry.resends();
-  return options;
+  const milliseconds timeout(settings.timeout_ms);
+  return {
+      .timeout = timeout,
+      .max_timeout = std::max(kUdpMaxTimeout, timeout),
+      // Only packets without writes (or vouched idempotent) are resent, within the budget.
+      .retries = retry.resends(),
+  };
 }
 
 eth::FenceOptions fence() {
-  eth::FenceOptions options;
-  options.bound = kFenceBound;
-  options.probe_pause = kFenceProbePause;
-  options.max_probe_pause = kFenceMaxProbePause;
-  return options;
+  return {.bound = kFenceBound, .probe_pause = kFenceProbePause, .max_probe_pause = kFenceMaxProbePause};
 }
 
 eth::SslbpOptions sslbp(const RetryPolicy& retry) {
-  eth::SslbpOptions options;
-  options.command_timeout = kSslbpCommandTimeout;
-  options.poll_pause = kSslbpPollPause;
-  options.local_settle = kSslbpLocalSettle;
-  // SSLBP commands that a read-only probe found not run: the budget's resends.
-  options.lost_reply_retries = retry.resends();
-  return options;
+  return {
+      .command_timeout = kSslbpCommandTimeout,
+      .poll_pause = kSslbpPollPause,
+      .local_settle = kSslbpLocalSettle,
+      // SSLBP commands that a read-only probe found not run: the budget's resends.
+      .lost_reply_retries = retry.resends(),
+  };
 }
 
 eth::RunningHostCheck running_host(const LinkSettings& settings) {
-  eth::RunningHostCheck check;
-  check.take_over = settings.take_over;
-  check.window = kRunningHostWindow;
-  check.command_samples = kRunningHostCommandSamples;
-  check.extra_windows = kRunningHostExtraWindows;
-  check.counter_read_attempts = kCounterReadAttempts;
-  check.take_over_setup_starts = kTakeOverSetupStarts;
-  return check;
+  return {
+      .take_over = settings.take_over,
+      .window = kRunningHostWindow,
+      .command_samples = kRunningHostCommandSamples,
+      .extra_windows = kRunningHostExtraWindows,
+      .counter_read_attempts = kCounterReadAttempts,
+      .take_over_setup_starts = kTakeOverSetupStarts,
+  };
 }
 
 eth::PassthroughOptions passthrough(const LinkSettings& settings, const RetryPolicy& retry) {
-  eth::PassthroughOptions options;
-  options.udp = udp(settings, retry);
-  options.fence = fence();
-  options.sslbp = sslbp(retry);
-  options.running_host = running_host(settings);
-  // ops repeats the exchanges itself: a passthrough packet whose reply is lost is not sent
-  // again by the port (it fences, probes, and reports the loss).
-  options.lost_packet_resends = 0;
-  options.max_replays = kMaxReplays;
-  return options;
+  return {
+      .udp = udp(settings, retry),
+      .fence = fence(),
+      .sslbp = sslbp(retry),
+      // ops repeats the exchanges itself: a passthrough packet whose reply is lost is not
+      // sent again by the port (it fences, probes, and reports the loss).
+      .lost_packet_resends = 0u,
+      .running_host = running_host(settings),
+      .max_packet_wait = kPassthroughMaxPacketWait,
+      .max_slack = kPassthroughMaxSlack,
+      .gather_window = kPassthroughGatherWindow,
+      .max_replays = kMaxReplays,
+  };
 }
 
 eth::ScanOptions scan(const LinkSettings& settings, const RetryPolicy& retry) {
-  eth::ScanOptions options;
-  options.udp = udp(settings, retry);
-  options.sslbp = sslbp(retry);
-  options.running_host = running_host(settings);
-  return options;
+  return {.udp = udp(settings, retry), .sslbp = sslbp(retry), .running_host = running_host(settings)};
 }
 
 eth::PassiveOptions passive(const LinkSettings& settings) {
-  eth::PassiveOptions options;
   // One attempt per request: a reply a busy host sends late is still taken.
-  options.timeout = std::max(milliseconds(settings.timeout_ms), kPassiveReadFloor);
-  options.max_timeout = std::max(kUdpMaxTimeout, options.timeout);
-  return options;
+  const milliseconds timeout = std::max(milliseconds(settings.timeout_ms), kPassiveReadFloor);
+  return {
+      .max_requests_per_second = kPassiveMaxRequestsPerSecond,
+      .timeout = timeout,
+      .max_timeout = std::max(kUdpMaxTimeout, timeout),
+  };
 }
 
 eth::NormalModeOptions normal_mode(const LinkSettings& settings, milliseconds period,
                                    std::optional<milliseconds> reply) {
-  eth::NormalModeOptions options;
-  options.period = period;
-  options.max_missed_cycles = kNormalModeMissedCycles;
-  options.udp = udp(settings, RetryPolicy{});
-  options.udp.timeout = reply.value_or(kNormalModeReply);
-  options.udp.max_timeout = reply.value_or(kUdpMaxTimeout);
-  options.sslbp = sslbp(RetryPolicy{});
-  options.running_host = running_host(settings);
-  return options;
+  eth::UdpOptions reply_wait = udp(settings, RetryPolicy{});
+  reply_wait.timeout = reply.value_or(kNormalModeReply);
+  reply_wait.max_timeout = reply.value_or(kUdpMaxTimeout);
+  return {
+      .udp = reply_wait,
+      .sslbp = sslbp(RetryPolicy{}),
+      .running_host = running_host(settings),
+      .period = period,
+      .max_missed_cycles = kNormalModeMissedCycles,
+  };
 }
 
 }  // namespace i20::ops::timing

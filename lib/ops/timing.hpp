@@ -2,15 +2,10 @@
 // Every count and every timeout the programs use, set here: how often a byte is sent and
 // how long anything may wait, per path. The layers below ops keep the mechanisms (resend a
 // read-only packet, fence, replay, poll) and take their figures from the options built
-// here; the defaults in their option structs serve only their own unit tests. The budget
-// per exchange and the operation's deadline are ops' RetryPolicy (retry.hpp), spent in
-// Amp::with_retries and Amp::wait_for_answer.
-//
-// Left below ops, as parts of a mechanism rather than policy: the passthrough's packing
-// waits (WaituS sized from the wire time, eth/passthrough_port.hpp), the serial stream's
-// grace for asio's cancellation and its hung-driver bound, the pipelined link's drain
-// bound, the device layer's poll sleeps, and ModeGuard's second try at leaving a mode
-// right after the error that brought it there (ops' settle() asks again after it).
+// here: every count and wait in their option structs is a link::Given, which has no
+// default, so a lower layer cannot be built without its figures (link/given.hpp). The
+// budget per exchange and the operation's deadline are ops' RetryPolicy (retry.hpp), spent
+// in Amp::with_retries and Amp::wait_for_answer.
 //
 // What one lost exchange costs, worst case (the README's "How long a command may take";
 // the figures are proved by OperationDeadline.* in tests/eth/retry_budget_test.cpp):
@@ -72,6 +67,12 @@ inline constexpr std::chrono::microseconds kSslbpPollPause{250};
 inline constexpr std::chrono::microseconds kSslbpLocalSettle{50};
 // Late DOITs one execute() replays before the link reports the remote too slow.
 inline constexpr unsigned kMaxReplays = 16;
+// The passthrough's packing: the most WaituS one packet may ask for (the card answers only
+// after it), the most extra wait per DOIT learnt from late ones, and how long a channel's
+// link waits for the other channels' links to join its packet.
+inline constexpr std::chrono::milliseconds kPassthroughMaxPacketWait{50};
+inline constexpr std::chrono::milliseconds kPassthroughMaxSlack{20};
+inline constexpr std::chrono::microseconds kPassthroughGatherWindow{2000};
 // Longer than the 8I20's 40 ms watchdog, so a host that keeps an 8I20 running always shows
 // (RunningHostCheck::window explains the figure).
 inline constexpr std::chrono::milliseconds kRunningHostWindow{45};
@@ -84,6 +85,8 @@ inline constexpr unsigned kCounterReadAttempts = 4;
 // Setup starts per channel in a take-over (--take-over), where the other host's DOITs can
 // land inside ours; without a take-over a channel gets one.
 inline constexpr unsigned kTakeOverSetupStarts = 4;
+// The documented bound of --passive: at most this many UDP requests a second.
+inline constexpr unsigned kPassiveMaxRequestsPerSecond = 20;
 // One attempt per request of the passive reader, never shorter than this.
 inline constexpr std::chrono::milliseconds kPassiveReadFloor{200};
 // Normal mode for watch and the console: the DOIT period and its reply timeout.

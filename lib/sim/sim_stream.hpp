@@ -58,7 +58,7 @@ class SimStream final : public link::ByteStream {
 // The in-process simulator as a byte stream (for PipelinedLink or raw-byte tests).
 std::unique_ptr<link::ByteStream> make_sim_stream(SimOptions options = {});
 // The in-process simulator behind the toolkit's usual setup-mode link.
-std::unique_ptr<link::PipelinedLink> make_sim_link(SimOptions options = {},
-                                                   link::PipelinedLinkOptions link_options = {});
+std::unique_ptr<link::PipelinedLink> make_sim_link(SimOptions options,
+                                                   link::PipelinedLinkOptions link_options);
 
 }  // namespace i20::sim

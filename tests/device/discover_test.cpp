@@ -18,7 +18,8 @@ struct Rig {
     sim::SimOptions options;
     card_map = sim::register_map_from(db).shuffled(seed);
     options.device.map = card_map;
-    link = sim::make_sim_link(std::move(options));
+    link = sim::make_sim_link(std::move(options),
+                              {.base_timeout = std::chrono::milliseconds(50), .retries = 0u});
   }
   std::uint16_t card_address(const std::string& name) const { return card_map.at(name).address; }
 
@@ -34,8 +35,7 @@ const device::Finding& finding(const device::DiscoveryReport& r, const std::stri
 }
 
 device::DiscoveryOptions whole_map_range() {
-  device::DiscoveryOptions o;
-  o.reset_wait = std::chrono::milliseconds(3000);
+  device::DiscoveryOptions o{.reset_wait = std::chrono::milliseconds(3000)};
   o.scan_begin = 0x0000;  // the shuffled simulator map uses 0x0400..0x0FFF
   o.scan_end = 0x1000;
   return o;

@@ -8,6 +8,7 @@
 #include "eth/sslbp_port.hpp"
 #include "eth/udp_client.hpp"
 #include "fixtures.hpp"
+#include "programs_timing.hpp"
 
 using namespace i20;
 using namespace i20::eth;
@@ -26,7 +27,7 @@ ethsim::ServerOptions card_7i92t() {
 
 TEST(EthDiscovery, IdentifiesThe7i96sFromSpace7) {
   test::RunningBoard card;
-  UdpClient bus(card.address().ip, card.address().port);
+  UdpClient bus(card.address().ip, card.address().port, programs_timing::udp());
   const BoardIdentity id = identify(bus);
   EXPECT_EQ(id.card_name, "7I96S");
   EXPECT_EQ(id.lbp16_version, 3);
@@ -36,7 +37,7 @@ TEST(EthDiscovery, IdentifiesThe7i96sFromSpace7) {
 
 TEST(EthDiscovery, ReadsIdromModulesPinsAndLocatesSserial) {
   test::RunningBoard card;
-  UdpClient bus(card.address().ip, card.address().port);
+  UdpClient bus(card.address().ip, card.address().port, programs_timing::udp());
   const HostMot2Info info = read_hostmot2(bus);
   EXPECT_EQ(bus.stats().packets_sent, 3u);  // ident area, IDROM, modules + pins
   EXPECT_EQ(info.ident.config_name, "HOSTMOT2");
@@ -61,7 +62,7 @@ TEST(EthDiscovery, NotAHostMot2CardIsNamedAsSuch) {
   test::ScriptedBoard card([](const lbp::Bytes& request, const auto& client, test::ScriptedBoard::Sockets s) {
     s.card.send_to(boost::asio::buffer(test::zero_card_reply(request)), client);
   });
-  UdpClient bus("127.0.0.1", card.port());
+  UdpClient bus("127.0.0.1", card.port(), programs_timing::udp());
   try {
     read_hostmot2(bus);
     FAIL();
@@ -72,8 +73,8 @@ TEST(EthDiscovery, NotAHostMot2CardIsNamedAsSuch) {
 
 TEST(EthDiscovery, SslbpLocalParameters) {
   test::RunningBoard card;
-  UdpClient bus(card.address().ip, card.address().port);
-  SslbpPort port(bus, find_sserial_port(read_hostmot2(bus), 0), true);
+  UdpClient bus(card.address().ip, card.address().port, programs_timing::udp());
+  SslbpPort port(bus, find_sserial_port(read_hostmot2(bus), 0), true, programs_timing::sslbp());
   port.stop_all();
   const SslbpParameters p = port.read_parameters();
   EXPECT_EQ(p.channels, 1);
@@ -90,7 +91,7 @@ TEST(EthDiscovery, SslbpLocalParameters) {
 
 TEST(EthDiscovery, ScanFindsThe8i20OnThe7i96s) {
   test::RunningBoard card;
-  const ScanResult r = scan(card.address());
+  const ScanResult r = scan(card.address(), programs_timing::scan());
   EXPECT_EQ(r.card.card_name, "7I96S");
   EXPECT_EQ(r.board_name, "MESA7I96");
   EXPECT_EQ(r.config_name, "HOSTMOT2");
@@ -109,7 +110,7 @@ TEST(EthDiscovery, ScanFindsThe8i20OnThe7i96s) {
 
 TEST(EthDiscovery, ScanOfA7i92tWithTwoPortsOfEightChannels) {
   test::RunningBoard card(card_7i92t());
-  const ScanResult r = scan(card.address());
+  const ScanResult r = scan(card.address(), programs_timing::scan());
   EXPECT_EQ(r.card.card_name, "7I92T");
   ASSERT_EQ(r.ports.size(), 2u);
   for (const auto& port : r.ports) ASSERT_EQ(port.channels.size(), 8u);

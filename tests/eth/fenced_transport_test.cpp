@@ -15,6 +15,7 @@
 #include "eth/errors.hpp"
 #include "eth/running_host.hpp"
 #include "lbp/bytes.hpp"
+#include "programs_timing.hpp"
 
 using namespace i20;
 namespace lbp16 = lbp::lbp16;
@@ -123,7 +124,7 @@ lbp16::Command some_read() {
 struct Fixture {
   HeldBackBoard* card = nullptr;
   std::unique_ptr<eth::FencedTransport> bus;
-  explicit Fixture(eth::FenceOptions options = {}) {
+  explicit Fixture(eth::FenceOptions options = programs_timing::fence()) {
     auto inner = std::make_unique<HeldBackBoard>();
     card = inner.get();
     options.probe_pause = std::chrono::milliseconds(0);
@@ -176,7 +177,9 @@ TEST(FencedTransport, ReadsNeedNoFence) {
 }
 
 TEST(FencedTransport, AWriteGivenUpOnThatArrivesAfterAllFailsTheExchangeItLandsIn) {
-  Fixture f(eth::FenceOptions{.bound = std::chrono::milliseconds(0)});
+  eth::FenceOptions no_wait = programs_timing::fence();
+  no_wait.bound = std::chrono::milliseconds(0);
+  Fixture f(no_wait);
   f.write(1);
   f.card->plan(2, HeldBackBoard::Fate::HoldBack, 1000);  // far past the bound
   EXPECT_THROW(f.write(2), link::TimeoutError);

@@ -14,6 +14,7 @@
 #include "eth/udp_client.hpp"
 #include "ethsim/faulty_network.hpp"
 #include "fixtures.hpp"
+#include "programs_timing.hpp"
 
 using namespace i20;
 using namespace i20::eth;
@@ -28,7 +29,8 @@ const SserialPort kPort{.index = 0, .registers = {.command = 0x5B00, .data = 0x5
 struct RepeatingNetworkWatch {
   explicit RepeatingNetworkWatch(test::RunningBoard& card)
       : network(card.address(), faults()),
-        bus(parse_host_port(network.address()).ip, parse_host_port(network.address()).port, UdpOptions{}),
+        bus(parse_host_port(network.address()).ip, parse_host_port(network.address()).port,
+            programs_timing::udp()),
         seen(observe_host_activity(bus, std::span(&kPort, 1), check)) {}
   static ethsim::NetworkFaults faults() {
     ethsim::NetworkFaults f;
@@ -39,7 +41,7 @@ struct RepeatingNetworkWatch {
   }
   ethsim::FaultyNetwork network;
   UdpClient bus;
-  RunningHostCheck check;
+  RunningHostCheck check = programs_timing::running_host();
   HostActivity seen;
 };
 

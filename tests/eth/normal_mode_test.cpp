@@ -6,6 +6,7 @@
 
 #include "eth/errors.hpp"
 #include "fixtures.hpp"
+#include "programs_timing.hpp"
 
 using namespace i20;
 using namespace i20::eth;
@@ -17,7 +18,7 @@ TEST(EthNormalMode, StartsReadsUnitNumberAndStreamsTheAmplifiersValues) {
     amp.world().settings().bus_volts = 320.0;
     amp.world().settings().temperature_c = 35.0;
   });
-  const auto session = NormalModeSession::open(card.target(0));
+  const auto session = NormalModeSession::open(card.target(0), programs_timing::normal_mode());
   EXPECT_EQ(session->unit_number(0), 0x00012345u);
   EXPECT_THROW(session->unit_number(1), UsageError);
 
@@ -43,7 +44,7 @@ TEST(EthNormalMode, StartsReadsUnitNumberAndStreamsTheAmplifiersValues) {
 
 TEST(EthNormalMode, KeepsTheWatchdogFedAndNeverCommandsCurrent) {
   test::RunningBoard card;
-  const auto session = NormalModeSession::open(card.target(0));
+  const auto session = NormalModeSession::open(card.target(0), programs_timing::normal_mode());
   std::this_thread::sleep_for(300ms);  // the caller dawdles; the worker keeps cadence
   const LiveStatus s = session->wait_for_sample(500ms);
   EXPECT_GE(s.doits, 10u);
@@ -65,7 +66,7 @@ TEST(EthNormalMode, KeepsTheWatchdogFedAndNeverCommandsCurrent) {
 
 TEST(EthNormalMode, FaultsShowUpInInterface1) {
   test::RunningBoard card;
-  const auto session = NormalModeSession::open(card.target(0));
+  const auto session = NormalModeSession::open(card.target(0), programs_timing::normal_mode());
   card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) { amp.world().settings().enable = false; });
   std::uint16_t fault = 0;
   for (int i = 0; i < 30 && fault == 0; ++i) fault = session->wait_for_sample(500ms).channel(0)->fault;
@@ -74,7 +75,7 @@ TEST(EthNormalMode, FaultsShowUpInInterface1) {
 
 TEST(EthNormalMode, StopSendsTheStopCommand) {
   test::RunningBoard card;
-  auto session = NormalModeSession::open(card.target(0));
+  auto session = NormalModeSession::open(card.target(0), programs_timing::normal_mode());
   session->wait_for_sample(500ms);
   session->stop();
   EXPECT_FALSE(session->running());
@@ -87,7 +88,7 @@ TEST(EthNormalMode, StopSendsTheStopCommand) {
 TEST(EthNormalMode, DestructionStopsToo) {
   test::RunningBoard card;
   {
-    const auto session = NormalModeSession::open(card.target(0));
+    const auto session = NormalModeSession::open(card.target(0), programs_timing::normal_mode());
     session->wait_for_sample(500ms);
   }
   card.server().with_card(
@@ -99,7 +100,7 @@ TEST(EthNormalMode, SeveralChannelsOfA7i92tPort) {
   options.card = ethsim::BoardKind::I7i92t;
   options.amplifiers = {{1, 2}, {1, 5}};
   test::RunningBoard card(options);
-  const auto session = NormalModeSession::open(card.address(), 1, 0x24);
+  const auto session = NormalModeSession::open(card.address(), 1, 0x24, programs_timing::normal_mode());
   EXPECT_EQ(session->unit_number(2), 0x00012345u);
   EXPECT_EQ(session->unit_number(5), 0x00012346u);
   const LiveStatus s = session->wait_for_sample(500ms);
@@ -113,7 +114,7 @@ TEST(EthNormalMode, ChannelThatDoesNotStartIsReported) {
   options.amplifiers = {{0, 0}};
   test::RunningBoard card(options);
   try {
-    NormalModeSession::open(card.address(), 0, 0x03);
+    NormalModeSession::open(card.address(), 0, 0x03, programs_timing::normal_mode());
     FAIL();
   } catch (const DiscoveryError& e) {
     EXPECT_NE(std::string(e.what()).find("ch 1"), std::string::npos) << e.what();
@@ -122,7 +123,7 @@ TEST(EthNormalMode, ChannelThatDoesNotStartIsReported) {
 
 TEST(EthNormalMode, CardThatGoesAwayFailsTheSession) {
   auto card = std::make_unique<test::RunningBoard>();
-  NormalModeOptions options;
+  auto options = programs_timing::normal_mode();
   options.udp.timeout = 10ms;
   const auto session = NormalModeSession::open(card->target(0), options);
   session->wait_for_sample(500ms);
@@ -139,7 +140,7 @@ TEST(EthNormalMode, CardThatGoesAwayFailsTheSession) {
 
 TEST(EthNormalMode, RefusesPeriodsThatLetTheWatchdogBite) {
   test::RunningBoard card;
-  NormalModeOptions options;
+  auto options = programs_timing::normal_mode();
   options.period = 30ms;
   EXPECT_THROW(NormalModeSession::open(card.target(0), options), UsageError);
 }

@@ -14,6 +14,7 @@
 #include "fixtures.hpp"
 #include "ops/passive_monitor.hpp"
 #include "ops/passive_watch.hpp"
+#include "programs_timing.hpp"
 
 using namespace i20;
 using namespace i20::eth;
@@ -66,7 +67,7 @@ class LoggingTransport final : public Lbp16Transport {
 };
 
 std::unique_ptr<Lbp16Transport> logged(const HostPort& card, Log& log) {
-  UdpOptions udp;
+  auto udp = programs_timing::udp();
   udp.sequence_tags = false;
   udp.retries = 0;
   udp.timeout = 500ms;
@@ -115,7 +116,7 @@ const ProcessData* channel(const PassiveSnapshot& s, unsigned port, unsigned ch)
 
 TEST(PassiveReader, ChannelsComeFromThePinTable) {
   test::RunningBoard card(machine());
-  PassiveReader reader(card.address());
+  PassiveReader reader(card.address(), programs_timing::passive());
   ASSERT_EQ(reader.ports().size(), 2u);
   EXPECT_EQ(reader.channels(0), 8u);  // the 7I92T preset wires 8 channels per port
   EXPECT_EQ(reader.channels(1), 8u);
@@ -128,7 +129,7 @@ TEST(PassiveReader, ReadsTheManualsProcessDataOfEveryChannelWithoutWriting) {
   ethsim::apply_board_control(card.server(), "ch 1 temp 61");
   ethsim::apply_board_control(card.server(), "ch 0 fault overcurrent on");
   Log log;
-  PassiveReader reader(logged(card.address(), log));
+  PassiveReader reader(logged(card.address(), log), programs_timing::passive());
   PassiveSnapshot s;
   ASSERT_TRUE(test::eventually(
       [&] {
@@ -157,12 +158,13 @@ TEST(PassiveReader, ReadsTheManualsProcessDataOfEveryChannelWithoutWriting) {
 TEST(PassiveReader, NeverSendsMoreThanTwentyRequestsInAnySecond) {
   test::RunningBoard card(machine());
   Log log;
-  PassiveReader reader(logged(card.address(), log));
+  PassiveReader reader(logged(card.address(), log), programs_timing::passive());
   for (int i = 0; i < 30; ++i) reader.read();  // as fast as the reader lets us
   std::lock_guard lock(log.mutex);
   ASSERT_EQ(log.sent.size(), 31u);  // the survey and 30 snapshots: one request each, batched
-  for (std::size_t i = 0; i + kPassiveMaxRequestsPerSecond < log.sent.size(); ++i)
-    EXPECT_GE(log.sent[i + kPassiveMaxRequestsPerSecond] - log.sent[i], 1s) << "window at request " << i;
+  for (std::size_t i = 0; i + ops::timing::kPassiveMaxRequestsPerSecond < log.sent.size(); ++i)
+    EXPECT_GE(log.sent[i + ops::timing::kPassiveMaxRequestsPerSecond] - log.sent[i], 1s)
+        << "window at request " << i;
   EXPECT_EQ(reader.requests_sent(), 31u);
   EXPECT_EQ(log.writes, 0u);
 }
@@ -170,7 +172,7 @@ TEST(PassiveReader, NeverSendsMoreThanTwentyRequestsInAnySecond) {
 TEST(PassiveMonitor, ReportsTimestampedChangesDecodedByTheFaultTable) {
   test::RunningBoard card(machine());
   ASSERT_TRUE(test::eventually([&] { return host_doits(card) >= 50; }, 30s)) << *card.server().host_status();
-  ops::PassiveMonitor monitor(card.address());
+  ops::PassiveMonitor monitor(card.address(), {.read = programs_timing::passive()});
   auto first = monitor.sample();
   ASSERT_EQ(first.amplifiers.size(), 2u);
   const auto joined = std::count_if(first.changes.begin(), first.changes.end(),
@@ -199,7 +201,7 @@ TEST(PassiveMonitor, ReportsTimestampedChangesDecodedByTheFaultTable) {
 TEST(PassiveMonitor, SaysWhenTheHostGoesQuiet) {
   test::RunningBoard card(machine());
   ASSERT_TRUE(test::eventually([&] { return host_doits(card) >= 20; }, 30s));
-  ops::PassiveMonitor monitor(card.address());
+  ops::PassiveMonitor monitor(card.address(), {.read = programs_timing::passive()});
   monitor.sample();
   EXPECT_EQ(monitor.sample().host_active(), true);
   card.server().stop_host();
@@ -218,8 +220,9 @@ TEST(PassiveWatch, SaysOnceWhenTheCardStopsAnsweringAndAgainWhenItIsBack) {
   ASSERT_TRUE(test::eventually([&] { return host_doits(card) >= 20; }, 30s));
   Log log;
   std::atomic<int> unanswered{0};
-  ops::PassiveMonitor monitor(
-      card.address(), std::make_unique<SilenceableTransport>(logged(card.address(), log), unanswered));
+  ops::PassiveMonitor monitor(card.address(),
+                              std::make_unique<SilenceableTransport>(logged(card.address(), log), unanswered),
+                              {.read = programs_timing::passive()});
   RecordingSink sink;
   sink.on_sample = [&] {
     if (sink.samples.size() == 1) unanswered = 3;  // three samples in a row go unanswered
@@ -240,7 +243,7 @@ TEST(PassiveWatch, SaysOnceWhenTheCardStopsAnsweringAndAgainWhenItIsBack) {
 TEST(PassiveWatch, AViewThatFailsEndsTheWatch) {
   test::RunningBoard card(machine());
   ASSERT_TRUE(test::eventually([&] { return host_doits(card) >= 20; }, 30s));
-  ops::PassiveMonitor monitor(card.address());
+  ops::PassiveMonitor monitor(card.address(), {.read = programs_timing::passive()});
   struct ReaderGone {};
   RecordingSink sink;
   sink.on_sample = [&] {

@@ -7,6 +7,7 @@
 
 #include "eth/errors.hpp"
 #include "fixtures.hpp"
+#include "programs_timing.hpp"
 
 using namespace i20;
 using namespace i20::eth;
@@ -29,7 +30,7 @@ std::uint64_t value(const lbp::Bytes& bytes) {
 
 TEST(EthPassthrough, OpensTheChannelAndFindsThe8i20) {
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   EXPECT_EQ(link->remote().name, "8I20");
   EXPECT_EQ(link->remote().unit_number, 0x00012345u);
   EXPECT_EQ(link->card().card_name, "7I96S");
@@ -41,7 +42,7 @@ TEST(EthPassthrough, OpensTheChannelAndFindsThe8i20) {
 
 TEST(EthPassthrough, ReadsWordsAndLongsAndLocalRegisters) {
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   const std::vector<lbp::Command> batch{
       lbp::read(kUnitNumber, DataSize::Four), lbp::read(kSwRevision, DataSize::Two),
       lbp::local_read(lbp::local::kGetCookie), lbp::local_read(lbp::local::kGetCardName0)};
@@ -55,7 +56,7 @@ TEST(EthPassthrough, ReadsWordsAndLongsAndLocalRegisters) {
 
 TEST(EthPassthrough, ParameterReadCostsAtMostTwoRoundTrips) {
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   const auto sent_before = link->transport_stats().packets_sent;
   for (int i = 0; i < 20; ++i) link->execute_one(lbp::read(kSwRevision, DataSize::Two));
   EXPECT_EQ(link->stats().commands, 20u);
@@ -68,7 +69,7 @@ TEST(EthPassthrough, ParameterReadCostsAtMostTwoRoundTrips) {
 
 TEST(EthPassthrough, ParameterWriteAndNvWriteRoundTrips) {
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   link->execute_one(lbp::write(kFaultMask, DataSize::Two, 0xFFFF));
   EXPECT_LE(link->stats().max_round_trips, 2u);
   RecordProperty("round_trips_ram_write", static_cast<int>(link->stats().round_trips));
@@ -87,7 +88,7 @@ TEST(EthPassthrough, WithoutTheTimerSpaceItPollsUntilCommandClears) {
   options.config->lbp16_version = 2;                          // no space 4: no WaituS
   options.sslbp.processing = std::chrono::microseconds(300);  // a slow SSLBP
   test::RunningBoard card(options);
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   EXPECT_EQ(value(link->execute_one(lbp::read(kUnitNumber, DataSize::Four))), 0x00012345u);
   EXPECT_GE(link->stats().max_round_trips, 2u);  // COMMAND was still busy at the first read-back
   card.server().with_card(
@@ -96,7 +97,7 @@ TEST(EthPassthrough, WithoutTheTimerSpaceItPollsUntilCommandClears) {
 
 TEST(EthPassthrough, WritesRamAndReadsItBack) {
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   link->execute_one(lbp::write(kFaultMask, DataSize::Two, 0xFEFF));
   EXPECT_EQ(value(link->execute_one(lbp::read(kFaultMask, DataSize::Two))), 0xFEFFu);
   EXPECT_EQ(
@@ -106,7 +107,7 @@ TEST(EthPassthrough, WritesRamAndReadsItBack) {
 
 TEST(EthPassthrough, NvModeWritesTheEepromThroughCs0xEC) {
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   const std::vector<lbp::Command> batch{
       lbp::set_nv_access(lbp::local::NvAccess::Eeprom), lbp::write(kNvKqp, DataSize::Two, 77),
       lbp::read(kNvKqp, DataSize::Two), lbp::set_nv_access(lbp::local::NvAccess::Ram),
@@ -123,7 +124,7 @@ TEST(EthPassthrough, NvModeWritesTheEepromThroughCs0xEC) {
 
 TEST(EthPassthrough, UnsupportedCommandsAreRefusedWithTheirIndex) {
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   const std::vector<lbp::Command> batch{lbp::read(kSwRevision, DataSize::Two),
                                         lbp::read(0x0816, DataSize::Eight)};
   try {
@@ -139,7 +140,7 @@ TEST(EthPassthrough, UnsupportedCommandsAreRefusedWithTheirIndex) {
 
 TEST(EthPassthrough, SilentRemoteIsATimeoutInWords) {
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) {
     sim::Injection mute;
     mute.answer_limit = 0;
@@ -161,7 +162,7 @@ TEST(EthPassthrough, SilentRemoteIsATimeoutInWords) {
 
 TEST(EthPassthrough, CorruptedRepliesAreCrcErrors) {
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) {
     sim::Injection corrupt;
     corrupt.corrupt_rate = 1.0;
@@ -181,19 +182,20 @@ TEST(EthPassthrough, EmptyChannelIsADiscoveryError) {
   options.amplifiers = {{0, 0}};
   test::RunningBoard card(options);
   try {
-    SslbpPassthroughLink::open(card.target(2));
+    SslbpPassthroughLink::open(card.target(2), programs_timing::passthrough());
     FAIL();
   } catch (const DiscoveryError& e) {
     EXPECT_NE(std::string(e.what()).find("no remote answered"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(SslbpPassthroughLink::open(card.target(0, 2)), DiscoveryError);  // no SSERIAL port 2
-  EXPECT_NO_THROW(SslbpPassthroughLink::open(card.target(0, 0)));
+  EXPECT_THROW(SslbpPassthroughLink::open(card.target(0, 2), programs_timing::passthrough()),
+               DiscoveryError);  // no SSERIAL port 2
+  EXPECT_NO_THROW(SslbpPassthroughLink::open(card.target(0, 0), programs_timing::passthrough()));
 }
 
 TEST(EthPassthrough, NoCardAtTheAddressTimesOut) {
   // Nothing listens on this port: the open fails with a timeout, quickly.
   test::ScriptedBoard silent([](const lbp::Bytes&, const auto&, test::ScriptedBoard::Sockets) {});
-  PassthroughOptions options;
+  auto options = programs_timing::passthrough();
   options.udp.timeout = 20ms;
   EXPECT_THROW(
       SslbpPassthroughLink::open(make_target("127.0.0.1:" + std::to_string(silent.port()), 0), options),

@@ -15,6 +15,7 @@
 #include "eth/passthrough_link.hpp"
 #include "fixtures.hpp"
 #include "lbp/local.hpp"
+#include "programs_timing.hpp"
 
 using namespace i20;
 using namespace i20::eth;
@@ -73,11 +74,20 @@ std::uint64_t ignored_doits(test::RunningBoard& card) {
       [](ethsim::VirtualBoard& c) { return c.sslbp(0).stats().ignored_while_busy; });
 }
 
+// The programs' passthrough, but allowed to resend a packet whose reply was lost (ops sends
+// 0 and repeats the exchange itself): the port's own resend, tested here.
+PassthroughOptions resending() {
+  auto options = programs_timing::passthrough();
+  options.lost_packet_resends = 2u;
+  return options;
+}
+
 // Forwards to a UdpClient; the reply of the chosen transaction is "lost" after the card
 // executed the packet.
 class LosingTransport final : public Lbp16Transport {
  public:
-  LosingTransport(const HostPort& card, std::uint64_t lose) : inner_(card.ip, card.port), lose_(lose) {}
+  LosingTransport(const HostPort& card, std::uint64_t lose)
+      : inner_(card.ip, card.port, programs_timing::udp()), lose_(lose) {}
   std::vector<lbp::Bytes> transact(std::span<const lbp::lbp16::Command> commands, Resend resend) override {
     auto reply = inner_.transact(commands, resend);
     if (++count_ == lose_) throw link::TimeoutError("reply lost (test)");
@@ -97,7 +107,7 @@ class LosingTransport final : public Lbp16Transport {
 
 TEST(EthBatching, ADumpIsOneRoundTripWithEveryValueRight) {
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   read_modes(*link);
   const auto before = packets(*link);
   const auto doits_before = link->stats().doits;
@@ -121,7 +131,7 @@ TEST(EthBatching, ADumpIsOneRoundTripWithEveryValueRight) {
 // from the 0xEC steps it ran.
 TEST(EthBatching, AnNvModeNobodyHasReadOrSetSplitsThePacketAtTheFirst0xEC) {
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   auto before = packets(*link);
   const auto batch = dump_like();
   const auto first = link->execute(batch);
@@ -136,7 +146,7 @@ TEST(EthBatching, AnNvModeNobodyHasReadOrSetSplitsThePacketAtTheFirst0xEC) {
 
 TEST(EthBatching, NvWriteWithVerifyIsOneRoundTripAndOneEepromWrite) {
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   const auto writes = card.with_amplifier(0, 0, [](sim::Virtual8i20& a) { return a.stats().eeprom_writes; });
   const auto before = packets(*link);
   const auto batch = nv_write(kNvKqp, 61);
@@ -156,7 +166,7 @@ TEST(EthBatching, NvWriteWithVerifyIsOneRoundTripAndOneEepromWrite) {
 
 TEST(EthBatching, WritesAndReadBacksInOneBatch) {
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   const std::vector<lbp::Command> batch{lbp::write(kFaultMask, DataSize::Two, 0xFEFF),
                                         lbp::read(kFaultMask, DataSize::Two),
                                         lbp::write(kBrakeOnV, DataSize::Two, 30001),
@@ -179,7 +189,7 @@ TEST(EthBatching, ASlowSslbpIsCaughtAndTheResultsStayRight) {
   ethsim::ServerOptions options;
   options.sslbp.processing = std::chrono::microseconds(400);
   test::RunningBoard card(options);
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   const auto batch = dump_like();
   const auto r = link->execute(batch);
   EXPECT_EQ(value(r[0]), 0xE120u);
@@ -200,7 +210,7 @@ TEST(EthBatching, LateDoitsAreReplayedOnlyAsOftenAsTheCallerAllows) {
   ethsim::ServerOptions options;
   options.sslbp.processing = std::chrono::microseconds(400);
   test::RunningBoard card(options);
-  PassthroughOptions strict;
+  auto strict = programs_timing::passthrough();
   strict.max_replays = 0;
   const auto link = SslbpPassthroughLink::open(card.target(0), strict);
   try {
@@ -236,7 +246,7 @@ void expect_the_table(test::RunningBoard& card, const std::vector<lbp::Bytes>& r
 
 TEST(EthBatching, AnRpcTableSliceIsOnePacket) {
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   read_modes(*link);
   const auto before = packets(*link);
   const auto r = link->execute(rpc_slice(64));
@@ -248,7 +258,7 @@ TEST(EthBatching, AnRpcTableSliceStaysRightOnASlowSslbp) {
   ethsim::ServerOptions options;
   options.sslbp.processing = std::chrono::microseconds(400);
   test::RunningBoard card(options);
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   read_modes(*link);
   const auto r = link->execute(rpc_slice(64));
   EXPECT_GT(link->stats().replays, 0u);
@@ -259,7 +269,7 @@ TEST(EthBatching, AWaitTooShortForTheSerialTimeIsCaught) {
   // The estimate leaves out the remote's turnaround and SSLBP's processing: too short for
   // the virtual card's timing, which the checks must catch.
   test::RunningBoard card;
-  PassthroughOptions options;
+  auto options = programs_timing::passthrough();
   options.turnaround_characters = 0;
   options.overhead = 0us;
   const auto link = SslbpPassthroughLink::open(card.target(0), options);
@@ -278,7 +288,7 @@ TEST(EthBatching, ASlowEepromIsWaitedForNotWrittenTwice) {
   options.amplifier.eeprom_word_time = std::chrono::milliseconds(12);  // beyond the 5 ms estimate
   options.sslbp.remote_timeout = std::chrono::milliseconds(40);
   test::RunningBoard card(options);
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   const auto writes = card.with_amplifier(0, 0, [](sim::Virtual8i20& a) { return a.stats().eeprom_writes; });
   const auto batch = nv_write(kNvBrakeOnV, 19000);
   const auto r = link->execute(batch);
@@ -296,7 +306,7 @@ TEST(EthBatching, CardsWithoutTheTimerSpacePollEveryDoit) {
   options.config = ethsim::BoardConfig::preset(ethsim::BoardKind::I7i96s);
   options.config->lbp16_version = 2;  // older firmware: no space 4, no WaituS
   test::RunningBoard card(options);
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   const auto batch = dump_like();
   const auto r = link->execute(batch);
   EXPECT_EQ(value(r[2 + 24 + 1 + 10]), 34000u);
@@ -308,7 +318,7 @@ TEST(EthBatching, ALostReplyIsResentWhenTheBatchMayRunTwice) {
   test::RunningBoard card;
   auto bus = std::make_unique<LosingTransport>(card.address(), 0);
   auto* losing = bus.get();
-  SslbpPassthroughLink link(std::move(bus), card.target(0));
+  SslbpPassthroughLink link(std::move(bus), card.target(0), resending());
   losing->lose(1);
   const std::vector<lbp::Command> batch{lbp::write(kBrakeOnV, DataSize::Two, 30003),
                                         lbp::read(kBrakeOnV, DataSize::Two),
@@ -323,7 +333,7 @@ TEST(EthBatching, ALostReplyOfAResetIsNeverResent) {
   test::RunningBoard card;
   auto bus = std::make_unique<LosingTransport>(card.address(), 0);
   auto* losing = bus.get();
-  SslbpPassthroughLink link(std::move(bus), card.target(0));
+  SslbpPassthroughLink link(std::move(bus), card.target(0), resending());
   const auto resets = card.with_amplifier(0, 0, [](sim::Virtual8i20& a) { return a.stats().resets; });
   losing->lose(1);
   // Either the probe finds the reset's DOIT still running (and reports how it ended) or
@@ -346,7 +356,7 @@ TEST(EthBatching, OneDoitServesEveryChannelOfThePort) {
   options.card = ethsim::BoardKind::I7i92t;
   options.amplifiers = {{0, 0}, {0, 1}, {0, 2}, {0, 3}};
   test::RunningBoard card(options);
-  const auto port = PassthroughPort::open(card.address(), 0, 0x0F);
+  const auto port = PassthroughPort::open(card.address(), 0, 0x0F, programs_timing::passthrough());
   const auto batch = dump_like();
   std::vector<PassthroughPort::Batch> batches;
   for (unsigned ch = 0; ch < 4; ++ch) batches.push_back({.channel = ch, .commands = batch});
@@ -371,7 +381,7 @@ TEST(EthBatching, ChannelsOfDifferentLengthsAndAFailingChannel) {
   options.card = ethsim::BoardKind::I7i92t;
   options.amplifiers = {{0, 0}, {0, 1}, {0, 5}};
   test::RunningBoard card(options);
-  const auto port = PassthroughPort::open(card.address(), 0, 0x23);
+  const auto port = PassthroughPort::open(card.address(), 0, 0x23, programs_timing::passthrough());
   card.with_amplifier(0, 1, [](sim::Virtual8i20& amp) {
     sim::Injection mute;
     mute.answer_limit = 1;  // answers one more command, then goes silent
@@ -401,7 +411,7 @@ TEST(EthBatching, LinksOfSeveralThreadsShareTheirDoits) {
   options.card = ethsim::BoardKind::I7i92t;
   options.amplifiers = {{1, 2}, {1, 3}, {1, 4}};
   test::RunningBoard card(options);
-  const auto port = PassthroughPort::open(card.address(), 1, 0x1C);
+  const auto port = PassthroughPort::open(card.address(), 1, 0x1C, programs_timing::passthrough());
   std::vector<std::unique_ptr<link::Link>> links;
   for (unsigned ch = 2; ch <= 4; ++ch) links.push_back(port->link(ch));
   EXPECT_EQ(links[1]->describe(), "eth " + card.address().describe() + " port 1 ch 3");
@@ -439,7 +449,8 @@ TEST(EthReadOnly, ALatchedFaultSurvivesAnyNumberOfPassthroughReads) {
   ASSERT_TRUE(latched & 0x0002) << "NOENABLEFAULT latched, cause gone";
   const std::vector<lbp::Command> look{lbp::read(kFault, DataSize::Two), lbp::read(kStatus, DataSize::Two)};
   for (int i = 0; i < 5; ++i) {
-    const auto link = SslbpPassthroughLink::open(card.target(0));  // each look opens anew
+    const auto link =
+        SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());  // each look opens anew
     for (int j = 0; j < 3; ++j) EXPECT_EQ(value(link->execute(look)[0]) & latched, latched) << i << "/" << j;
   }
   EXPECT_EQ(card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) { return amp.amplifier().value("FAULT"); }) &
@@ -447,7 +458,7 @@ TEST(EthReadOnly, ALatchedFaultSurvivesAnyNumberOfPassthroughReads) {
             latched);
   // A normal start is not a look: it clears them (what kNormalStartEffect tells the user).
   {
-    const auto session = NormalModeSession::open(card.target(0));
+    const auto session = NormalModeSession::open(card.target(0), programs_timing::normal_mode());
     session->wait_for_sample(500ms);
   }
   EXPECT_EQ(card.with_amplifier(0, 0, [](sim::Virtual8i20& amp) { return amp.amplifier().value("FAULT"); }) &
@@ -460,7 +471,7 @@ TEST(EthReadOnly, LinuxCncsMaxcurrentReadFindsMaxcurrent) {
   // LinuxCNC reads 2 bytes at RAM 0x08E8 in setup mode to scale its current pin
   // (docs/facts.md s2): the virtual card answers MAXCURRENT there, not 0.
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   EXPECT_EQ(value(link->execute_one(lbp::read(kMaxCurrent, DataSize::Two))), 1000u);
 }
 
@@ -471,9 +482,10 @@ TEST(EthBatching, TwoPortsOfOneCardAtOnceShareOneTransport) {
   options.card = ethsim::BoardKind::I7i92t;
   options.amplifiers = {{0, 0}, {1, 0}};
   test::RunningBoard card(options);
-  const auto bus = PassthroughPort::board_transport(card.address());
-  const auto port0 = PassthroughPort::open(bus, 0, 0x01);
-  const auto port1 = PassthroughPort::open(bus, 1, 0x01);
+  const auto bus =
+      PassthroughPort::board_transport(card.address(), programs_timing::udp(), programs_timing::fence());
+  const auto port0 = PassthroughPort::open(bus, 0, 0x01, programs_timing::passthrough());
+  const auto port1 = PassthroughPort::open(bus, 1, 0x01, programs_timing::passthrough());
   const auto batch = dump_like();
   std::vector<std::uint64_t> units(2);
   std::vector<std::string> errors(2);

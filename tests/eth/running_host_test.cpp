@@ -19,6 +19,7 @@
 #include "eth/scan.hpp"
 #include "eth/udp_client.hpp"
 #include "fixtures.hpp"
+#include "programs_timing.hpp"
 
 using namespace i20;
 using namespace i20::eth;
@@ -122,7 +123,7 @@ TEST(EthRunningHost, OwnPacketsAreNotForeignEvenWhenTheCountersWrap) {
   CounterBoard bus;
   bus.received = 0xFFFE;  // wraps during the window
   bus.sent = 0xFFFF;
-  RunningHostCheck check;
+  auto check = programs_timing::running_host();
   check.window = 4ms;
   const HostActivity seen = observe_host_activity(bus, std::span(&kPort, 1), check);
   EXPECT_EQ(seen.foreign_received, 0u);
@@ -136,7 +137,7 @@ TEST(EthRunningHost, ForeignPacketsAndABusyCommandAreNamed) {
   CounterBoard bus;
   bus.foreign_per_packet = 5;  // a 1 ms servo loop between our samples
   bus.command = 0x1001;        // its DOIT on channel 0 in flight
-  RunningHostCheck check;
+  auto check = programs_timing::running_host();
   check.window = 4ms;
   const HostActivity seen = observe_host_activity(bus, std::span(&kPort, 1), check);
   EXPECT_EQ(seen.foreign_received, 5u * seen.own_packets);
@@ -163,7 +164,7 @@ TEST(EthRunningHost, ForeignPacketsAndABusyCommandAreNamed) {
 // card after the copy whose counters were taken. It is ours: an idle card is not "in use"
 // (the first read), and it hides none of another host's packets (the last read).
 TEST(EthRunningHost, OurOwnResentReadIsNeitherForeignNorHidesAForeignPacket) {
-  RunningHostCheck check;
+  auto check = programs_timing::running_host();
   check.window = 4ms;
   {
     CounterBoard idle;
@@ -197,7 +198,7 @@ TEST(EthRunningHost, OurOwnResentReadIsNeitherForeignNorHidesAForeignPacket) {
 // loaded PC) shows one exchange in it, as a stray query does: the watch goes on until
 // the two differ. An idle card costs no extra window.
 TEST(EthRunningHost, OneForeignExchangeInTheWindowIsWatchedLonger) {
-  RunningHostCheck check;
+  auto check = programs_timing::running_host();
   check.window = 4ms;
   {
     CounterBoard stray;
@@ -223,7 +224,7 @@ TEST(EthRunningHost, OneForeignExchangeInTheWindowIsWatchedLonger) {
 // running a machine.
 TEST(EthRunningHost, TheOpeningsWatchIsOneRequestAndTheCardNeverWaits) {
   CounterBoard bus;
-  RunningHostCheck check;
+  auto check = programs_timing::running_host();
   check.window = 30ms;
   check.command_samples = 1;
   const auto counters = udp_counters_read();
@@ -263,7 +264,7 @@ TEST(EthRunningHost, TheOpeningsWatchIsOneRequestAndTheCardNeverWaits) {
 
 TEST(EthRunningHost, AnIdleCardIsNotRunByAnyone) {
   test::RunningBoard card;
-  const auto link = SslbpPassthroughLink::open(card.target(0));
+  const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   EXPECT_EQ(link->port().host_activity().foreign_packets(), 0u);
 }
 
@@ -272,7 +273,7 @@ TEST(EthRunningHost, PassthroughOpenIsRefusedBesideARunningMachineAndTheMachineR
   let_host_run(card);
   ASSERT_EQ(mode_of(card), ethsim::ChannelMode::Normal);
   try {
-    SslbpPassthroughLink::open(card.target(0));
+    SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
     FAIL() << "setup start beside a running host";
   } catch (const RunningHostError& e) {
     EXPECT_NE(std::string(e.what()).find("another host is running the card"), std::string::npos) << e.what();
@@ -295,7 +296,7 @@ TEST(EthRunningHost, PassthroughOpenIsRefusedBesideARunningMachineAndTheMachineR
 TEST(EthRunningHost, AHostThatStartsDuringTheSessionOwnsThePortFromThen) {
   test::RunningBoard card;
   {
-    const auto link = SslbpPassthroughLink::open(card.target(0));
+    const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
     ASSERT_EQ(lbp::read_le(link->execute_one(lbp::read(2344, lbp::DataSize::Four))), 0x00012345u);
     card.server().start_host(ethsim::HostOptions{});
     let_host_run(card);
@@ -331,7 +332,7 @@ class AnotherClientAfter final : public Lbp16Transport {
         after_(after),
         exchanges_(exchanges),
         keep_talking_(keep_talking),
-        inner_(PassthroughPort::board_transport(card)) {}
+        inner_(PassthroughPort::board_transport(card, programs_timing::udp(), programs_timing::fence())) {}
   ~AnotherClientAfter() override {
     stop_ = true;
     if (talker_.joinable()) talker_.join();
@@ -354,7 +355,7 @@ class AnotherClientAfter final : public Lbp16Transport {
  private:
   void answered(std::uint64_t sent) {
     if (sent != after_ || other_) return;
-    other_ = std::make_unique<UdpClient>(card_.ip, card_.port);
+    other_ = std::make_unique<UdpClient>(card_.ip, card_.port, programs_timing::udp());
     const auto read = udp_counters_read();
     for (unsigned i = 0; i < exchanges_; ++i) other_->transact(std::span(&read, 1));
     if (!keep_talking_) return;
@@ -386,7 +387,7 @@ TEST(EthRunningHost, AHostThatTalksRightAfterTheWatchIsWatchedAgainBeforeTheSetu
   // The survey, then the watch's last counter read: the other client starts after packet 2.
   const auto bus = std::make_shared<AnotherClientAfter>(card.address(), 2, 3, true);
   try {
-    PassthroughPort::open(bus, 0, 1);
+    PassthroughPort::open(bus, 0, 1, programs_timing::passthrough());
     FAIL() << "the opening went on to its setup start beside a host that had started";
   } catch (const RunningHostError& e) {
     EXPECT_NE(std::string(e.what()).find("after the watch"), std::string::npos) << e.what();
@@ -399,14 +400,14 @@ TEST(EthRunningHost, AHostThatTalksRightAfterTheWatchIsWatchedAgainBeforeTheSetu
 TEST(EthRunningHost, AStrayQueryRightAfterTheWatchDoesNotRefuseTheOpening) {
   test::RunningBoard card;
   const auto bus = std::make_shared<AnotherClientAfter>(card.address(), 2, 1, false);
-  const auto port = PassthroughPort::open(bus, 0, 1);
+  const auto port = PassthroughPort::open(bus, 0, 1, programs_timing::passthrough());
   EXPECT_EQ(mode_of(card), ethsim::ChannelMode::Setup);
 }
 
 TEST(EthRunningHost, TakeOverStopsTheMachineAsItSays) {
   test::RunningBoard card(with_running_host());
   let_host_run(card);
-  PassthroughOptions options;
+  auto options = programs_timing::passthrough();
   options.running_host.take_over = true;
   const auto link = SslbpPassthroughLink::open(card.target(0), options);
   EXPECT_TRUE(host_is_running(link->port().host_activity(), options.running_host));
@@ -421,14 +422,14 @@ TEST(EthRunningHost, TakeOverStopsTheMachineAsItSays) {
     EXPECT_NE(std::string(e.what()).find("results were discarded"), std::string::npos) << e.what();
   }
   card.server().stop_host();  // LinuxCNC finally exits (and stops the port)
-  const auto again = SslbpPassthroughLink::open(card.target(0));
+  const auto again = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   EXPECT_EQ(lbp::read_le(again->execute_one(lbp::read(2344, lbp::DataSize::Four))), 0x00012345u);
 }
 
 TEST(EthRunningHost, ScanIsRefusedAndWithTakeOverProceeds) {
   test::RunningBoard card(with_running_host());
   let_host_run(card);
-  ScanOptions options;
+  auto options = programs_timing::scan();
   try {
     scan(card.address(), options);
     FAIL();
@@ -451,7 +452,7 @@ TEST(EthRunningHost, ScanIsRefusedAndWithTakeOverProceeds) {
 // with a 30 ms window a 35 ms host looked idle in about one watch in seven (and a loaded
 // CI machine let `i20 scan` through beside an `i20 watch`).
 TEST(EthRunningHost, AHostSlowerThanThirtyMillisecondsIsSeen) {
-  EXPECT_GT(RunningHostCheck{}.window, 40ms) << "longer than the 8I20's watchdog";
+  EXPECT_GT(programs_timing::running_host().window, 40ms) << "longer than the 8I20's watchdog";
   ethsim::ServerOptions o;
   o.host = ethsim::HostOptions{.period = 35ms};
   test::RunningBoard card(o);
@@ -459,7 +460,7 @@ TEST(EthRunningHost, AHostSlowerThanThirtyMillisecondsIsSeen) {
   int refused = 0;
   for (int i = 0; i < 20; ++i) {
     try {
-      const ScanResult r = scan(card.address());
+      const ScanResult r = scan(card.address(), programs_timing::scan());
       // Let through: only a host that itself went quiet longer than its 8I20's watchdog
       // allows (its thread late on a loaded machine, as under the sanitizers) may be missed.
       EXPECT_GT(r.host_activity.window, 40ms)
@@ -477,8 +478,8 @@ TEST(EthRunningHost, AHostSlowerThanThirtyMillisecondsIsSeen) {
 TEST(EthRunningHost, NormalStartIsRefusedBesideARunningMachine) {
   test::RunningBoard card(with_running_host());
   let_host_run(card);
-  EXPECT_THROW(NormalModeSession::open(card.target(0)), RunningHostError);
-  NormalModeOptions options;
+  EXPECT_THROW(NormalModeSession::open(card.target(0), programs_timing::normal_mode()), RunningHostError);
+  auto options = programs_timing::normal_mode();
   options.running_host.take_over = true;
   EXPECT_NO_THROW(NormalModeSession::open(card.target(0), options));
 }
@@ -486,22 +487,22 @@ TEST(EthRunningHost, NormalStartIsRefusedBesideARunningMachine) {
 TEST(EthRunningHost, ASecondClientInNormalModeCountsAsARunningHost) {
   // The stand-in for LinuxCNC: another client watching in normal mode.
   test::RunningBoard card;
-  const auto watching = NormalModeSession::open(card.target(0));
+  const auto watching = NormalModeSession::open(card.target(0), programs_timing::normal_mode());
   watching->wait_for_sample(500ms);
-  EXPECT_THROW(SslbpPassthroughLink::open(card.target(0)), RunningHostError);
-  EXPECT_THROW(scan(card.address()), RunningHostError);
+  EXPECT_THROW(SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough()), RunningHostError);
+  EXPECT_THROW(scan(card.address(), programs_timing::scan()), RunningHostError);
   EXPECT_TRUE(watching->running());
   watching->stop();
   // The watcher is gone: the card is free again.
-  EXPECT_NO_THROW(SslbpPassthroughLink::open(card.target(0)));
-  EXPECT_EQ(scan(card.address()).foreign_packets_during_scan, 0u);
+  EXPECT_NO_THROW(SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough()));
+  EXPECT_EQ(scan(card.address(), programs_timing::scan()).foreign_packets_during_scan, 0u);
 }
 
 TEST(EthRunningHost, AStoppedHostNoLongerCounts) {
   test::RunningBoard card(with_running_host());
   let_host_run(card);
   // While it runs it counts: without this the test would pass with no host at all.
-  EXPECT_THROW(SslbpPassthroughLink::open(card.target(0)), RunningHostError);
+  EXPECT_THROW(SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough()), RunningHostError);
   card.server().stop_host();  // LinuxCNC exits
-  EXPECT_NO_THROW(SslbpPassthroughLink::open(card.target(0)));
+  EXPECT_NO_THROW(SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough()));
 }

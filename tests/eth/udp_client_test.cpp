@@ -5,9 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include "error/error.hpp"
 #include "eth/errors.hpp"
 #include "fixtures.hpp"
-#include "error/error.hpp"
+#include "programs_timing.hpp"
 
 using namespace i20;
 using namespace i20::eth;
@@ -19,7 +20,7 @@ namespace {
 
 // For cards that never answer: the timeout is the point, so keep it short.
 UdpOptions quick(unsigned retries = 2) {
-  return UdpOptions{.timeout = 30ms, .retries = retries};
+  return UdpOptions{.timeout = 30ms, .max_timeout = 1000ms, .retries = retries};
 }
 
 // For cards that do answer: a loaded or instrumented host may take long to schedule the
@@ -41,7 +42,7 @@ const lbp16::Command kCookie = lbp16::read_hm2(0x0100);
 
 TEST(EthUdpClient, ReadsTheCookieFromTheVirtualCard) {
   test::RunningBoard card;
-  UdpClient client(card.address().ip, card.address().port);
+  UdpClient client(card.address().ip, card.address().port, programs_timing::udp());
   const auto reply = client.transact(std::span(&kCookie, 1));
   ASSERT_EQ(reply.size(), 1u);
   EXPECT_EQ(reply[0], lbp::from_hex("fecaaa55"));  // the manual's ELBPCOM sample
@@ -166,8 +167,8 @@ TEST(EthUdpClient, WriteOnlyPacketStillGetsAReplyThroughTheSequenceTag) {
 }
 
 TEST(EthUdpClient, RejectsBadAddresses) {
-  EXPECT_THROW(UdpClient("card.local"), UsageError);
-  EXPECT_THROW(UdpClient("192.168.1"), UsageError);
+  EXPECT_THROW(UdpClient("card.local", lbp::lbp16::kUdpPort, programs_timing::udp()), UsageError);
+  EXPECT_THROW(UdpClient("192.168.1", lbp::lbp16::kUdpPort, programs_timing::udp()), UsageError);
 }
 
 TEST(EthUdpClient, ASlowCardsRoundTripIsLearntAndItsWritesAreAnsweredInTime) {

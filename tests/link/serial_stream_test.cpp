@@ -271,8 +271,8 @@ TEST(SerialStream, LatencyTimerNotesSayWhyNot) {
 TEST(SerialStream, CarriesPipelinedLbpToAFakeCard) {
   Pty pty;
   PtyCard card(pty);
-  PipelinedLinkOptions options;
-  options.base_timeout = 500ms;  // slow CI machines; a real card answers in microseconds
+  // Each batch sent once, 500 ms for a reply: slow CI machines; a real card answers in microseconds.
+  const PipelinedLinkOptions options{.base_timeout = 500ms, .retries = 0u};
   auto link = open_serial_link(pty.slave_path(), options);
   std::vector<lbp::Command> batch;
   for (std::uint16_t i = 0; i < 16; ++i)
@@ -294,8 +294,7 @@ TEST(SerialStream, CarriesPipelinedLbpToAFakeCard) {
 
 TEST(SerialStream, LinkDropsStaleBytesAndReportsASilentCard) {
   Pty pty;
-  PipelinedLinkOptions options;
-  options.base_timeout = 500ms;
+  const PipelinedLinkOptions options{.base_timeout = 500ms, .retries = 0u};
   std::unique_ptr<Link> link = open_serial_link(pty.slave_path(), options);
   {
     PtyCard card(pty);

@@ -295,9 +295,9 @@ TEST(OpsDiscover, TwinsWithEqualValuesAreAmbiguousAndTheOverlayLoadsBack) {
   loaded.apply_overlay_file(result.written);
   const auto resolved = loaded.for_firmware(result.report.swrevision);
   EXPECT_TRUE(resolved.address_confirmed(resolved.get("BRAKEONV")));
-  auto again = Amp::attach(
-      std::make_unique<link::PipelinedLink>(std::make_unique<sim::SimStream>(), link::PipelinedLinkOptions{}),
-      parse_endpoint("sim"), loaded);
+  auto again = Amp::attach(std::make_unique<link::PipelinedLink>(std::make_unique<sim::SimStream>(),
+                                                                 ops::timing::serial_link({}, {})),
+                           parse_endpoint("sim"), loaded);
   (void)again;
   std::filesystem::remove_all(dir);
 }

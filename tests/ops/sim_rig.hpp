@@ -51,8 +51,8 @@ class SimRig {
     sim.device.world.enable = options_.enable;
     auto stream = std::make_unique<sim::SimStream>(std::move(sim));
     stream_ = stream.get();
-    link::PipelinedLinkOptions link_options;
-    link_options.base_timeout = std::chrono::milliseconds(20);
+    const link::PipelinedLinkOptions link_options{.base_timeout = std::chrono::milliseconds(20),
+                                                  .retries = 0u};
     link_ = std::make_unique<link::PipelinedLink>(std::move(stream), link_options);
   }
 

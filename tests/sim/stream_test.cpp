@@ -87,8 +87,11 @@ TEST(SimStream, WorldChangesThroughTheStream) {
   EXPECT_THROW(s.control("busv"), ControlError);
 }
 
+// The link's figures, named here (the programs' are set in ops/timing.hpp).
+constexpr link::PipelinedLinkOptions kLink{.base_timeout = 50ms, .retries = 0u};
+
 TEST(SimLink, PipelinedLinkTalksToTheSimulator) {
-  auto link = make_sim_link();
+  auto link = make_sim_link({}, kLink);
   const std::vector<lbp::Command> batch{lbp::local_read(lbp::local::kGetCookie),
                                         lbp::read(2164, lbp::DataSize::Two),
                                         lbp::read(2344, lbp::DataSize::Four), lbp::local_read(0xD1)};
@@ -102,7 +105,7 @@ TEST(SimLink, PipelinedLinkTalksToTheSimulator) {
 }
 
 TEST(SimLink, NvWriteAndResetThroughTheLink) {
-  auto link = make_sim_link();
+  auto link = make_sim_link({}, kLink);
   auto nv_write = lbp::write(2, lbp::DataSize::Two, 2200);
   nv_write.barrier = true;
   const std::vector<lbp::Command> batch{lbp::set_nv_access(lbp::local::NvAccess::Eeprom), nv_write,
@@ -118,16 +121,14 @@ TEST(SimLink, NvWriteAndResetThroughTheLink) {
 TEST(SimLink, DroppedRepliesSurfaceAsTimeouts) {
   SimOptions o;
   o.device.injection.drop_rate = 1.0;
-  link::PipelinedLinkOptions lo;
-  lo.base_timeout = 30ms;
-  auto link = make_sim_link(o, lo);
+  auto link = make_sim_link(o, {.base_timeout = 30ms, .retries = 0u});
   EXPECT_THROW(link->execute_one(lbp::local_read(lbp::local::kGetCookie)), link::TimeoutError);
 }
 
 TEST(SimLink, CorruptRepliesSurfaceAsCrcErrors) {
   SimOptions o;
   o.device.injection.corrupt_rate = 1.0;
-  auto link = make_sim_link(o);
+  auto link = make_sim_link(o, kLink);
   EXPECT_THROW(link->execute_one(lbp::read(2164, lbp::DataSize::Two)), link::LinkError);
 }
 
