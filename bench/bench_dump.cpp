@@ -56,7 +56,7 @@ int bench_main(int argc, char** argv) {
   for (int i = 0; i < runs; ++i) {
     auto link = link::open_serial_link(sim.address(), ops::timing::serial_link({}, {}));
     auto fresh_db = db;  // not identified yet, as in a new i20 process
-    device::Amp8i20 amp(*link, fresh_db);
+    device::Amp8i20 amp(*link, fresh_db, ops::timing::amp());
     const auto t0 = Clock::now();
     amp.read(all);
     in_process.push_back(ms_since(t0));

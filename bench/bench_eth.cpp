@@ -89,7 +89,7 @@ std::vector<const params::Param*> dump_params(const params::ParamDb& db) {
 // The built-in database resolved for the firmware the card behind `link` reports.
 params::ParamDb resolved_db(link::Link& link) {
   auto loaded = params::ParamDb::builtin();
-  const auto info = device::Amp8i20(link, loaded).info();
+  const auto info = device::Amp8i20(link, loaded, ops::timing::amp()).info();
   if (!info.swrevision) throw std::runtime_error("the card reported no SWREVISION");
   return loaded.for_firmware(*info.swrevision);
 }
@@ -143,7 +143,7 @@ OneAmp one_amp(const std::string& address, unsigned doits_per_packet, int runs) 
   // confirmed only for the revision the simulator reports, and the benchmark writes only
   // confirmed addresses (no --allow-unverified).
   const auto db = resolved_db(counting);
-  device::Amp8i20 amp(counting, db);
+  device::Amp8i20 amp(counting, db, ops::timing::amp());
   amp.identify();
   auto& port = link->port();
   OneAmp r;
@@ -183,7 +183,7 @@ Cost four_amps_shared(const std::string& address, unsigned amps, int runs) {
   std::vector<std::thread> threads;
   for (unsigned ch = 0; ch < amps; ++ch)
     threads.emplace_back([&, ch] {
-      device::Amp8i20 amp(*links[ch], dbs[ch]);
+      device::Amp8i20 amp(*links[ch], dbs[ch], ops::timing::amp());
       const auto all = dump_params(dbs[ch]);
       amp.identify();
       start.arrive_and_wait();  // identified: the port is idle
@@ -246,7 +246,7 @@ Cost four_amps_one_by_one(const std::string& address, unsigned amps) {
     auto link = eth::SslbpPassthroughLink::open(eth::make_target(address, ch), options);
     CountingLink counting(*link);
     auto db = params::ParamDb::builtin();
-    device::Amp8i20 amp(counting, db);
+    device::Amp8i20 amp(counting, db, ops::timing::amp());
     amp.identify();
     const auto all = dump_params(db);
     const Cost c = measure(link->port(), counting, 1, [&] { amp.read(all); });

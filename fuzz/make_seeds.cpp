@@ -21,6 +21,7 @@
 #include "lbp/command.hpp"
 #include "lbp16/lbp16.hpp"
 #include "link/pipelined_link.hpp"
+#include "ops/timing.hpp"
 #include "params/param_db.hpp"
 #include "sim/rpc_table.hpp"
 #include "sim/sim_stream.hpp"
@@ -88,9 +89,10 @@ struct Traffic {
 
 Traffic record_setup_session() {
   Traffic t;
-  link::PipelinedLink link(std::make_unique<RecordingStream>(sim::make_sim_stream(), t.sent, t.received));
+  link::PipelinedLink link(std::make_unique<RecordingStream>(sim::make_sim_stream(), t.sent, t.received),
+                           ops::timing::serial_link({}, {}));
   auto db = params::ParamDb::builtin();
-  device::Amp8i20 amp(link, db);
+  device::Amp8i20 amp(link, db, ops::timing::amp());
   (void)amp.info();
   std::vector<const params::Param*> all;
   for (const auto& p : db.all()) all.push_back(&p);
@@ -223,9 +225,10 @@ void eth_seeds() {
 
     // A passthrough session: open the channel, read and write a parameter.
     auto bus = std::make_unique<RecordingBus>(card, packets);
-    eth::SslbpPassthroughLink link(std::move(bus), eth::EthTarget{});
+    // The passthrough as the programs open it, so the seeds are their traffic.
+    eth::SslbpPassthroughLink link(std::move(bus), eth::EthTarget{}, ops::timing::passthrough({}, {}));
     auto db = params::ParamDb::builtin();
-    device::Amp8i20 amp(link, db);
+    device::Amp8i20 amp(link, db, ops::timing::amp());
     (void)amp.info();
     (void)amp.read("NVMAXCURRENT");
     (void)amp.write("NVBRAKEONV", 19000, {});

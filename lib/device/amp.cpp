@@ -68,8 +68,9 @@ void verify(const Param& p, std::int64_t wanted, lbp::ByteView readback) {
 
 }  // namespace
 
-Amp8i20::Amp8i20(link::Link& link, const params::ParamDb& db, const std::atomic<bool>* cancel)
-    : link_(link), db_(db), cancel_(cancel) {}
+Amp8i20::Amp8i20(link::Link& link, const params::ParamDb& db, AmpTiming timing,
+                 const std::atomic<bool>* cancel)
+    : link_(link), db_(db), timing_(timing), cancel_(cancel) {}
 
 void Amp8i20::throw_if_cancelled() const {
   if (cancel_ && cancel_->load())
@@ -174,7 +175,9 @@ std::vector<Value> Amp8i20::read(std::span<const Param* const> params) {
   }
 
   std::optional<ModeGuard> guard;
-  if (any_nv) guard.emplace(link_, leave, nv_mode, "NV (EEPROM) access mode", &unsettled_mode_);
+  if (any_nv)
+    guard.emplace(link_, leave, nv_mode, "NV (EEPROM) access mode", timing_.leave_mode_tries,
+                  &unsettled_mode_);
   const auto replies = link_.execute(commands);
   if (guard) {
     guard->disarm(replies.back());
@@ -265,7 +268,7 @@ std::vector<WriteReport> Amp8i20::write_nv(std::span<const Assignment> batch) {
   namespace L = lbp::local;
   const auto leave = lbp::set_nv_access(L::NvAccess::Ram);
   const auto mode = lbp::local_read(L::kGetNvAccess);
-  ModeGuard guard(link_, leave, mode, "NV (EEPROM) access mode", &unsettled_mode_);
+  ModeGuard guard(link_, leave, mode, "NV (EEPROM) access mode", timing_.leave_mode_tries, &unsettled_mode_);
   const std::vector<lbp::Command> enter{lbp::set_nv_access(L::NvAccess::Eeprom), mode};
   require_nv_mode(link_.execute(enter)[1], "before " + batch.front().param->name + " was to be written");
   std::vector<WriteReport> reports;
@@ -320,7 +323,7 @@ void Amp8i20::reset(std::chrono::milliseconds wait) {
         throw link::TimeoutError("the 8I20 on " + link_.describe() + " did not answer within " +
                                  std::to_string(wait.count()) + " ms after a reset: check its logic power");
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::this_thread::sleep_for(timing_.reset_poll.get());
   }
 }
 
@@ -339,7 +342,7 @@ ClearFaultsResult Amp8i20::clear_faults(const WriteOptions& options, std::chrono
         throw AmpStateError("CLEARFAULT was written and still reads 1 after " +
                             std::to_string(deadline.count()) + " ms on " + link_.describe() +
                             ": the 8I20 did not act on it (firmware busy or a wrong CLEARFAULT address?)");
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      std::this_thread::sleep_for(timing_.clear_fault_poll.get());
     }
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::Failure) throw;
@@ -363,7 +366,8 @@ lbp::Bytes Amp8i20::read_memory(Space space, std::uint16_t address, std::size_t 
     const auto nv_mode = lbp::local_read(lbp::local::kGetNvAccess);
     commands.insert(commands.begin(), lbp::set_nv_access(lbp::local::NvAccess::Eeprom));
     commands.insert(commands.end(), {leave, nv_mode});
-    guard.emplace(link_, leave, nv_mode, "NV (EEPROM) access mode", &unsettled_mode_);
+    guard.emplace(link_, leave, nv_mode, "NV (EEPROM) access mode", timing_.leave_mode_tries,
+                  &unsettled_mode_);
   }
   auto replies = link_.execute(commands);
   if (guard) {
@@ -391,7 +395,8 @@ lbp::Bytes Amp8i20::read_rpc_table(std::size_t offset, std::size_t count) {
   if (count == 0) return {};
   const auto leave = lbp::local_write(L::kSetRpcMemAccess, 0);
   const auto rpc_mode = lbp::local_read(L::kGetRpcMemAccess);
-  ModeGuard guard(link_, leave, rpc_mode, "RPC memory access mode", &unsettled_mode_);
+  ModeGuard guard(link_, leave, rpc_mode, "RPC memory access mode", timing_.leave_mode_tries,
+                  &unsettled_mode_);
   auto commands = chunked_reads(static_cast<std::uint16_t>(offset), count, link_.max_data_bytes());
   commands.insert(commands.begin(), lbp::local_write(L::kSetRpcMemAccess, 1));
   commands.insert(commands.end(), {leave, rpc_mode});

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "lbp/local.hpp"
+#include "link/given.hpp"
 #include "link/link.hpp"
 #include "params/param_db.hpp"
 
@@ -103,12 +104,23 @@ class NvModeLost : public Error {
   bool stray_ram_value_;
 };
 
+// The client's own tries and pauses, given by its owner (ops/timing.hpp sets the programs').
+struct AmpTiming {
+  // Sends of the batch that leaves NV access or RPC memory mode before the mode is reported
+  // as possibly still on (the first may fail right after the error that brought us there).
+  link::Given<unsigned> leave_mode_tries;
+  // Pauses between polls: of the cookie after a reset, and of CLEARFAULT after writing it.
+  link::Given<std::chrono::milliseconds> reset_poll;
+  link::Given<std::chrono::milliseconds> clear_fault_poll;
+};
+
 class Amp8i20 {
  public:
   // `db` is the database resolved for this card (ParamDb::for_firmware, plus the card's own
   // evidence); the client never changes it. `cancel`, when given, is polled between
   // exchanges (set it from a SIGINT handler).
-  Amp8i20(link::Link& link, const params::ParamDb& db, const std::atomic<bool>* cancel = nullptr);
+  Amp8i20(link::Link& link, const params::ParamDb& db, AmpTiming timing,
+          const std::atomic<bool>* cancel = nullptr);
 
   // Reads SWREVISION (a public address on every firmware).
   std::uint16_t identify();
@@ -162,6 +174,7 @@ class Amp8i20 {
 
   link::Link& link_;
   const params::ParamDb& db_;
+  AmpTiming timing_;
   const std::atomic<bool>* cancel_;
   std::string unsettled_mode_;
 };

@@ -6,11 +6,12 @@
 namespace i20::device {
 
 ModeGuard::ModeGuard(link::Link& link, lbp::Command leave, lbp::Command confirm, std::string what,
-                     std::string* unsettled)
+                     unsigned tries, std::string* unsettled)
     : link_(link),
       leave_(std::move(leave)),
       confirm_(std::move(confirm)),
       what_(std::move(what)),
+      tries_(tries),
       unsettled_(unsettled) {}
 
 ModeGuard::~ModeGuard() {
@@ -37,8 +38,8 @@ void ModeGuard::still_on() {
 }
 
 void ModeGuard::leave() {
-  // Two attempts: the first may fail right after the error that brought us here.
-  for (int attempt = 0; attempt < 2; ++attempt) {
+  // The caller's tries: the first may fail right after the error that brought us here.
+  for (unsigned attempt = 0; attempt < tries_; ++attempt) {
     try {
       const auto replies = link_.execute(std::vector<lbp::Command>{leave_, confirm_});
       if (replies.at(1).at(0) != 0) continue;  // told to leave, still in it: once more

@@ -20,7 +20,8 @@ class ModeGuard {
   // read after it proves the card acted on it. When leaving fails (also from the
   // destructor, which cannot throw), the mode's name goes to `unsettled`, so whoever owns
   // the card can say the card may still be in it.
-  ModeGuard(link::Link& link, lbp::Command leave, lbp::Command confirm, std::string what,
+  // `tries`: sends of the leave batch before the mode counts as possibly still on.
+  ModeGuard(link::Link& link, lbp::Command leave, lbp::Command confirm, std::string what, unsigned tries,
             std::string* unsettled = nullptr);
   ~ModeGuard();
   ModeGuard(const ModeGuard&) = delete;
@@ -39,6 +40,7 @@ class ModeGuard {
   lbp::Command leave_;
   lbp::Command confirm_;
   std::string what_;
+  unsigned tries_;
   [[noreturn]] void still_on();
   void settled() {
     if (unsettled_ && *unsettled_ == what_) unsettled_->clear();

@@ -73,7 +73,7 @@ std::unique_ptr<Amp> Amp::attach(std::unique_ptr<link::Link> link, Endpoint endp
 
 void Amp::identify(const params::ParamDb& loaded) {
   // The identity reads use only public addresses (SWREVISION, UNITNUMBER).
-  device::Amp8i20 bootstrap(*link_, loaded, cancel_.flag());
+  device::Amp8i20 bootstrap(*link_, loaded, timing::amp(), cancel_.flag());
   identity_.info = with_retries([&] { return bootstrap.info(); });
   const auto& info = identity_.info;
   if (info.card_name != "8I20")
@@ -92,7 +92,7 @@ void Amp::identify(const params::ParamDb& loaded) {
   for (const auto& e : evidence) identity_.rpc_confirmed.push_back(e.name);
   resolved = resolved.with_evidence(evidence);
   db_ = std::make_unique<params::ParamDb>(std::move(resolved));
-  amp_ = std::make_unique<device::Amp8i20>(*link_, *db_, cancel_.flag());
+  amp_ = std::make_unique<device::Amp8i20>(*link_, *db_, timing::amp(), cancel_.flag());
   identity_.info.working_map_confirmed = device::working_map_confirmed(*db_);
 }
 
@@ -116,7 +116,7 @@ std::vector<params::ParamDb::Evidence> Amp::read_rpc_evidence(const params::Para
     identity_.rpc_note = "the card reports no usable RPC table (" + std::to_string(size) + " bytes)";
     return {};
   }
-  device::Amp8i20 reader(*link_, resolved, cancel_.flag());
+  device::Amp8i20 reader(*link_, resolved, timing::amp(), cancel_.flag());
   lbp::Bytes table;
   device::RpcEvidence decoded;
   try {

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "device/amp.hpp"
 #include "eth/normal_mode.hpp"
 #include "eth/passive_reader.hpp"
 #include "eth/passthrough_port.hpp"
@@ -12,6 +13,10 @@
 namespace i20::ops::timing {
 
 using std::chrono::milliseconds;
+
+device::AmpTiming amp() {
+  return {.leave_mode_tries = kLeaveModeTries, .reset_poll = kResetPoll, .clear_fault_poll = kClearFaultPoll};
+}
 
 link::PipelinedLinkOptions serial_link(const LinkSettings& settings, const RetryPolicy&) {
   return {

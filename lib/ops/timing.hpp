@@ -39,6 +39,9 @@
 namespace i20::link {
 struct PipelinedLinkOptions;
 }
+namespace i20::device {
+struct AmpTiming;
+}
 namespace i20::eth {
 struct UdpOptions;
 struct FenceOptions;
@@ -99,7 +102,16 @@ inline constexpr std::chrono::milliseconds kNormalModeSample{500};
 // How long an 8I20 may take to answer again after a reset, and to clear CLEARFAULT.
 inline constexpr std::chrono::milliseconds kResetWait{3000};
 inline constexpr std::chrono::milliseconds kClearFaultWait{1000};
+// How often those are polled: the cookie after a reset, CLEARFAULT after writing it.
+inline constexpr std::chrono::milliseconds kResetPoll{20};
+inline constexpr std::chrono::milliseconds kClearFaultPoll{5};
+// Sends of the batch that leaves NV access or RPC memory mode inside one device step (the
+// first may fail right after the error that brought it there); ops' Amp::settle() asks
+// again after it, within the retry budget and the silence window.
+inline constexpr unsigned kLeaveModeTries = 2;
 
+// The 8I20 client's own tries and poll pauses (device::Amp8i20).
+device::AmpTiming amp();
 // The serial link (3I21/3I22, the built-in simulator): each batch sent once, ops repeats.
 link::PipelinedLinkOptions serial_link(const LinkSettings& settings, const RetryPolicy& retry);
 // The UDP client of a passthrough, a scan or a normal-mode session.

@@ -13,6 +13,11 @@ using namespace i20::device;
 
 namespace {
 
+// The 8I20 client's tries and poll pauses, named here (the programs' are in ops/timing.hpp).
+constexpr device::AmpTiming kAmpTiming{.leave_mode_tries = 2u,
+                                       .reset_poll = std::chrono::milliseconds(20),
+                                       .clear_fault_poll = std::chrono::milliseconds(5)};
+
 class AmpTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -35,7 +40,7 @@ class AmpTest : public ::testing::Test {
 
   test::FakeCard card;
   params::ParamDb db = resolved();
-  Amp8i20 amp{card, db};
+  Amp8i20 amp{card, db, kAmpTiming};
 };
 
 }  // namespace
@@ -127,7 +132,7 @@ TEST_F(AmpTest, AResetInsideAnNvReadIsReportedNotShown) {
 
 TEST_F(AmpTest, CancelledBeforeAnythingIsSent) {
   std::atomic<bool> cancel{true};
-  Amp8i20 cancellable(card, db, &cancel);
+  Amp8i20 cancellable(card, db, kAmpTiming, &cancel);
   EXPECT_THROW(cancellable.write("NVBRAKEONV", 32000, {.allow_unverified = true}), Cancelled);
   EXPECT_TRUE(card.sent.empty());
 }
@@ -157,7 +162,7 @@ TEST_F(AmpTest, ReadOnlyParametersAreRefused) {
 TEST_F(AmpTest, UnconfirmedWorkingAddressesNeedAllowUnverified) {
   // A real card of a revision the database has no map for.
   const auto other = params::ParamDb::builtin().for_firmware(0x0100);
-  Amp8i20 amp{card, other};
+  Amp8i20 amp{card, other, kAmpTiming};
   card.sent.clear();
   try {
     amp.write("BRAKEONV", 30000, {});

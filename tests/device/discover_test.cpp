@@ -13,6 +13,11 @@ using namespace i20;
 
 namespace {
 
+// The 8I20 client's tries and poll pauses, named here (the programs' are in ops/timing.hpp).
+constexpr device::AmpTiming kAmpTiming{.leave_mode_tries = 2u,
+                                       .reset_poll = std::chrono::milliseconds(20),
+                                       .clear_fault_poll = std::chrono::milliseconds(5)};
+
 struct Rig {
   explicit Rig(std::uint64_t seed) {
     sim::SimOptions options;
@@ -45,7 +50,7 @@ device::DiscoveryOptions whole_map_range() {
 
 TEST(Discover, RpcTableNamesTheCycleRegistersOfAShuffledMap) {
   Rig rig(7);
-  device::Amp8i20 amp(*rig.link, rig.db);
+  device::Amp8i20 amp(*rig.link, rig.db, kAmpTiming);
   const auto report = device::discover(amp, whole_map_range());
   for (const char* name : {"ANGLE", "QSETPOINT", "BUSV", "TEMPERATURE", "FAULT", "STATUS"}) {
     const auto& f = finding(report, name);
@@ -60,7 +65,7 @@ TEST(Discover, RpcTableNamesTheCycleRegistersOfAShuffledMap) {
 
 TEST(Discover, UniqueNvValuesLocateTheirWorkingTwins) {
   Rig rig(11);
-  device::Amp8i20 amp(*rig.link, rig.db);
+  device::Amp8i20 amp(*rig.link, rig.db, kAmpTiming);
   // Make every NV value distinct (NV addresses are public, so these writes are allowed),
   // the way the report tells a user to resolve ambiguity.
   const std::pair<const char*, std::int64_t> unique[] = {
@@ -80,7 +85,7 @@ TEST(Discover, UniqueNvValuesLocateTheirWorkingTwins) {
 
 TEST(Discover, EqualNvValuesAreReportedAmbiguousNotGuessed) {
   Rig rig(3);
-  device::Amp8i20 amp(*rig.link, rig.db);
+  device::Amp8i20 amp(*rig.link, rig.db, kAmpTiming);
   const auto report = device::discover(amp, whole_map_range());  // KQP = KDP = 50 by default
   const auto& kqp = finding(report, "KQP");
   EXPECT_EQ(kqp.outcome, device::Search::Ambiguous);
@@ -95,7 +100,7 @@ TEST(Discover, EqualNvValuesAreReportedAmbiguousNotGuessed) {
 
 TEST(Discover, OverlayConfirmsFindingsForThisRevisionOnly) {
   Rig rig(7);
-  device::Amp8i20 amp(*rig.link, rig.db);
+  device::Amp8i20 amp(*rig.link, rig.db, kAmpTiming);
   const auto report = device::discover(amp, whole_map_range());
   const auto yaml = report.overlay_yaml("test");
   params::ParamDb loaded = params::ParamDb::builtin();
@@ -106,14 +111,14 @@ TEST(Discover, OverlayConfirmsFindingsForThisRevisionOnly) {
   EXPECT_TRUE(db.address_confirmed(db.get("BRAKEONV")));
   EXPECT_FALSE(db.get("KQP").address) << "ambiguous: unknown on this revision, not the database's guess";
   // With the overlay, a working write lands where the card keeps BRAKEONV.
-  device::Amp8i20 amp2(*rig.link, db);
+  device::Amp8i20 amp2(*rig.link, db, kAmpTiming);
   amp2.write("BRAKEONV", 30000, {});
   EXPECT_EQ(amp2.read_memory(params::Space::Ram, rig.card_address("BRAKEONV"), 2), (lbp::Bytes{0x30, 0x75}));
 }
 
 TEST(Discover, SendsNoParameterWrites) {
   Rig rig(5);
-  device::Amp8i20 amp(*rig.link, rig.db);
+  device::Amp8i20 amp(*rig.link, rig.db, kAmpTiming);
   auto options = whole_map_range();
   options.reset_first = false;
   const auto before = device::discover(amp, options);
