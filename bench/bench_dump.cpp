@@ -54,7 +54,8 @@ int bench_main(int argc, char** argv) {
   std::vector<double> in_process;
   link::LinkStatistics stats;
   for (int i = 0; i < runs; ++i) {
-    auto link = link::open_serial_link(sim.address(), ops::timing::serial_link({}, {}));
+    auto link =
+        link::open_serial_link(sim.address(), ops::timing::serial_link({}, {}), ops::timing::serial_port({}));
     auto fresh_db = db;  // not identified yet, as in a new i20 process
     device::Amp8i20 amp(*link, fresh_db, ops::timing::amp());
     const auto t0 = Clock::now();

@@ -32,10 +32,6 @@ std::string padded(unsigned value, int digits) {
 // Arms one index event (hostmot2's own way: LatchOnIndex with JustOnce, falling edge).
 constexpr std::uint32_t kArmIndex = hm2::encoder_bit::kLatchOnIndex | hm2::encoder_bit::kJustOnce;
 
-// Cycles of QSETPOINT 0 sent before the stop: the 8I20 sees the zero in a DOIT before its
-// power stage is left to the watchdog.
-constexpr int kZeroCycles = 3;
-
 }  // namespace
 
 FeedbackMap feedback_map(const HostMot2Info& info) {
@@ -219,7 +215,7 @@ std::uint32_t DriveLoop::foreign_packets() {
 void DriveLoop::stop() {
   if (stopped_) return;
   std::exception_ptr failure;
-  for (int i = 0; i < kZeroCycles; ++i) try {
+  for (unsigned i = 0; i < options_.zero_cycles_before_stop; ++i) try {
       cycle(DriveSetpoint{});
     } catch (...) {
       failure = std::current_exception();

@@ -58,6 +58,9 @@ struct NormalModeOptions {
   link::Given<std::chrono::milliseconds> period;
   // Consecutive cycles without a reply before the session gives up.
   link::Given<unsigned> max_missed_cycles;
+  // Drive loop (commissioning): cycles of QSETPOINT 0 sent before the stop, so that the 8I20
+  // sees the zero in a DOIT before its power stage is left to the watchdog.
+  link::Given<unsigned> zero_cycles_before_stop;
 };
 
 struct ChannelSample {

@@ -21,9 +21,6 @@ using lbp::Command;
 // byte, and setup mode uses the maximum (manual, "FRAMING": 25.5 character times).
 constexpr double kMaxCommandTimeoutChars = 25.5;
 constexpr unsigned kBitsPerChar = 10;  // 8N1: start + 8 data + stop
-// A card that keeps talking while we wait for quiet is not going to stop; give up
-// draining after this long and let the next batch report what it sees.
-constexpr std::chrono::milliseconds kMaxDrain{500};
 
 std::size_t wire_size(const Command& c) {
   return c.bytes.size() + 1;
@@ -335,7 +332,7 @@ void PipelinedLink::resynchronise() {
   ++stats_.resyncs;
   const auto idle = resync_idle();
   const auto now = Clock::now();
-  const auto give_up = now + idle + kMaxDrain;
+  const auto give_up = now + idle + options_.max_drain.get();
   auto quiet_until = std::max(now, tx_quiet_from_) + idle;
   std::array<Byte, 256> buffer;
   for (;;) {

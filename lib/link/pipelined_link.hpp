@@ -33,6 +33,9 @@ struct PipelinedLinkOptions {
   // Quiet time that resynchronises the card's parser after an error. Zero: twice the
   // longest command timeout (25.5 character times) at the stream's baud, plus 2 ms.
   std::chrono::microseconds resync_idle{0};
+  // A card that keeps talking while we wait for quiet is not going to stop: how long past
+  // the quiet time draining goes on before the next batch is left to report what it sees.
+  Given<std::chrono::milliseconds> max_drain;
 };
 
 struct LinkStatistics {

@@ -15,6 +15,6 @@ namespace i20::link {
 // likely fix when the port cannot be opened. The result converts to
 // std::unique_ptr<Link>; keep the PipelinedLink type for statistics() and notes().
 std::unique_ptr<PipelinedLink> open_serial_link(const std::string& path, const PipelinedLinkOptions& options,
-                                                const SerialOptions& serial = {});
+                                                const SerialOptions& serial);
 
 }  // namespace i20::link

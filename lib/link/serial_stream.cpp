@@ -30,12 +30,6 @@ using boost::system::error_code;
 
 namespace {
 
-// How long past its deadline a read may take to hand back control: asio needs a moment
-// to deliver the cancellation. Far below anything a person notices.
-constexpr std::chrono::milliseconds kCancelGrace{200};
-// A write of a few dozen bytes leaves in milliseconds; this only catches a hung driver.
-constexpr std::chrono::seconds kWriteSlack{2};
-
 std::string errno_text(int error) {
   return std::generic_category().message(error);
 }
@@ -93,6 +87,7 @@ std::string lock_holder(int fd) {
 }  // namespace
 
 struct SerialStream::Impl {
+  Impl(std::string path_, Options options_) : path(std::move(path_)), options(std::move(options_)) {}
   std::string path;
   Options options;
   asio::io_context io;
@@ -180,8 +175,8 @@ void SerialStream::Impl::request_low_latency() {
 // them, and as a last resort close the port so no handler outlives the caller's frame.
 void SerialStream::Impl::run_until_done(const bool& op_done, const bool& timer_done,
                                         Clock::time_point deadline) {
-  const auto give_up =
-      deadline < Clock::time_point::max() - kCancelGrace ? deadline + kCancelGrace : deadline;
+  const std::chrono::milliseconds grace = options.cancel_grace;
+  const auto give_up = deadline < Clock::time_point::max() - grace ? deadline + grace : deadline;
   io.restart();
   // run_for returns as soon as both handlers ran; slices keep a far deadline from overflowing.
   while (!(op_done && timer_done) && Clock::now() < give_up) io.run_for(std::chrono::seconds(1));
@@ -190,17 +185,16 @@ void SerialStream::Impl::run_until_done(const bool& op_done, const bool& timer_d
   port.cancel(ignored);
   timer.cancel();
   io.restart();
-  io.run_for(kCancelGrace);
+  io.run_for(grace);
   if (op_done && timer_done) return;
   port.close(ignored);
   io.restart();
-  io.run_for(kCancelGrace);
+  io.run_for(grace);
   throw LinkError("the serial driver of " + path + " stopped responding; unplug and replug the adapter");
 }
 
-SerialStream::SerialStream(const std::string& path, Options options) : impl_(std::make_unique<Impl>()) {
-  impl_->path = path;
-  impl_->options = std::move(options);
+SerialStream::SerialStream(const std::string& path, Options options)
+    : impl_(std::make_unique<Impl>(path, std::move(options))) {
   impl_->open();
   impl_->lock();  // before touching the line settings another program may be using
   impl_->configure();
@@ -224,7 +218,7 @@ void SerialStream::write(lbp::ByteView bytes) {
     s.timer.cancel();
   });
   const auto wire = std::chrono::microseconds(bytes.size() * 10'000'000ULL / std::max(s.options.baud, 1u));
-  s.timer.expires_after(wire + kWriteSlack);
+  s.timer.expires_after(wire + s.options.write_slack.get());
   s.timer.async_wait([&](const error_code& ec) {
     timer_done = true;
     if (!ec) s.port.cancel();

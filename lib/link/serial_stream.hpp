@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "link/byte_stream.hpp"
+#include "link/given.hpp"
 
 namespace i20::link {
 
@@ -21,6 +22,11 @@ struct SerialOptions {
   // instead of stealing half the replies.
   bool exclusive = true;
   std::filesystem::path sysfs_root = "/sys";  // where usb-serial latency timers live
+  // How long past a write's wire time the driver may take before it counts as hung.
+  Given<std::chrono::milliseconds> write_slack;
+  // How long past its deadline a read or write may take to hand back control: asio needs a
+  // moment to deliver the cancellation.
+  Given<std::chrono::milliseconds> cancel_grace;
 };
 
 class SerialStream final : public ByteStream {
@@ -28,7 +34,7 @@ class SerialStream final : public ByteStream {
   using Options = SerialOptions;
 
   // Opens and configures the port. Throws LinkError naming the path and the likely fix.
-  explicit SerialStream(const std::string& path, Options options = {});
+  SerialStream(const std::string& path, Options options);
   ~SerialStream() override;
   SerialStream(const SerialStream&) = delete;
   SerialStream& operator=(const SerialStream&) = delete;

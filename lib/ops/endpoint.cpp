@@ -160,9 +160,7 @@ std::unique_ptr<link::Link> open_link(const Endpoint& e, const params::ParamDb& 
       return eth::SslbpPassthroughLink::open(e.eth_target(), timing::passthrough(s, retry));
     }
     case Endpoint::Kind::Serial: {
-      link::SerialOptions serial;
-      serial.baud = s.baud;
-      return link::open_serial_link(e.path, link_options, serial);
+      return link::open_serial_link(e.path, link_options, timing::serial_port(s));
     }
   }
   throw UsageError("unknown target kind");

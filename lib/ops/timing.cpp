@@ -9,6 +9,7 @@
 #include "eth/passthrough_port.hpp"
 #include "eth/scan.hpp"
 #include "link/pipelined_link.hpp"
+#include "link/serial_stream.hpp"
 
 namespace i20::ops::timing {
 
@@ -23,7 +24,12 @@ link::PipelinedLinkOptions serial_link(const LinkSettings& settings, const Retry
       .base_timeout = milliseconds(settings.timeout_ms),
       // ops repeats the exchanges itself (Amp::with_retries): a batch is sent once here.
       .retries = 0u,
+      .max_drain = kSerialMaxDrain,
   };
+}
+
+link::SerialOptions serial_port(const LinkSettings& settings) {
+  return {.baud = settings.baud, .write_slack = kSerialWriteSlack, .cancel_grace = kSerialCancelGrace};
 }
 
 eth::UdpOptions udp(const LinkSettings& settings, const RetryPolicy& retry) {
@@ -102,6 +108,7 @@ eth::NormalModeOptions normal_mode(const LinkSettings& settings, milliseconds pe
       .running_host = running_host(settings),
       .period = period,
       .max_missed_cycles = kNormalModeMissedCycles,
+      .zero_cycles_before_stop = kZeroCyclesBeforeStop,
   };
 }
 

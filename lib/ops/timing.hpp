@@ -38,6 +38,7 @@
 
 namespace i20::link {
 struct PipelinedLinkOptions;
+struct SerialOptions;
 }
 namespace i20::device {
 struct AmpTiming;
@@ -55,6 +56,12 @@ struct NormalModeOptions;
 
 namespace i20::ops::timing {
 
+// The serial link's own bounds: how long draining a card that keeps talking may go on past
+// the quiet time (after a garbled reply), how long past its wire time a write may take
+// before the driver counts as hung, and how long asio may take to deliver a cancellation.
+inline constexpr std::chrono::milliseconds kSerialMaxDrain{500};
+inline constexpr std::chrono::milliseconds kSerialWriteSlack{2000};
+inline constexpr std::chrono::milliseconds kSerialCancelGrace{200};
 // The longest wait for one UDP reply, back-off included: what a dead card costs per send.
 inline constexpr std::chrono::milliseconds kUdpMaxTimeout{1000};
 // How long after its last send a passthrough packet with writes may still reach the card
@@ -97,6 +104,8 @@ inline constexpr std::chrono::milliseconds kNormalModePeriod{10};
 inline constexpr std::chrono::milliseconds kNormalModeReply{20};
 // Cycles in a row without a reply before a normal-mode session gives up.
 inline constexpr unsigned kNormalModeMissedCycles = 3;
+// Commissioning's drive loop: cycles of QSETPOINT 0 it sends before it stops the port.
+inline constexpr unsigned kZeroCyclesBeforeStop = 3;
 // How long a reading waits for the normal-mode session's next sample (50 periods).
 inline constexpr std::chrono::milliseconds kNormalModeSample{500};
 // How long an 8I20 may take to answer again after a reset, and to clear CLEARFAULT.
@@ -114,6 +123,8 @@ inline constexpr unsigned kLeaveModeTries = 2;
 device::AmpTiming amp();
 // The serial link (3I21/3I22, the built-in simulator): each batch sent once, ops repeats.
 link::PipelinedLinkOptions serial_link(const LinkSettings& settings, const RetryPolicy& retry);
+// The serial port under it (3I21/3I22) at the user's baud.
+link::SerialOptions serial_port(const LinkSettings& settings);
 // The UDP client of a passthrough, a scan or a normal-mode session.
 eth::UdpOptions udp(const LinkSettings& settings, const RetryPolicy& retry);
 eth::FenceOptions fence();

@@ -23,8 +23,9 @@ struct Rig {
     sim::SimOptions options;
     card_map = sim::register_map_from(db).shuffled(seed);
     options.device.map = card_map;
-    link = sim::make_sim_link(std::move(options),
-                              {.base_timeout = std::chrono::milliseconds(50), .retries = 0u});
+    link = sim::make_sim_link(std::move(options), {.base_timeout = std::chrono::milliseconds(50),
+                                                   .retries = 0u,
+                                                   .max_drain = std::chrono::milliseconds(500)});
   }
   std::uint16_t card_address(const std::string& name) const { return card_map.at(name).address; }
 

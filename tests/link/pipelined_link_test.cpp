@@ -25,7 +25,7 @@ namespace {
 // The link's figures, named here (the programs' are set in ops/timing.hpp): each batch sent
 // once, a reply awaited `base` plus its wire time.
 PipelinedLinkOptions quick(std::chrono::milliseconds base = 20ms) {
-  return {.base_timeout = base, .retries = 0u};
+  return {.base_timeout = base, .retries = 0u, .max_drain = std::chrono::milliseconds(500)};
 }
 
 struct Rig {

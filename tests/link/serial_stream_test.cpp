@@ -23,6 +23,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The serial port's own bounds, named here (the programs' are in ops/timing.hpp).
+SerialOptions port_figures() {
+  return {.write_slack = std::chrono::milliseconds(2000), .cancel_grace = std::chrono::milliseconds(200)};
+}
+
 bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
@@ -77,7 +82,7 @@ std::string read_file(const fs::path& p) {
 
 TEST(SerialStream, OpensRaw8N1WithoutFlowControlAtTheRequestedBaud) {
   Pty pty;
-  SerialOptions options;
+  auto options = port_figures();
   options.baud = 57600;
   SerialStream stream(pty.slave_path(), options);
   EXPECT_EQ(stream.baud(), 57600u);
@@ -97,7 +102,7 @@ TEST(SerialStream, OpensRaw8N1WithoutFlowControlAtTheRequestedBaud) {
 
 TEST(SerialStream, DefaultsTo115200) {
   Pty pty;
-  SerialStream stream(pty.slave_path());
+  SerialStream stream(pty.slave_path(), port_figures());
   termios t{};
   ASSERT_EQ(::tcgetattr(pty.master(), &t), 0);
   EXPECT_EQ(::cfgetospeed(&t), B115200);
@@ -106,7 +111,7 @@ TEST(SerialStream, DefaultsTo115200) {
 
 TEST(SerialStream, RoundTripsEveryByteValue) {
   Pty pty;
-  SerialStream stream(pty.slave_path());
+  SerialStream stream(pty.slave_path(), port_figures());
   Bytes all(256);
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<lbp::Byte>(i);
   stream.write(all);
@@ -117,7 +122,7 @@ TEST(SerialStream, RoundTripsEveryByteValue) {
 
 TEST(SerialStream, ReadReturnsNothingAtTheDeadline) {
   Pty pty;
-  SerialStream stream(pty.slave_path());
+  SerialStream stream(pty.slave_path(), port_figures());
   lbp::Byte buffer[8];
   const auto start = Clock::now();
   EXPECT_EQ(stream.read_some(buffer, start + 50ms), 0u);
@@ -131,7 +136,7 @@ TEST(SerialStream, ReadReturnsNothingAtTheDeadline) {
 
 TEST(SerialStream, FarDeadlineReturnsAsSoonAsBytesArrive) {
   Pty pty;
-  SerialStream stream(pty.slave_path());
+  SerialStream stream(pty.slave_path(), port_figures());
   std::thread sender([&] {
     std::this_thread::sleep_for(100ms);
     pty.send(Bytes{7});
@@ -145,7 +150,7 @@ TEST(SerialStream, FarDeadlineReturnsAsSoonAsBytesArrive) {
 
 TEST(SerialStream, DeadlineInThePastStillReturnsBufferedBytes) {
   Pty pty;
-  SerialStream stream(pty.slave_path());
+  SerialStream stream(pty.slave_path(), port_figures());
   pty.send(Bytes{1, 2, 3});
   std::this_thread::sleep_for(200ms);  // let the pty move them to the slave's queue
   lbp::Byte buffer[8];
@@ -155,7 +160,7 @@ TEST(SerialStream, DeadlineInThePastStillReturnsBufferedBytes) {
 
 TEST(SerialStream, DiscardInputDropsWhatArrivedBefore) {
   Pty pty;
-  SerialStream stream(pty.slave_path());
+  SerialStream stream(pty.slave_path(), port_figures());
   pty.send(Bytes{0xEE, 0xEE, 0xEE, 0xEE});
   std::this_thread::sleep_for(200ms);
   stream.discard_input();
@@ -167,7 +172,7 @@ TEST(SerialStream, DiscardInputDropsWhatArrivedBefore) {
 
 TEST(SerialStream, OpenErrorsNameThePathAndTheFix) {
   try {
-    SerialStream("/dev/ttyI20-no-such-port");
+    SerialStream("/dev/ttyI20-no-such-port", port_figures());
     FAIL() << "opened a port that does not exist";
   } catch (const LinkError& e) {
     EXPECT_TRUE(contains(e.what(), "/dev/ttyI20-no-such-port")) << e.what();
@@ -177,7 +182,7 @@ TEST(SerialStream, OpenErrorsNameThePathAndTheFix) {
   const auto file = dir.path() / "not-a-tty";
   write_file(file, "x");
   try {
-    SerialStream(file.string());
+    SerialStream(file.string(), port_figures());
     FAIL() << "opened a regular file as a serial port";
   } catch (const LinkError& e) {
     EXPECT_TRUE(contains(e.what(), file.string())) << e.what();
@@ -190,7 +195,7 @@ TEST(SerialStream, PermissionErrorPointsAtTheDialoutGroup) {
   Pty pty;
   ASSERT_EQ(::chmod(pty.slave_path().c_str(), 0), 0);
   try {
-    SerialStream stream(pty.slave_path());
+    SerialStream stream(pty.slave_path(), port_figures());
     FAIL() << "opened a port without permission";
   } catch (const LinkError& e) {
     EXPECT_TRUE(contains(e.what(), "dialout")) << e.what();
@@ -199,10 +204,10 @@ TEST(SerialStream, PermissionErrorPointsAtTheDialoutGroup) {
 
 TEST(SerialStream, ExclusiveAccessKeepsASecondOpenerOut) {
   Pty pty;
-  SerialStream first(pty.slave_path());
+  SerialStream first(pty.slave_path(), port_figures());
   EXPECT_TRUE(contains(joined(first.notes()), "exclusive access")) << joined(first.notes());
   try {
-    SerialStream second(pty.slave_path());
+    SerialStream second(pty.slave_path(), port_figures());
     if (::geteuid() == 0) GTEST_SKIP() << "root may open an exclusive tty";
     FAIL() << "a second program could open the port";
   } catch (const LinkError& e) {
@@ -215,7 +220,7 @@ TEST(SerialStream, ExclusiveAccessKeepsASecondOpenerOut) {
 // it touches the line settings or sends a byte.
 TEST(SerialStream, ASecondProgramIsRefusedEvenAsRootAndToldWhoHoldsThePort) {
   Pty pty;
-  SerialOptions shared;
+  auto shared = port_figures();
   shared.exclusive = false;  // only the advisory lock stands between the two
   SerialStream first(pty.slave_path(), shared);
   try {
@@ -231,17 +236,17 @@ TEST(SerialStream, ASecondProgramIsRefusedEvenAsRootAndToldWhoHoldsThePort) {
 
 TEST(SerialStream, TheLockGoesWithTheProgram) {
   Pty pty;
-  { SerialStream first(pty.slave_path()); }
-  EXPECT_NO_THROW(SerialStream again(pty.slave_path())) << "a closed port is free again";
+  { SerialStream first(pty.slave_path(), port_figures()); }
+  EXPECT_NO_THROW(SerialStream again(pty.slave_path(), port_figures())) << "a closed port is free again";
 }
 
 TEST(SerialStream, NotesSayWhatLowLatencySetUpAchieved) {
   Pty pty;
-  SerialStream stream(pty.slave_path());
+  SerialStream stream(pty.slave_path(), port_figures());
   const auto notes = joined(stream.notes());
   EXPECT_TRUE(contains(notes, "low-latency mode:")) << notes;
   EXPECT_TRUE(contains(notes, "latency timer:")) << notes;
-  SerialOptions quiet;
+  auto quiet = port_figures();
   quiet.low_latency = false;
   quiet.exclusive = false;
   Pty pty2;
@@ -272,8 +277,9 @@ TEST(SerialStream, CarriesPipelinedLbpToAFakeCard) {
   Pty pty;
   PtyCard card(pty);
   // Each batch sent once, 500 ms for a reply: slow CI machines; a real card answers in microseconds.
-  const PipelinedLinkOptions options{.base_timeout = 500ms, .retries = 0u};
-  auto link = open_serial_link(pty.slave_path(), options);
+  const PipelinedLinkOptions options{
+      .base_timeout = 500ms, .retries = 0u, .max_drain = std::chrono::milliseconds(500)};
+  auto link = open_serial_link(pty.slave_path(), options, port_figures());
   std::vector<lbp::Command> batch;
   for (std::uint16_t i = 0; i < 16; ++i)
     batch.push_back(lbp::write(static_cast<std::uint16_t>(0x200 + 2 * i), lbp::DataSize::Two, 0x1000u + i));
@@ -294,8 +300,9 @@ TEST(SerialStream, CarriesPipelinedLbpToAFakeCard) {
 
 TEST(SerialStream, LinkDropsStaleBytesAndReportsASilentCard) {
   Pty pty;
-  const PipelinedLinkOptions options{.base_timeout = 500ms, .retries = 0u};
-  std::unique_ptr<Link> link = open_serial_link(pty.slave_path(), options);
+  const PipelinedLinkOptions options{
+      .base_timeout = 500ms, .retries = 0u, .max_drain = std::chrono::milliseconds(500)};
+  std::unique_ptr<Link> link = open_serial_link(pty.slave_path(), options, port_figures());
   {
     PtyCard card(pty);
     pty.send(Bytes{0x00, 0x99});  // a late reply from an earlier exchange

@@ -62,7 +62,9 @@ std::string message_of(const std::function<void()>& f) {
 }  // namespace
 
 TEST(WrongWiring, ALoopbackPlugIsNamedNotBlamedOnTermination) {
-  link::PipelinedLink link(std::make_unique<EchoStream>(), {.base_timeout = 50ms, .retries = 0u});
+  link::PipelinedLink link(
+      std::make_unique<EchoStream>(),
+      {.base_timeout = 50ms, .retries = 0u, .max_drain = std::chrono::milliseconds(500)});
   const std::vector<lbp::Command> batch = {lbp::read(0x0100, lbp::DataSize::Two),
                                            lbp::read(0x0102, lbp::DataSize::Two)};
   const std::string message = message_of([&] { link.execute(batch); });

@@ -52,7 +52,8 @@ class SimRig {
     auto stream = std::make_unique<sim::SimStream>(std::move(sim));
     stream_ = stream.get();
     const link::PipelinedLinkOptions link_options{.base_timeout = std::chrono::milliseconds(20),
-                                                  .retries = 0u};
+                                                  .retries = 0u,
+                                                  .max_drain = std::chrono::milliseconds(500)};
     link_ = std::make_unique<link::PipelinedLink>(std::move(stream), link_options);
   }
 

@@ -178,7 +178,12 @@ TEST(SimPty, EveryByteValuePassesUntouched) {
 TEST(SimPty, TheProjectsSerialLinkTalksToIt) {
   Child sim({"--pty"});
   const std::string path = sim.line();
-  auto link = link::open_serial_link(path, {.base_timeout = std::chrono::milliseconds(50), .retries = 0u});
+  auto link = link::open_serial_link(
+      path,
+      {.base_timeout = std::chrono::milliseconds(50),
+       .retries = 0u,
+       .max_drain = std::chrono::milliseconds(500)},
+      {.write_slack = std::chrono::milliseconds(2000), .cancel_grace = std::chrono::milliseconds(200)});
   const std::vector<lbp::Command> batch{lbp::local_read(lbp::local::kGetCookie),
                                         lbp::read(2164, lbp::DataSize::Two)};
   const auto replies = link->execute(batch);

@@ -88,7 +88,8 @@ TEST(SimStream, WorldChangesThroughTheStream) {
 }
 
 // The link's figures, named here (the programs' are set in ops/timing.hpp).
-constexpr link::PipelinedLinkOptions kLink{.base_timeout = 50ms, .retries = 0u};
+constexpr link::PipelinedLinkOptions kLink{
+    .base_timeout = 50ms, .retries = 0u, .max_drain = std::chrono::milliseconds(500)};
 
 TEST(SimLink, PipelinedLinkTalksToTheSimulator) {
   auto link = make_sim_link({}, kLink);
@@ -121,7 +122,8 @@ TEST(SimLink, NvWriteAndResetThroughTheLink) {
 TEST(SimLink, DroppedRepliesSurfaceAsTimeouts) {
   SimOptions o;
   o.device.injection.drop_rate = 1.0;
-  auto link = make_sim_link(o, {.base_timeout = 30ms, .retries = 0u});
+  auto link =
+      make_sim_link(o, {.base_timeout = 30ms, .retries = 0u, .max_drain = std::chrono::milliseconds(500)});
   EXPECT_THROW(link->execute_one(lbp::local_read(lbp::local::kGetCookie)), link::TimeoutError);
 }
 
