@@ -6,11 +6,16 @@
 
 #include <gtest/gtest.h>
 
+#include <type_traits>
+
+#include "device/amp.hpp"
+#include "device/discover.hpp"
 #include "eth/normal_mode.hpp"
 #include "eth/passive_reader.hpp"
 #include "eth/passthrough_port.hpp"
 #include "eth/scan.hpp"
 #include "link/pipelined_link.hpp"
+#include "link/serial_stream.hpp"
 
 namespace i20::ops {
 namespace {
@@ -91,4 +96,38 @@ TEST(Timing, OnlyATakeOverTriesASetupStartMoreThanOnce) {
 }
 
 }  // namespace
+}  // namespace i20::ops
+
+namespace i20::ops {
+
+// The layers below ops hold no count or wait of their own: none of their option structs can
+// be built without the caller's figures (link::Given has no default), so a figure cannot be
+// forgotten in ops/timing.hpp and silently taken from a lower layer.
+TEST(Timing, NoLayerBelowOpsCanBeBuiltWithoutItsFigures) {
+  EXPECT_FALSE(std::is_default_constructible_v<link::PipelinedLinkOptions>);
+  EXPECT_FALSE(std::is_default_constructible_v<link::SerialOptions>);
+  EXPECT_FALSE(std::is_default_constructible_v<eth::UdpOptions>);
+  EXPECT_FALSE(std::is_default_constructible_v<eth::FenceOptions>);
+  EXPECT_FALSE(std::is_default_constructible_v<eth::SslbpOptions>);
+  EXPECT_FALSE(std::is_default_constructible_v<eth::RunningHostCheck>);
+  EXPECT_FALSE(std::is_default_constructible_v<eth::PassthroughOptions>);
+  EXPECT_FALSE(std::is_default_constructible_v<eth::ScanOptions>);
+  EXPECT_FALSE(std::is_default_constructible_v<eth::PassiveOptions>);
+  EXPECT_FALSE(std::is_default_constructible_v<eth::NormalModeOptions>);
+  EXPECT_FALSE(std::is_default_constructible_v<device::AmpTiming>);
+  EXPECT_FALSE(std::is_default_constructible_v<device::DiscoveryOptions>);
+  // What ops builds carries its figures: the same ones the header names.
+  const auto amp = timing::amp();
+  EXPECT_EQ(amp.leave_mode_tries, timing::kLeaveModeTries);
+  EXPECT_EQ(amp.reset_poll.get(), timing::kResetPoll);
+  const auto serial = timing::serial_link({}, {});
+  EXPECT_EQ(serial.max_drain.get(), timing::kSerialMaxDrain);
+  const auto port = timing::serial_port({});
+  EXPECT_EQ(port.write_slack.get(), timing::kSerialWriteSlack);
+  EXPECT_EQ(port.cancel_grace.get(), timing::kSerialCancelGrace);
+  const auto passthrough = timing::passthrough({}, {});
+  EXPECT_EQ(passthrough.gather_window.get(), timing::kPassthroughGatherWindow);
+  EXPECT_EQ(timing::normal_mode({}).zero_cycles_before_stop, timing::kZeroCyclesBeforeStop);
+}
+
 }  // namespace i20::ops
