@@ -11,6 +11,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "build_paths.hpp"
 #include "ethsim/server.hpp"
 #include "motor/loader.hpp"
 #include "ops/commission.hpp"
@@ -21,7 +22,7 @@ using namespace i20;
 namespace {
 
 motor::MotorParams servo(double index_deg) {
-  std::ifstream in(std::string(I20_SOURCE_DIR) + "/motors/servo-halls-index.yaml");
+  std::ifstream in(i20::test::source_dir() / "motors/servo-halls-index.yaml");
   std::stringstream text;
   text << in.rdbuf();
   auto params = motor::parse_motor(text.str(), "servo-halls-index.yaml");

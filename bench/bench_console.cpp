@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "build_paths.hpp"
 #include "raw_client.hpp"
 
 extern char** environ;
@@ -51,7 +52,7 @@ class Console {
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
     posix_spawn_file_actions_addclose(&actions, out[0]);
-    std::string exe = std::string(I20_BIN_DIR) + "/i20";
+    std::string exe = (i20::test::bin_dir() / "i20").string();
     std::vector<std::string> args{exe, "--sim", "console", "--listen-port", "0"};
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "build_paths.hpp"
 #include "device/amp.hpp"
 #include "link/serial_link.hpp"
 #include "ops/timing.hpp"
@@ -43,7 +44,7 @@ int bench_main(int argc, char** argv) {
   const int runs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 15;
   const std::string turnaround = std::to_string(kTurnaroundUs);
   bench::SimProcess sim({"--pty", "--wire-time", "--turnaround-us", turnaround});
-  const std::string bin = I20_BIN_DIR;
+  const std::string bin = i20::test::bin_dir().string();
   auto db = params::ParamDb::builtin();
   std::vector<const params::Param*> all;
   for (const auto& p : db.all())

@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "build_paths.hpp"
 #include "device/amp.hpp"
 #include "eth/passthrough_link.hpp"
 #include "eth/running_host.hpp"
@@ -332,7 +333,7 @@ int bench_main(int argc, char** argv) {
   std::printf("  DOITs still busy at their read-back (polled or replayed): %llu\n",
               static_cast<unsigned long long>(after.late));
 
-  const std::string i20 = std::string(I20_BIN_DIR) + "/i20";
+  const std::string i20 = (i20::test::bin_dir() / "i20").string();
   const int process_runs = std::max(1, runs / 10);
   const ProcessCost get = per_process(
       one.address(), {i20, "--no-user-params", "--eth", one.address(), "--channel", "0", "get", "BUSV"},

@@ -20,12 +20,14 @@
 #include <string>
 #include <vector>
 
+#include "build_paths.hpp"
+
 namespace i20::bench {
 
 class SimProcess {
  public:
   explicit SimProcess(const std::vector<std::string>& args) {
-    const std::string exe = std::string(I20_BIN_DIR) + "/i20sim";
+    const std::string exe = (i20::test::bin_dir() / "i20sim").string();
     std::vector<std::string> all{exe};
     all.insert(all.end(), args.begin(), args.end());
     all.emplace_back("--no-stdin");

@@ -70,7 +70,8 @@ BoardSurvey survey_board(Lbp16Transport& bus, std::span<const lbp16::Command> ex
                                   .firmware_version = board.firmware_version};
   survey.hostmot2.ident = hm2::IdentArea::parse(parts[1]);
   lbp::Bytes block;
-  for (std::size_t i = first_table; i < first_extra; ++i) block.insert(block.end(), parts[i].begin(), parts[i].end());
+  for (std::size_t i = first_table; i < first_extra; ++i)
+    block.insert(block.end(), parts[i].begin(), parts[i].end());
   survey.extra_replies.assign(parts.begin() + static_cast<std::ptrdiff_t>(first_extra), parts.end());
   // Anything unusual (no cookie, an IDROM elsewhere) takes the reads that check and follow
   // the pointers, with their one-line errors.
@@ -83,7 +84,10 @@ std::vector<Completion> run_sequence(SslbpPort& sslbp, std::span<const SslbpStep
   std::vector<Completion> out(steps.size());
   std::size_t trusted = 0;  // steps [0, trusted) have their results
   if (sslbp.timer_space() && steps.size() > 1) {
-    std::vector<lbp16::Command> packet;
+    // COMMAND as the first write finds it (SslbpPort::run says why): a busy one ignores the
+    // write, and its DATA could be read as the first step's. Each later step's write follows
+    // the read-back that found the one before it done, in the same packet.
+    std::vector<lbp16::Command> packet{lbp16::read_hm2(regs.command)};
     std::vector<std::size_t> first_read;
     for (const SslbpStep& s : steps) {
       packet.push_back(lbp16::write_hm2(regs.command, s.command));
@@ -97,15 +101,17 @@ std::vector<Completion> run_sequence(SslbpPort& sslbp, std::span<const SslbpStep
     }
     try {
       const auto parts = sslbp.bus().transact(packet, Resend::Never);
-      for (; trusted < steps.size(); ++trusted) {
+      const bool idle_at_first_write = (word(parts[0]) & 0xFFFF) == 0;
+      for (; idle_at_first_write && trusted < steps.size(); ++trusted) {
         const std::size_t at = first_read[trusted];
         if ((word(parts[at]) & 0xFFFF) != 0) break;
         Completion& c = out[trusted];
         c.data = static_cast<std::uint8_t>(word(parts[at + 1]));
-        for (std::size_t i = 0; i < steps[trusted].results.size(); ++i) c.results.push_back(word(parts[at + 2 + i]));
+        for (std::size_t i = 0; i < steps[trusted].results.size(); ++i)
+          c.results.push_back(word(parts[at + 2 + i]));
         c.round_trips = trusted == 0 ? 1 : 0;
       }
-      if (trusted + 1 == steps.size()) {
+      if (idle_at_first_write && trusted + 1 == steps.size()) {
         // The last step was accepted (the one before it had finished) and nothing followed
         // it: its own result comes once COMMAND clears.
         out[trusted] = sslbp.poll(steps[trusted].results, steps[trusted].command, trusted == 0 ? 1 : 0);
@@ -132,7 +138,8 @@ std::vector<std::uint8_t> read_locals(SslbpPort& sslbp, std::span<const std::uin
   const auto settle = sslbp.options().local_settle;
   std::vector<SslbpStep> steps;
   if (stop_first) steps.push_back(SslbpStep{.command = sslbp::stop(), .settle = settle});
-  for (std::uint16_t a : addresses) steps.push_back(SslbpStep{.command = sslbp::read_local(a), .settle = settle});
+  for (std::uint16_t a : addresses)
+    steps.push_back(SslbpStep{.command = sslbp::read_local(a), .settle = settle});
   const auto done = run_sequence(sslbp, steps);
   std::vector<std::uint8_t> out;
   for (std::size_t i = stop_first ? 1 : 0; i < done.size(); ++i) out.push_back(done[i].data);
@@ -142,10 +149,17 @@ std::vector<std::uint8_t> read_locals(SslbpPort& sslbp, std::span<const std::uin
 SslbpParameters stop_and_read_parameters(SslbpPort& sslbp) {
   namespace param = sslbp::param;
   const std::uint16_t clock = param::kClock;
-  const std::uint16_t addresses[] = {param::kInterfaceType, param::kWidth,         param::kMajorVersion,
-                                     param::kMinorVersion,  param::kChannelStart,  param::kChannelStride,
-                                     param::kProcessorType, param::kChannels,      clock,
-                                     static_cast<std::uint16_t>(clock + 1), static_cast<std::uint16_t>(clock + 2),
+  const std::uint16_t addresses[] = {param::kInterfaceType,
+                                     param::kWidth,
+                                     param::kMajorVersion,
+                                     param::kMinorVersion,
+                                     param::kChannelStart,
+                                     param::kChannelStride,
+                                     param::kProcessorType,
+                                     param::kChannels,
+                                     clock,
+                                     static_cast<std::uint16_t>(clock + 1),
+                                     static_cast<std::uint16_t>(clock + 2),
                                      static_cast<std::uint16_t>(clock + 3)};
   const auto b = read_locals(sslbp, addresses, /*stop_first=*/true);
   SslbpParameters p;

@@ -47,6 +47,12 @@ Completion SslbpPort::run(std::span<const lbp16::Command> before, std::uint32_t 
                           std::span<const std::uint16_t> results, bool repeatable,
                           std::chrono::microseconds settle) {
   std::vector<lbp16::Command> packet(before.begin(), before.end());
+  // COMMAND as our write finds it, in the same packet (the card runs a packet's commands
+  // back to back, so no other host's write falls between the two): SSLBP ignores a command
+  // written while it is busy, and the busy one may finish before our read-back, leaving
+  // COMMAND idle and its DATA where ours would be. Only this read tells ours ran.
+  const std::size_t at_write = packet.size();
+  packet.push_back(lbp16::read_hm2(port_.registers.command));
   packet.push_back(lbp16::write_hm2(port_.registers.command, command));
   if (timer_space_ && settle.count() > 0) {
     const auto us = static_cast<std::uint16_t>(std::min<std::int64_t>(settle.count(), 0xFFFF));
@@ -57,21 +63,33 @@ Completion SslbpPort::run(std::span<const lbp16::Command> before, std::uint32_t 
   const auto reads = read_back(results);
   packet.insert(packet.end(), reads.begin(), reads.end());
 
+  // A command displaced by another one is issued again once COMMAND is idle, for as long as
+  // the command itself may take; past that the port is another host's, and what it finished
+  // is never taken for ours.
+  const auto displaced_until = Clock::now() + options_.command_timeout;
   unsigned round_trips = 0;
   unsigned displaced = 0;
   for (unsigned attempt = 0;; ++attempt) {
     try {
       ++round_trips;
-      const Reading r = parse(bus_.transact(packet, Resend::Never), first_read, results.size());
-      if (r.command == 0) {
+      const auto parts = bus_.transact(packet, Resend::Never);
+      const std::uint32_t busy_at_write = word(parts[at_write]) & 0xFFFF;
+      const Reading r = parse(parts, first_read, results.size());
+      if (busy_at_write == 0 && r.command == 0) {
         Completion c = r.completion;
         c.round_trips = round_trips;
         return c;
       }
-      if (r.command != (command & 0xFFFF) && displaced++ < options_.lost_reply_retries) {
-        // COMMAND still held another operation (an unfinished DOIT, another host's
-        // command), so SSLBP ignored ours: wait for it to finish and issue ours again.
-        round_trips = poll({}, r.command, round_trips).round_trips;
+      if (busy_at_write != 0 || r.command != (command & 0xFFFF)) {
+        const std::uint32_t other = busy_at_write != 0 ? busy_at_write : r.command;
+        ++displaced;
+        if (Clock::now() >= displaced_until)
+          throw ForeignHostError("SSLBP on " + describe() + " was running another command (" +
+                                 lbp::hex_value(other, 4) + ") each time SSLBP command " +
+                                 lbp::hex_value(command, 4) + " was written (" + std::to_string(displaced) +
+                                 " times in " + std::to_string(options_.command_timeout.count()) +
+                                 " ms): another host keeps the port busy, and its results are not ours");
+        round_trips = poll({}, other, round_trips).round_trips;
         continue;
       }
       return poll(results, command, round_trips);

@@ -32,10 +32,11 @@ struct SslbpOptions {
   // in microseconds, so the read-back in the same packet normally finds them done.
   link::Given<std::chrono::microseconds> local_settle;
   // How often an SSLBP command's packet (it holds writes) is resent when its reply is lost
-  // and the operation is repeatable, only after a read-only probe found COMMAND idle; also
-  // how often a command that found COMMAND busy with another one is issued again. Only
+  // and the operation is repeatable, only after a read-only probe found COMMAND idle. Only
   // SslbpPort::run's own commands: passthrough packets follow
-  // PassthroughOptions::lost_packet_resends. ops hands down its budget's resends.
+  // PassthroughOptions::lost_packet_resends. ops hands down its budget's resends. (A
+  // command that found COMMAND busy with another one is issued again once it is idle,
+  // within command_timeout: that is waiting for the port, not a lost reply.)
   link::Given<unsigned> lost_reply_retries;
 };
 
@@ -78,7 +79,8 @@ class SslbpPort {
   // `settle` when the card has the timer space, then COMMAND, DATA and `results` read
   // back until COMMAND is 0. `repeatable`: executing the operation twice is harmless, so
   // it may be resent when its reply is lost. Throws link::TimeoutError when COMMAND does
-  // not clear in time or the card stops answering.
+  // not clear in time or the card stops answering, and ForeignHostError when another
+  // command held COMMAND at every write for command_timeout (its DATA is never returned).
   Completion run(std::span<const lbp::lbp16::Command> before, std::uint32_t command,
                  std::span<const std::uint16_t> results, bool repeatable,
                  std::chrono::microseconds settle = std::chrono::microseconds{0});

@@ -72,11 +72,7 @@ void drain(int out_fd, int err_fd, std::string& out, std::string& err,
 }  // namespace
 
 std::filesystem::path program(const std::string& name) {
-  return std::filesystem::path(I20_BIN_DIR) / name;
-}
-
-std::filesystem::path source_dir() {
-  return I20_SOURCE_DIR;
+  return bin_dir() / name;
 }
 
 Child start(const std::string& name, const std::vector<std::string>& args,

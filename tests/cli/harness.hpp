@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "build_paths.hpp"
+
 namespace i20::test {
 
 struct Result {
@@ -15,9 +17,8 @@ struct Result {
   std::string err;
 };
 
-// build/bin (from the I20_BIN_DIR variable ctest sets) joined with the program name.
+// build/bin joined with the program name (source_dir() and bin_dir(): build_paths.hpp).
 std::filesystem::path program(const std::string& name);
-std::filesystem::path source_dir();
 
 // A started program: its pid and the read ends of its stdout and stderr (its stdin is
 // /dev/null). The caller reads, waits for and closes them.

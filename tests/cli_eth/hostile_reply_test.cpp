@@ -154,8 +154,10 @@ INSTANTIATE_TEST_SUITE_P(
             "StaleReplyOfTheFirstPacket", Spoil::Stale, 1,
             "i20: error: no reply from {CARD} within {MS} (3 attempts); ignored 3 stale replies to earlier "
             "packets"},
+        // The opening's SSLBP packet: COMMAND read as the first write finds it, then each
+        // step's write, WaituS and read-back (batched_opening.cpp).
         HostileCase{"TruncatedReplyDuringTheReads", Spoil::Truncated, 2,
-                    "i20: error: {CARD} answered with 107 bytes where 108 were expected; reply ignored"},
+                    "i20: error: {CARD} answered with 111 bytes where 112 were expected; reply ignored"},
         HostileCase{
             "AnswersFromAnotherPortDuringTheReads", Spoil::WrongSender, 2,
             "i20: error: no reply from {CARD} within {MS} (3 attempts); ignored 3 datagrams from another "

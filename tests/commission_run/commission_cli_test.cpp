@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "build_paths.hpp"
 #include "harness.hpp"
 #include "spawn.hpp"
 
@@ -20,7 +21,7 @@ using namespace i20::test;
 
 namespace {
 
-const std::string kMotor = std::string(I20_TEST_SOURCE_DIR) + "/motors/servo-halls-index.yaml";
+const std::string kMotor = (i20::test::source_dir() / "motors/servo-halls-index.yaml").string();
 
 Result commission(const std::vector<std::string>& target, std::vector<std::string> args) {
   args.insert(args.begin(), "commission");

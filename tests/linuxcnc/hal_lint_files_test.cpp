@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "build_paths.hpp"
 #include "linuxcnc/hal_lint.hpp"
 
 using namespace i20::linuxcnc;
@@ -106,7 +107,7 @@ TEST(HalLintFiles, EverySmithyHalFileReadsAndEveryEightI20OneHasFindings) {
 }
 
 TEST(HalLintFiles, EveryPnCconfMistakeIsFoundOnItsLine) {
-  const fs::path file = fs::path(I20_TEST_SOURCE_DIR) / "tests/linuxcnc/data/pncconf-style-8i20.hal";
+  const fs::path file = i20::test::source_dir() / "tests/linuxcnc/data/pncconf-style-8i20.hal";
   const auto text = read_text(file);
   const auto findings = lint(read_hal(text, "pncconf.hal"), {});
   using Lines = std::set<std::pair<std::string, int>>;

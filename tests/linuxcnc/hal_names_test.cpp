@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 
+#include "build_paths.hpp"
 #include "error/error.hpp"
 
 using namespace i20::linuxcnc;
@@ -23,7 +24,7 @@ struct Recorded {
 // "# loadrt bldc cfg=a,b" starts a group; "pin bldc.N.x" / "param bldc.N.x" belong to the
 // Nth cfg string of the group.
 std::vector<Recorded> recorded() {
-  std::ifstream in(std::string(I20_TEST_SOURCE_DIR) + "/tests/linuxcnc/data/bldc-halrun-2.9.txt");
+  std::ifstream in(i20::test::source_dir() / "tests/linuxcnc/data/bldc-halrun-2.9.txt");
   std::vector<Recorded> out;
   std::size_t group_start = 0;
   for (std::string line; std::getline(in, line);) {

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "build_paths.hpp"
 #include "motor/error.hpp"
 
 using namespace i20::motor;
@@ -52,7 +53,7 @@ TEST(MotorFile, TheRequiredKeysWithUnits) {
 }
 
 TEST(MotorFile, ShippedExamplesLoad) {
-  const std::filesystem::path dir = std::filesystem::path(I20_TEST_SOURCE_DIR) / "motors";
+  const std::filesystem::path dir = i20::test::source_dir() / "motors";
   int count = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     if (entry.path().extension() != ".yaml") continue;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "bench.hpp"
+#include "build_paths.hpp"
 #include "lbp/command.hpp"
 #include "link/serial_link.hpp"
 
@@ -23,7 +24,7 @@ namespace {
 
 std::string bin_dir() {
   const char* dir = std::getenv("I20_BIN_DIR");
-  return dir && *dir ? dir : I20_SIM_DEFAULT_BIN_DIR;
+  return dir && *dir ? std::string(dir) : i20::test::bin_dir().string();
 }
 
 // i20sim as a child process with pipes on stdin and stdout.
