@@ -6,11 +6,25 @@
 #include <filesystem>
 
 #include "error/error.hpp"
+#include "files/atomic_file.hpp"
 
 namespace i20::cli {
 
+namespace {
+
+// The log is written like every other output (output_file.hpp): never into a device node, a
+// FIFO, a socket or through a link, and a failed start removes only a regular file of its own.
+const std::string& regular_file(const std::string& path) {
+  if (const std::string kind = files::not_a_regular_file(path); !kind.empty())
+    throw UsageError("cannot write the log file " + path + ": it is " + kind +
+                     ", not a regular file (give a file name)");
+  return path;
+}
+
+}  // namespace
+
 CsvLog::CsvLog(const std::string& path, const std::string& header)
-    : path_(path), out_(path, std::ios::out | std::ios::trunc) {
+    : path_(path), out_(regular_file(path), std::ios::out | std::ios::trunc) {
   if (!out_) throw UsageError("cannot write the log file " + path + ": check the directory exists");
   errno = 0;
   out_ << header;

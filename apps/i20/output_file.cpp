@@ -35,6 +35,13 @@ void check_output_file(const std::string& path, bool overwrite) {
   std::error_code ec;
   const auto status = fs::status(file, ec);
   if (fs::is_directory(status)) throw UsageError(path + " is a folder; give a file name");
+  // --overwrite replaces a regular file, never a device node (-o /dev/null as root), a FIFO or
+  // the link itself. Standard output is "-".
+  if (const std::string kind = files::not_a_regular_file(file); !kind.empty())
+    throw UsageError(path + " is " + kind +
+                     ", not a regular file: only a regular file is written or replaced" +
+                     (kind == "a symbolic link" ? " (give the file it points to)"
+                                                : " (give a file name, or - for standard output)"));
   if (fs::exists(status)) {
     if (!overwrite)
       throw UsageError(path + " exists; pass --overwrite to replace it (or choose another name)");

@@ -11,8 +11,9 @@
 namespace i20::cli {
 
 // Throws UsageError (exit 2, nothing sent) when `path` cannot become this command's output:
-// it exists and `overwrite` is not given, it is a folder, its folder does not exist, or
-// the folder (or the file) is not writable. "" and "-" (stdout) are always fine.
+// it exists and `overwrite` is not given, it is a folder, a device, a FIFO, a socket or a
+// symbolic link (never replaced, --overwrite or not), its folder does not exist, or the
+// folder (or the file) is not writable. "" and "-" (stdout) are always fine.
 void check_output_file(const std::string& path, bool overwrite);
 
 // The same for a folder the command creates if missing (the backup folder): it must be a

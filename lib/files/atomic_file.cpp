@@ -2,6 +2,7 @@
 #include "files/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -104,6 +105,10 @@ void sync_folder(const fs::path& folder) {
 // replacing it, so a file that appears meanwhile is never overwritten. False on EEXIST.
 bool give_name(TemporaryFile& temp, const fs::path& name, Existing existing) {
   if (existing == Existing::Replace) {
+    // Checked again here, just before the rename: check_output_file ran before the card was read.
+    if (const std::string kind = not_a_regular_file(name); !kind.empty())
+      throw OutputError("cannot write " + name.string() + ": it is " + kind +
+                        ", not a regular file; nothing was replaced");
     if (::rename(temp.path().c_str(), name.c_str()) != 0)
       throw OutputError("cannot write " + name.string() + ": " + reason(errno));
     temp.keep();
@@ -117,6 +122,19 @@ bool give_name(TemporaryFile& temp, const fs::path& name, Existing existing) {
 }
 
 }  // namespace
+
+std::string not_a_regular_file(const fs::path& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0) return "";  // nothing there (or unreadable: the write will say)
+  if (S_ISREG(st.st_mode)) return "";
+  if (S_ISDIR(st.st_mode)) return "a folder";
+  if (S_ISLNK(st.st_mode)) return "a symbolic link";
+  if (S_ISCHR(st.st_mode)) return "a character device";
+  if (S_ISBLK(st.st_mode)) return "a block device";
+  if (S_ISFIFO(st.st_mode)) return "a FIFO";
+  if (S_ISSOCK(st.st_mode)) return "a socket";
+  return "a special file";
+}
 
 void write_file(const fs::path& path, std::string_view text, Existing existing) {
   const fs::path folder = folder_of(path);

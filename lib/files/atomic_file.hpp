@@ -17,7 +17,13 @@ enum class Existing {
   Replace,  // an existing file is replaced in one step (readers see the old or the new text)
 };
 
-// Writes `text` to `path` as described above.
+// "a character device", "a FIFO", "a socket", "a block device", "a symbolic link", "a folder"
+// for what stands at `path` when it is not a regular file (the link itself, not what it
+// points to); "" for a regular file or nothing. Replace never replaces such a thing: renaming
+// over /dev/null would destroy the device node, over a link the link.
+std::string not_a_regular_file(const std::filesystem::path& path);
+
+// Writes `text` to `path` as described above. Replace replaces a regular file only.
 void write_file(const std::filesystem::path& path, std::string_view text, Existing existing);
 
 // Writes `text` to the first free name of `dir`/`stem`.yaml, `stem`-2.yaml, ... (never

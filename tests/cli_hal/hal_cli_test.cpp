@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <fstream>
 #include <sstream>
@@ -123,4 +124,32 @@ TEST(HalCli, MaxcurrentFromAMotorProfile) {
                     ":2: warning: hm2_7i96s.0.8i20.0.0.current is fed from pid.0 whose maxoutput is 15 A"),
       std::string::npos)
       << lint.out;
+}
+
+// --overwrite replaces a regular file only: a device node, a FIFO or a symbolic link stays what
+// it is (as root, `-o /dev/null --overwrite` once replaced /dev/null with a file). A FIFO stands
+// in for the device here; both are refused by the same check. So does `watch --log`.
+TEST(HalCli, NeverWritesOverAnythingButARegularFile) {
+  TempDir dir;
+  const auto fifo = dir / "a-fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  auto refused = run("i20", with(kGood, {"-o", fifo.string(), "--overwrite"}));
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("is a FIFO, not a regular file"), std::string::npos) << refused.err;
+  EXPECT_TRUE(std::filesystem::is_fifo(std::filesystem::symlink_status(fifo)));
+
+  const auto target = dir / "target.hal";
+  write(target, "# the user's own file\n");
+  const auto link = dir / "link.hal";
+  std::filesystem::create_symlink(target, link);
+  refused = run("i20", with(kGood, {"-o", link.string(), "--overwrite"}));
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("is a symbolic link, not a regular file"), std::string::npos) << refused.err;
+  EXPECT_TRUE(std::filesystem::is_symlink(link));
+  EXPECT_EQ(read(target), "# the user's own file\n");
+
+  refused = run("i20", {"--sim", "watch", "--log", fifo.string(), "--duration", "1"});
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("it is a FIFO, not a regular file"), std::string::npos) << refused.err;
+  EXPECT_TRUE(std::filesystem::is_fifo(std::filesystem::symlink_status(fifo)));
 }
