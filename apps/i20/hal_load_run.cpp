@@ -165,7 +165,7 @@ HalLoadResult load_in_halrun(const std::vector<L::HalSource>& sources,
   if (ran.status == 77) throw UsageError("--load cannot run halrun here: " + last_lines(reading.other, 1));
   if (reading.realtime_failed)
     throw Error("--load: LinuxCNC's realtime (rtapi_app) did not start, so nothing was judged: " +
-                last_lines(reading.other, 2));
+                last_lines(reading.realtime_why, reading.realtime_why.size()));
   if (ran.status != 0 && reading.findings.empty())
     throw Error("--load: halrun failed against the virtual card: " + last_lines(reading.other, 3));
   HalLoadResult result{reading.findings, plan.left_out, {}};

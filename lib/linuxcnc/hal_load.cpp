@@ -169,6 +169,11 @@ HalrunReading read_halrun_output(std::string_view output, const std::map<std::st
     if (line.empty() || line.rfind("Note: Using POSIX", 0) == 0) continue;
     // LinuxCNC's realtime not starting is this machine's trouble, not a line of the file.
     if (line.find("rtapi_app") != std::string::npos) {
+      if (!r.realtime_failed) {
+        const std::size_t before = std::min<std::size_t>(r.other.size(), 2);
+        r.realtime_why.assign(r.other.end() - static_cast<std::ptrdiff_t>(before), r.other.end());
+        r.realtime_why.push_back(line);
+      }
       r.realtime_failed = true;
       r.other.push_back(line);
       continue;

@@ -51,6 +51,9 @@ struct HalrunReading {
   std::vector<LintFinding> findings;
   std::vector<std::string> other;
   bool realtime_failed = false;  // LinuxCNC's rtapi_app did not start: no file was judged
+  // When it did not: the first line naming rtapi_app and the lines just before it, which say
+  // why (hm2_eth's own complaint); the unloading that follows says nothing.
+  std::vector<std::string> realtime_why;
 };
 HalrunReading read_halrun_output(std::string_view output, const std::map<std::string, std::string>& copies);
 

@@ -117,3 +117,17 @@ TEST(HalLoad, RealtimeThatDidNotStartIsNoFinding) {
   EXPECT_TRUE(r.findings.empty());
   EXPECT_TRUE(r.realtime_failed);
 }
+
+// What is quoted of a realtime that did not start is why (the lines up to the first naming
+// rtapi_app), not the unloading after it.
+TEST(HalLoad, RealtimeThatDidNotStartIsQuotedAtItsCause) {
+  const auto r = read_halrun_output(
+      "Note: Using POSIX realtime\nhm2_eth: loading\nhm2_eth: timeout reading the IDROM\n"
+      "/tmp/x/0-axis.hal:2: waitpid failed /usr/bin/rtapi_app hm2_eth\n"
+      "hm2_eth: in hm2_eth_reset\nhm2: unloading\nrtapi_app: exit\n",
+      {{"/tmp/x/0-axis.hal", "axis.hal"}});
+  EXPECT_TRUE(r.realtime_failed);
+  EXPECT_EQ(r.realtime_why,
+            (std::vector<std::string>{"hm2_eth: loading", "hm2_eth: timeout reading the IDROM",
+                                      "/tmp/x/0-axis.hal:2: waitpid failed /usr/bin/rtapi_app hm2_eth"}));
+}

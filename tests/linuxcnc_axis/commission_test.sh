@@ -30,7 +30,7 @@ for ((try = 1; ; try++)); do
   note "i20 commission: exit $rc in $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }') s"
   ((rc != 0)) && grep -q WATCHDOG "$work/commission.out" "$work/commission.err" || break
   worst_ns=$(sed -n 's/.* ms, worst \([0-9.]*\) ms$/\1/p' "$work/commission.out" | awk '{ printf "%d", $1 * 1e6 }')
-  kept_time "i20 commission" "$try" "${worst_ns:-0}" && break
+  kept_time "i20 commission" "$try" "${worst_ns:-0}" "$WATCHDOG_NS" && break
 done
 ((rc == 0)) || {
   cat "$work/commission.out" "$work/commission.err"
