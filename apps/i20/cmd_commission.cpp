@@ -190,17 +190,15 @@ void run_commission_command(Context& ctx, Args& a) {
     a.o.pole_pairs = *a.poles / 2;
   }
   if (!a.halls.empty()) a.o.halls = split_commas(a.halls);
-  if (!a.check.empty()) a.o.check_only = ops::read_bldc_setup(read_text(a.check), a.check);
+  if (!a.check.empty()) a.o.check_file = ops::CheckFile{read_text(a.check), a.check};
   auto& session = ctx.session();
   const auto plan = ops::prepare_commission(session, a.o);
   std::cerr << "i20 commission: the plan\n";
   for (const auto& line : plan.lines()) std::cerr << "  " << line << "\n";
-  if (!a.yes && !ctx.confirm("Drive the motor on " + plan.preflight.target.url() +
-                             " as planned? Keep clear of the axis")) {
-    std::cerr << "i20: commission not confirmed; the motor was not driven (pass --yes in scripts)\n";
-    ctx.record(ops::Outcome::BadInput);
-    return;
-  }
+  if (!a.yes)
+    ctx.require_confirmation(
+        "Drive the motor on " + plan.preflight.target.url() + " as planned? Keep clear of the axis",
+        "commission not confirmed; the motor was not driven (pass --yes in scripts)");
   const auto report = ops::run_commission(
       session, plan, a.o, [](const std::string& phase) { std::cerr << "i20 commission: " << phase << "\n"; });
   const std::string yaml = report_yaml(report);
@@ -217,7 +215,7 @@ void run_commission_command(Context& ctx, Args& a) {
     std::cerr << "i20: " << a.out << " not written: the commissioning did not complete\n";
     return;
   }
-  if (a.o.check_only) {
+  if (plan.check) {
     std::cerr << "i20: -o is not written with --check (the setup is the file checked)\n";
     return;
   }
@@ -253,8 +251,10 @@ void register_commission_command(CLI::App& app, Context& ctx) {
       "bldc's setup for LinuxCNC; --check FILE.hal re-runs only the closed-loop check with an existing "
       "setup. "
       "docs/commissioning.md walks through a real axis.");
-  cmd->add_option("--encoder", a->o.encoder,
-                  "hostmot2 encoder instance of the axis (default: the one that moves)");
+  cmd->add_option(
+      "--encoder", a->o.encoder,
+      "hostmot2 encoder instance of the axis (default: the one that moves; with --check: the one the "
+      "file nets into bldc's rawcounts)");
   cmd->add_option(
       "--halls", a->halls,
       "The Hall inputs, Hall 1,2,3, as hostmot2 names them after the board: gpio.010.in,gpio.011.in,"
@@ -275,7 +275,9 @@ void register_commission_command(CLI::App& app, Context& ctx) {
                   "Write bldc's setup as a HAL fragment (hostmot2 + bldc) when all is found and checked");
   cmd->add_flag("--overwrite", a->overwrite, "Replace an existing -o file");
   cmd->add_option("--check", a->check,
-                  "Only the closed-loop check, with the bldc setp lines of this HAL file");
+                  "Only the closed-loop check, with what this HAL file sets up for --channel's 8I20: bldc's "
+                  "values and cfg, "
+                  "the encoder on its rawcounts, the inputs on its hall1..3");
   cmd->callback([&ctx, a] { run_commission_command(ctx, *a); });
 }
 

@@ -86,14 +86,12 @@ void run_discover(Context& ctx, const DiscoverOptions& o) {
   options.overwrite = o.overwrite;
   options.generated_at = now_text();
   check_output_file(o.out, o.overwrite);  // before the first byte: no reset, no scan for a refusal
-  if (options.scan.reset_first && !o.yes &&
-      !ctx.confirm("Discovery resets the 8I20 on " + ctx.session().endpoint().text +
-                   " (so working values equal NV values), then only reads. Go on?")) {
-    std::cerr << "i20: discover not confirmed; nothing was sent (pass --yes, or --no-reset right after a "
-                 "power-up)\n";
-    ctx.record(ops::Outcome::BadInput);
-    return;
-  }
+  if (options.scan.reset_first && !o.yes)
+    ctx.require_confirmation(
+        "Discovery resets the 8I20 on " + ctx.session().endpoint().text +
+            " (so working values equal NV values), then only reads. Go on?",
+        "discover not confirmed; nothing was sent (pass --yes, or --no-reset right after a "
+        "power-up)");
   auto& card = ctx.card();
   if (isatty(STDERR_FILENO))
     options.scan.progress = [](std::size_t done, std::size_t total) {

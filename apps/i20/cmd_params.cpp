@@ -256,11 +256,9 @@ app::Json reset_json(const ops::ResetRun& run, const std::string& where) {
 
 void run_reset(Context& ctx, bool yes, bool force) {
   const std::string where = ctx.session().endpoint().text;  // asked before anything is sent
-  if (!yes && !ctx.confirm("Reset the 8I20 on " + where + "? NV values become the working values")) {
-    std::cerr << "i20: reset not confirmed; nothing was sent (pass --yes in scripts)\n";
-    ctx.record(ops::Outcome::BadInput);
-    return;
-  }
+  if (!yes)
+    ctx.require_confirmation("Reset the 8I20 on " + where + "? NV values become the working values",
+                             "reset not confirmed; nothing was sent (pass --yes in scripts)");
   // The judgement (what the reset would make live, by the write transaction's rules) is
   // lib/ops's; this only reports it.
   const auto run = ops::reset_card(ctx.card(), force);

@@ -403,15 +403,13 @@ std::string names_of(const std::vector<ops::Endpoint>& targets) {
 }
 
 // A reset makes the new EEPROM values live at once: asked before anything is sent.
-bool reset_confirmed(Context& ctx, const ApplyCliOptions& o, const std::vector<ops::Endpoint>& targets) {
-  if (!o.reset || o.dry_run || o.yes) return true;
-  if (ctx.confirm(
-          "Reset the 8I20 on " + names_of(targets) +
-          " after a verified apply (or when a reset is pending)? The new EEPROM values become live at once"))
-    return true;
-  std::cerr << "i20: reset not confirmed; nothing was sent (pass --yes in scripts)\n";
-  ctx.record(ops::Outcome::BadInput);
-  return false;
+void require_reset_confirmed(Context& ctx, const ApplyCliOptions& o,
+                             const std::vector<ops::Endpoint>& targets) {
+  if (!o.reset || o.dry_run || o.yes) return;
+  ctx.require_confirmation(
+      "Reset the 8I20 on " + names_of(targets) +
+          " after a verified apply (or when a reset is pending)? The new EEPROM values become live at once",
+      "reset not confirmed; nothing was sent (pass --yes in scripts)");
 }
 
 void print_many(Context& ctx, const Profile& profile, const std::string& file,
@@ -485,7 +483,7 @@ void run_apply_command(Context& ctx, const ApplyCliOptions& o) {
   auto request = apply_request(ctx, *profile, db, o.force, o.allow_unverified);
   // The rules that need no card: nothing is sent when they refuse.
   ops::precheck(*profile, db, request.write_options());
-  if (!reset_confirmed(ctx, o, targets)) return;
+  require_reset_confirmed(ctx, o, targets);
   set_change_options(request, o);
   if (targets.size() == 1) {
     const auto& target = targets.front();
@@ -518,7 +516,7 @@ void run_undo(Context& ctx, const UndoOptions& o) {
   const auto targets = targets_of(ctx, o.apply.targets);
   if (targets.size() != 1) throw UsageError("undo restores one card: give a single --target");
   const auto& target = targets.front();
-  if (!reset_confirmed(ctx, o.apply, targets)) return;
+  require_reset_confirmed(ctx, o.apply, targets);
   const auto dir =
       o.apply.backup_dir.empty() ? profile::default_backup_dir() : std::filesystem::path(o.apply.backup_dir);
   if (!o.last && !load(ctx, db, o.apply.file)) return;  // a bad file is bad input before the link opens

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <string>
 
+#include "error/error.hpp"
 #include "passive.hpp"
 #include "terminal.hpp"
 
@@ -49,6 +50,10 @@ bool Context::confirm(const std::string& question) const {
   std::string answer;
   if (!std::getline(std::cin, answer)) return false;
   return answer == "y" || answer == "Y" || answer == "yes";
+}
+
+void Context::require_confirmation(const std::string& question, const std::string& refusal) const {
+  if (!confirm(question)) throw UsageError(refusal);
 }
 
 void Context::print_notes() {

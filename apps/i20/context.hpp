@@ -43,6 +43,9 @@ struct Context {
   void print_json(const app::Json& json) const;
   // Asks "question [y/N]" on the terminal; false without a terminal (use --yes there).
   bool confirm(const std::string& question) const;
+  // Asks `question`; unless the answer is yes, throws UsageError(refusal) (exit 2, rendered as
+  // every error is: one line, or a JSON object with --json). `refusal` says what was not done.
+  void require_confirmation(const std::string& question, const std::string& refusal) const;
   // Verbose link notes and statistics to stderr.
   void print_notes();
 
@@ -55,12 +58,12 @@ struct Context {
 // Each registers its subcommands on the umbrella app.
 void register_param_commands(CLI::App& app, Context& ctx);
 void register_discover_command(CLI::App& app, Context& ctx);
-void register_fault_commands(CLI::App& app, Context& ctx);    // faults, clear-faults, watch
-void register_profile_commands(CLI::App& app, Context& ctx);  // profile, tune
-void register_scan_command(CLI::App& app, Context& ctx);      // scan (Ethernet)
-void register_report_command(CLI::App& app, Context& ctx);    // report (field service)
-void register_hal_commands(CLI::App& app, Context& ctx);      // hal, hal lint (LinuxCNC HAL files)
+void register_fault_commands(CLI::App& app, Context& ctx);      // faults, clear-faults, watch
+void register_profile_commands(CLI::App& app, Context& ctx);    // profile, tune
+void register_scan_command(CLI::App& app, Context& ctx);        // scan (Ethernet)
+void register_report_command(CLI::App& app, Context& ctx);      // report (field service)
+void register_hal_commands(CLI::App& app, Context& ctx);        // hal, hal lint (LinuxCNC HAL files)
 void register_commission_command(CLI::App& app, Context& ctx);  // commission (Ethernet)
-void register_console_command(CLI::App& app, Context& ctx);   // console (web console, lib/console)
+void register_console_command(CLI::App& app, Context& ctx);     // console (web console, lib/console)
 
 }  // namespace i20::cli

@@ -36,13 +36,25 @@
 
 namespace i20::ops {
 
-// An existing bldc setup to check (`--check FILE.hal`): bldc's own values.
+// An existing bldc setup to check (`--check FILE.hal`): bldc's own values for the 8I20 being
+// checked, and what the file wires into that bldc instance.
 struct BldcSetup {
+  int instance = 0;  // bldc.N
   std::optional<int> pattern;
   int poles = 0;           // bldc's `poles`: twice the pole pairs
   std::int64_t scale = 0;  // counts per mechanical turn, signed: the encoder's direction
   std::int64_t encoder_offset = 0;
-  bool has_index = false;  // cfg has i: encoder_offset applies
+  bool has_index = false;               // cfg has i: encoder_offset applies
+  bool uses_halls = false;              // cfg has h: bldc commutates from the Halls (until the index, with i)
+  std::optional<unsigned> encoder;      // the hm2 encoder netted to bldc.N.rawcounts
+  std::vector<std::string> halls;       // the inputs netted to bldc.N.hall1..3, after the board prefix
+  std::optional<unsigned> amp_channel;  // the 8I20 channel bldc.N's rotor-angle drives
+};
+
+// The file `--check` names, read against the target when the plan is made.
+struct CheckFile {
+  std::string text;
+  std::string file;
 };
 
 struct CommissionOptions {
@@ -71,7 +83,7 @@ struct CommissionOptions {
   // The closed-loop check's hold: the encoder's angle within this of the commanded one.
   double check_bound_deg = 10.0;
   std::chrono::milliseconds period{10};
-  std::optional<BldcSetup> check_only;  // --check: only the closed-loop check
+  std::optional<CheckFile> check_file;  // --check: only the closed-loop check, with this file
 };
 
 struct Preflight {
@@ -100,7 +112,8 @@ struct CommissionPlan {
   int index_passes = 1;
   double search_turns = 0;
   double time_limit_s = 0;
-  bool check_only = false;
+  // --check: the file's setup with the options merged in; the run is only the closed-loop check.
+  std::optional<BldcSetup> check;
   // The plan as lines for the user.
   std::vector<std::string> lines() const;
 };
@@ -178,8 +191,12 @@ CommissionReport run_commission(Session& session, const CommissionPlan& plan,
 // align the rotor through bldc's own A/B/C outputs, which an 8I20 does not take).
 std::string commission_hal_fragment(const CommissionReport& report);
 
-// bldc's values of an existing HAL file (its setp lines for one bldc instance). Throws
-// UsageError naming what is missing.
-BldcSetup read_bldc_setup(const std::string& hal_text, const std::string& file);
+// bldc's values of an existing HAL file for the 8I20 on `channel` (the file's only bldc
+// instance, or the one wired to that channel), and the encoder, Hall inputs and amp the file
+// wires into it. Throws UsageError naming what is missing or wired to another channel.
+BldcSetup read_bldc_setup(const std::string& hal_text, const std::string& file, unsigned channel);
+// The setup with --encoder and --halls merged in; throws UsageError where they contradict the
+// file, or when no encoder is known.
+BldcSetup merge_check_options(BldcSetup setup, const CommissionOptions& options, const std::string& file);
 
 }  // namespace i20::ops

@@ -109,6 +109,12 @@ Preflight read_preflight(Session& session) {
 CommissionPlan prepare_commission(Session& session, const CommissionOptions& options) {
   check_options(options);
   CommissionPlan plan;
+  // The --check file is read before the card is asked: a file for another axis asks nothing.
+  if (options.check_file && session.endpoint().is_eth()) {
+    const auto& f = *options.check_file;
+    const auto channel = eth::parse_target(session.endpoint().eth_url).channel;
+    plan.check = merge_check_options(read_bldc_setup(f.text, f.file, channel), options, f.file);
+  }
   plan.preflight = read_preflight(session);
   const double max = plan.preflight.max_current_a;
   plan.current_a = std::min(options.current_amps.value_or(options.current_fraction * max), max);
@@ -121,16 +127,15 @@ CommissionPlan prepare_commission(Session& session, const CommissionOptions& opt
   plan.ramp_s = std::min(options.ramp_s, options.align_s);
   plan.sweep_turns = options.sweep_turns;
   plan.turns_per_s = options.turns_per_s;
-  plan.check_only = options.check_only.has_value();
   plan.time_limit_s = options.time_limit_s;
   plan.runaway_turns_per_s = options.runaway_factor * options.turns_per_s;
   // Align: at most half a turn; sweep: out and back; the check: about two turns each way.
   constexpr double kCheckTurns = 2.5;
   const double check_s = 2.4;
-  if (plan.check_only) {
-    plan.max_electrical_turns = kCheckTurns + 1.0 + options.check_only->poles / 2.0;  // + finding the index
-    plan.estimated_s = check_s + 1.0 + options.check_only->poles / 2.0 / options.turns_per_s;
-    plan.max_mechanical_turns = plan.max_electrical_turns / (options.check_only->poles / 2.0);
+  if (plan.check) {
+    plan.max_electrical_turns = kCheckTurns + 1.0 + plan.check->poles / 2.0;  // + finding the index
+    plan.estimated_s = check_s + 1.0 + plan.check->poles / 2.0 / options.turns_per_s;
+    plan.max_mechanical_turns = plan.max_electrical_turns / (plan.check->poles / 2.0);
   } else {
     plan.index_passes = options.counts_per_turn ? 1 : 2;
     // The first pass comes within a mechanical turn, the second one turn later.
@@ -153,7 +158,7 @@ std::vector<std::string> CommissionPlan::lines() const {
                 (preflight.fault == 0 ? "no latched faults" : "only WATCHDOGFAULT latched") +
                 ", MAXCURRENT " + fixed(preflight.max_current_a, 2) + " A");
   if (!preflight.note.empty()) out.push_back(preflight.note);
-  if (!check_only) {
+  if (!check) {
     out.push_back(std::string("align: the current ramps to ") + fixed(current_a, 2) + " A in " +
                   fixed(ramp_s, 1) + " s at electrical angle 0 and holds for " + fixed(align_s, 1) +
                   " s (the rotor jumps up to half an "

@@ -306,18 +306,23 @@ void Procedure::check_only(const BldcSetup& setup) {
     throw UsageError(
         "--check needs a setup with an index (bldc cfg qi or qhi: encoder-offset) to know the rotor angle");
   Rotor rotor;
-  rotor.scale.encoder = encoder_index(m_.loop(), options_.encoder.value_or(0));
+  rotor.scale.encoder = encoder_index(m_.loop(), setup.encoder.value_or(0));
   rotor.scale.direction = setup.scale > 0 ? 1 : -1;
   rotor.scale.counts_per_electrical_turn = std::abs(static_cast<double>(setup.scale)) / (setup.poles / 2.0);
   report_.encoder_instance = m_.loop().feedback().encoders[rotor.scale.encoder].instance;
-  if (setup.pattern) {
+  // bldc reads the Halls only with cfg h; then the check holds them to the file's pattern.
+  if (setup.uses_halls && setup.pattern) {
     for (const auto& row : commission::hall_table())
       if (row.bldc_pattern == setup.pattern) rotor.halls_sequence = row.sequence;
-    rotor.halls =
-        options_.halls.empty() ? std::vector<std::size_t>{} : named_inputs(m_.loop(), options_.halls);
+    if (!rotor.halls_sequence)
+      throw UsageError("bldc pattern " + std::to_string(*setup.pattern) +
+                       " is not one of bldc's Hall patterns");
+    rotor.halls = setup.halls.empty() ? std::vector<std::size_t>{} : named_inputs(m_.loop(), setup.halls);
     for (auto k : rotor.halls) report_.hall_pins.push_back(m_.loop().feedback().inputs[k].hal_pin);
     if (rotor.halls.empty())
-      report_.notes.push_back("the Hall codes were not checked: name the inputs with --halls");
+      report_.notes.push_back(
+          "the Hall codes were not checked: the file wires no hostmot2 inputs into bldc's hall1..3 (or name "
+          "them with --halls)");
   }
   // The index: turn open loop forward until it latches (at most one mechanical turn).
   align(0.0);
@@ -461,8 +466,8 @@ CommissionReport run_commission(Session& session, const CommissionPlan& plan,
     loop = eth::DriveLoop::open(plan.preflight.target, loop_options(options, session));
     Motion motion(*loop, plan, options, session.cancel());
     Procedure procedure(motion, plan, options, progress, report);
-    if (options.check_only)
-      procedure.check_only(*options.check_only);
+    if (plan.check)
+      procedure.check_only(*plan.check);
     else
       procedure.commission();
   } catch (const Abort& abort) {
@@ -532,46 +537,6 @@ Outcome CommissionReport::outcome() const {
     case StopReason::Error: return Outcome::Failed;
     default: return Outcome::Refused;
   }
-}
-
-BldcSetup read_bldc_setup(const std::string& hal_text, const std::string& file) {
-  BldcSetup setup;
-  std::optional<int> poles;
-  std::optional<std::int64_t> scale, offset;
-  std::string cfg;
-  auto ends_with = [](const std::string& s, std::string_view tail) {
-    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-  };
-  auto number = [&](const linuxcnc::Statement& st) -> std::int64_t {
-    try {
-      return std::stoll(linuxcnc::unquoted(st.args.at(1)));
-    } catch (const std::exception&) {
-      throw UsageError(st.at.text() + ": setp " + st.args.at(0) + " needs a whole number");
-    }
-  };
-  for (const auto& st : linuxcnc::read_hal(hal_text, file)) {
-    if (st.command == "loadrt" && !st.args.empty() && st.args[0] == "bldc")
-      for (const auto& a : st.args)
-        if (a.rfind("cfg=", 0) == 0) cfg = linuxcnc::unquoted(a.substr(4));
-    if (st.command != "setp" || st.args.size() < 2 || st.args[0].rfind("bldc.", 0) != 0) continue;
-    const auto& name = st.args[0];
-    if (ends_with(name, ".pattern")) setup.pattern = static_cast<int>(number(st));
-    if (ends_with(name, ".poles")) poles = static_cast<int>(number(st));
-    if (ends_with(name, ".scale")) scale = number(st);
-    if (ends_with(name, ".encoder-offset")) offset = number(st);
-  }
-  if (!poles || !scale)
-    throw UsageError(
-        file +
-        ": no `setp bldc.N.poles` and `setp bldc.N.scale` lines: --check needs bldc's poles and scale");
-  if (*poles < 2 || *poles % 2 != 0)
-    throw UsageError(file + ": bldc poles " + std::to_string(*poles) + " is not an even number");
-  if (*scale == 0) throw UsageError(file + ": bldc scale 0");
-  setup.poles = *poles;
-  setup.scale = *scale;
-  setup.has_index = offset.has_value() && cfg.find('i') != std::string::npos;
-  setup.encoder_offset = offset.value_or(0);
-  return setup;
 }
 
 }  // namespace i20::ops

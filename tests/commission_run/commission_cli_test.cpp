@@ -102,6 +102,13 @@ TEST_F(CommissionCliSim, WithoutATerminalItAsksAndDrivesNothing) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("not confirmed"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("the rotor may turn at most"), std::string::npos) << r.err;  // the plan was shown
+  // With --json the refusal is a JSON error object, as every --json error is.
+  auto json = target();
+  json.push_back("--json");
+  const auto j = commission(json, quick());
+  EXPECT_EQ(j.exit_code, 2) << j.err;
+  EXPECT_NE(j.out.find("\"type\":\"error\""), std::string::npos) << j.out;
+  EXPECT_NE(j.out.find("not confirmed"), std::string::npos) << j.out;
 }
 
 TEST_F(CommissionCliSim, JsonReportAndTheHalFragment) {
@@ -127,13 +134,35 @@ TEST_F(CommissionCliSim, JsonReportAndTheHalFragment) {
     EXPECT_NE(text.find(line), std::string::npos) << line << "\n" << text;
   EXPECT_EQ(text.find("bldc.0.phase-angle"), std::string::npos);  // the 8I20 adds its own lead
 
-  // --check re-runs only the closed-loop check with the file as written.
-  auto check = target();
+  // --check re-runs only the closed-loop check with the file as written: its encoder (01 on
+  // this axis, not 0) and its Hall inputs, without naming them again.
   const auto c =
-      commission_kept_time(check, {"--yes", "--check", hal.string(), "--encoder", "1", "--halls",
-                                   "gpio.013.in,gpio.014.in,gpio.015.in", "--turns-per-second", "4"});
+      commission_kept_time(target(), {"--yes", "--check", hal.string(), "--turns-per-second", "4"});
   EXPECT_EQ(c.exit_code, 0) << c.out << c.err;
   EXPECT_NE(c.out.find("closed-loop check passed"), std::string::npos) << c.out;
+  EXPECT_NE(c.out.find("Hall codes off the pattern's sector in 0 of"), std::string::npos) << c.out;
+
+  // The same file with a wrong Hall pattern fails the check: bldc (cfg qhi) commutates from
+  // the Halls until the index, and they disagree with pattern 17.
+  const auto wrong = dir / "wrong-pattern.hal";
+  {
+    auto text = read(hal);
+    text.replace(text.find("setp bldc.0.pattern 25"), 22, "setp bldc.0.pattern 17");
+    std::ofstream(wrong) << text;
+  }
+  const auto w =
+      commission_kept_time(target(), {"--yes", "--check", wrong.string(), "--turns-per-second", "4"});
+  EXPECT_EQ(w.exit_code, 3) << w.out << w.err;
+  EXPECT_NE(w.out.find("closed-loop check FAILED"), std::string::npos) << w.out;
+
+  // Options that contradict the file, or a file for another channel, are refused before the
+  // card is asked.
+  const auto e = commission(target(), {"--yes", "--check", hal.string(), "--encoder", "0"});
+  EXPECT_EQ(e.exit_code, 2) << e.err;
+  EXPECT_NE(e.err.find("contradicts"), std::string::npos) << e.err;
+  const auto other = commission({"--eth", card.port(), "--channel", "0"}, {"--yes", "--check", hal.string()});
+  EXPECT_EQ(other.exit_code, 2) << other.err;
+  EXPECT_NE(other.err.find("not channel 0"), std::string::npos) << other.err;
 
   // An existing -o file is refused before anything is driven.
   const auto again = commission(target(), {"--yes", "-o", hal.string()});

@@ -268,16 +268,74 @@ TEST(CommissionRun, ReadsTheBldcSetupOfAHalFile) {
   const auto setup = ops::read_bldc_setup(
       "loadrt bldc cfg=qhi\nsetp bldc.0.pattern 17\nsetp bldc.0.poles 8\nsetp bldc.0.scale -4000\n"
       "setp bldc.0.encoder-offset 123\n",
-      "x.hal");
+      "x.hal", 0);
   EXPECT_EQ(setup.pattern, 17);
   EXPECT_EQ(setup.poles, 8);
   EXPECT_EQ(setup.scale, -4000);
   EXPECT_EQ(setup.encoder_offset, 123);
   EXPECT_TRUE(setup.has_index);
+  EXPECT_TRUE(setup.uses_halls);
+  EXPECT_FALSE(setup.encoder);
   EXPECT_THROW(
-      ops::read_bldc_setup("loadrt bldc cfg=qh\nsetp bldc.0.poles 7\nsetp bldc.0.scale 10\n", "y.hal"),
+      ops::read_bldc_setup("loadrt bldc cfg=qh\nsetp bldc.0.poles 7\nsetp bldc.0.scale 10\n", "y.hal", 0),
       UsageError);
-  EXPECT_THROW(ops::read_bldc_setup("loadrt bldc cfg=qh\n", "z.hal"), UsageError);
+  EXPECT_THROW(ops::read_bldc_setup("loadrt bldc cfg=qh\n", "z.hal", 0), UsageError);
+}
+
+// What the file wires into bldc is what is checked: the encoder on rawcounts, the inputs on
+// hall1..3 (however the nets are written), the cfg letters of that instance, the 8I20 driven.
+const char* const kTwoAxes =
+    "loadrt bldc cfg=qh,qhi\n"
+    "setp bldc.0.pattern 25\nsetp bldc.0.poles 8\nsetp bldc.0.scale 10000\n"
+    "setp bldc.1.pattern 17\nsetp bldc.1.poles 4\nsetp bldc.1.scale -2000\nsetp bldc.1.encoder-offset 7\n"
+    "net x-raw hm2_7i92.0.encoder.00.rawcounts => bldc.0.rawcounts\n"
+    "net y-raw bldc.1.rawcounts <= hm2_7i92.0.encoder.03.rawcounts\n"
+    "net y-h1 hm2_7i92.0.gpio.013.in => bldc.1.hall1\n"
+    "net y-h2 hm2_7i92.0.gpio.014.in\nnet y-h2 bldc.1.hall2\n"
+    "net y-h3 bldc.1.hall3 hm2_7i92.0.gpio.015.in\n"
+    "net x-angle bldc.0.rotor-angle => hm2_7i92.0.8i20.0.0.angle\n"
+    "net y-angle bldc.1.rotor-angle => hm2_7i92.0.8i20.0.1.angle\n";
+
+TEST(CommissionRun, TheCheckFileSaysWhichEncoderHallsAndAmp) {
+  const auto y = ops::read_bldc_setup(kTwoAxes, "axes.hal", 1);
+  EXPECT_EQ(y.instance, 1);
+  EXPECT_EQ(y.pattern, 17);
+  EXPECT_EQ(y.scale, -2000);
+  EXPECT_TRUE(y.has_index);
+  EXPECT_EQ(y.encoder, 3u);
+  EXPECT_EQ(y.halls, (std::vector<std::string>{"gpio.013.in", "gpio.014.in", "gpio.015.in"}));
+  EXPECT_EQ(y.amp_channel, 1u);
+  const auto x = ops::read_bldc_setup(kTwoAxes, "axes.hal", 0);
+  EXPECT_EQ(x.instance, 0);
+  EXPECT_EQ(x.encoder, 0u);
+  EXPECT_FALSE(x.has_index);  // cfg qh: no index, though the other instance has one
+  EXPECT_TRUE(x.halls.empty());
+  // No instance drives channel 2; a single-axis file for channel 1 is not channel 0's.
+  EXPECT_THROW(ops::read_bldc_setup(kTwoAxes, "axes.hal", 2), UsageError);
+  const std::string one_axis =
+      "loadrt bldc cfg=qhi\nsetp bldc.0.poles 8\nsetp bldc.0.scale 10000\n"
+      "net a bldc.0.rotor-angle => hm2_7i92.0.8i20.0.1.angle\n";
+  EXPECT_THROW(ops::read_bldc_setup(one_axis, "one.hal", 0), UsageError);
+}
+
+TEST(CommissionRun, CheckOptionsThatContradictTheFileAreRefused) {
+  const auto y = ops::read_bldc_setup(kTwoAxes, "axes.hal", 1);
+  ops::CommissionOptions o;
+  EXPECT_EQ(ops::merge_check_options(y, o, "axes.hal").encoder, 3u);
+  o.encoder = 1;
+  EXPECT_THROW(ops::merge_check_options(y, o, "axes.hal"), UsageError);
+  o.encoder = 3;
+  o.halls = {"gpio.010.in", "gpio.011.in", "gpio.012.in"};
+  EXPECT_THROW(ops::merge_check_options(y, o, "axes.hal"), UsageError);
+  o.halls = y.halls;
+  EXPECT_EQ(ops::merge_check_options(y, o, "axes.hal").halls, y.halls);
+  // A file that feeds bldc from no encoder needs --encoder.
+  auto none = ops::read_bldc_setup("loadrt bldc cfg=qhi\nsetp bldc.0.poles 8\nsetp bldc.0.scale 10000\n",
+                                   "bare.hal", 0);
+  EXPECT_THROW(ops::merge_check_options(none, ops::CommissionOptions{}, "bare.hal"), UsageError);
+  ops::CommissionOptions with_encoder;
+  with_encoder.encoder = 2;
+  EXPECT_EQ(ops::merge_check_options(none, with_encoder, "bare.hal").encoder, 2u);
 }
 
 }  // namespace
