@@ -67,6 +67,8 @@ void SimulatedHost::run_until(VirtualBoard& card, Clock::time_point now) {
       if ((word(parts[0]) & 0xFFFF) != 0) ++stats_.late_cycles;
       if ((word(parts[1]) & options_.mask) != 0 && stats_.cycles > 0) ++stats_.failed_cycles;
       ++stats_.cycles;
+      if (last_doit_) stats_.longest_gap = std::max(stats_.longest_gap, now - *last_doit_);
+      last_doit_ = now;
       break;
     }
     case State::Stopped: break;
@@ -99,6 +101,8 @@ std::string SimulatedHost::describe() const {
   const auto us = std::chrono::duration_cast<std::chrono::microseconds>(options_.period).count();
   s += ", every " + (us % 1000 == 0 ? std::to_string(us / 1000) + " ms" : std::to_string(us) + " us");
   s += ", " + std::to_string(stats_.cycles) + " DOITs (" + std::to_string(stats_.failed_cycles) + " failed)";
+  const auto gap_ms = std::chrono::duration_cast<std::chrono::milliseconds>(stats_.longest_gap).count();
+  s += ", longest gap " + std::to_string(gap_ms) + " ms";
   if (state_ == State::Stopped) s += ", stopped";
   return s;
 }

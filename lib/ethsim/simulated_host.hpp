@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "ethsim/virtual_board.hpp"
@@ -37,6 +38,9 @@ struct HostStats {
   std::uint64_t cycles = 0;         // DOITs issued
   std::uint64_t failed_cycles = 0;  // DOITs whose DATA named a channel (the port was taken away)
   std::uint64_t late_cycles = 0;    // COMMAND still busy at the next cycle
+  // The longest time between two DOITs: past the 8I20's 40 ms watchdog, this process (the
+  // stand-in host) was starved, and a watchdog fault is the host's, not a client's doing.
+  Clock::duration longest_gap{};
 };
 
 class SimulatedHost {
@@ -67,6 +71,7 @@ class SimulatedHost {
   State state_ = State::Stopping;
   bool start_issued_ = false;
   Clock::time_point next_{};
+  std::optional<Clock::time_point> last_doit_;
   HostStats stats_;
 };
 

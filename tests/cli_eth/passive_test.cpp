@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iostream>
 #include <regex>
 #include <string>
 #include <vector>
@@ -35,6 +36,21 @@ unsigned long host_doits(const std::string& host) {
   if (end == std::string::npos) return 0;
   const auto begin = host.rfind(' ', end - 1);
   return std::stoul(host.substr(begin + 1, end - begin - 1));
+}
+
+// Whether the stand-in kept its DOITs within the 8I20's 40 ms watchdog ("longest gap N ms").
+// A starved stand-in (its own process late, as a sanitizer build under load can be) lets the
+// watchdog bite whatever a client does: then a watchdog fault is not the client's doing, and
+// the tests say so instead of judging it.
+bool host_kept_time(const std::string& host) {
+  const auto at = host.find("longest gap ");
+  if (at == std::string::npos) {
+    ADD_FAILURE() << "the stand-in did not say its longest gap: " << host;
+    return true;
+  }
+  const bool kept = std::stoul(host.substr(at + 12)) < 40;
+  if (!kept) std::cout << "the stand-in host was starved past the watchdog (" << host << "): not judged\n";
+  return kept;
 }
 
 // Two 8I20s on a 7I92T's port 0, run by the LinuxCNC stand-in; returns once it cycles.
@@ -120,11 +136,14 @@ TEST(EthPassive, FaultsExplainsEachChannelFromTheFaultTable) {
   ASSERT_NE(ch0, std::string::npos) << r.out;
   ASSERT_NE(ch1, std::string::npos) << r.out;
   // Channel 1's section names the fault with the table's advice; channel 0 has none.
-  EXPECT_NE(r.out.find("FAULT 0x0000: no faults", ch0), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("CURRENTFAULT", ch1), std::string::npos) << r.out;
-  EXPECT_EQ(r.out.find("WATCHDOGFAULT"), std::string::npos) << "the host's 8I20s never missed a DOIT\n"
-                                                            << r.out;
-  EXPECT_NE(m.sim.control("host").find("(0 failed)"), std::string::npos) << m.sim.control("host");
+  const auto host = m.sim.control("host");
+  if (host_kept_time(host)) {
+    EXPECT_NE(r.out.find("FAULT 0x0000: no faults", ch0), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("WATCHDOGFAULT"), std::string::npos) << "the host's 8I20s never missed a DOIT\n"
+                                                              << r.out;
+  }
+  EXPECT_NE(host.find("(0 failed)"), std::string::npos) << host;
 }
 
 TEST(EthPassive, WatchPrintsTimestampedChangesAndLeavesTheMachineRunning) {
@@ -171,7 +190,9 @@ TEST(EthPassive, WatchPrintsTimestampedChangesAndLeavesTheMachineRunning) {
   const auto host = m.sim.control("host");
   EXPECT_GT(host_doits(host), doits_before) << host;
   EXPECT_NE(host.find("(0 failed)"), std::string::npos) << host;
-  EXPECT_EQ(text.find("WATCHDOG"), std::string::npos) << text;
+  if (host_kept_time(host)) {
+    EXPECT_EQ(text.find("WATCHDOG"), std::string::npos) << text;
+  }
 }
 
 TEST(EthPassive, WatchJsonHasOneObjectPerSampleWithEveryAmplifier) {
