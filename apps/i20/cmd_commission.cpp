@@ -191,6 +191,7 @@ void run_commission_command(Context& ctx, Args& a) {
   }
   if (!a.halls.empty()) a.o.halls = split_commas(a.halls);
   if (!a.check.empty()) a.o.check_file = ops::CheckFile{read_text(a.check), a.check};
+  a.o.hal_fragment = !a.out.empty();
   auto& session = ctx.session();
   const auto plan = ops::prepare_commission(session, a.o);
   std::cerr << "i20 commission: the plan\n";
@@ -213,10 +214,6 @@ void run_commission_command(Context& ctx, Args& a) {
   if (a.out.empty()) return;
   if (report.outcome() != ops::Outcome::Done) {
     std::cerr << "i20: " << a.out << " not written: the commissioning did not complete\n";
-    return;
-  }
-  if (plan.check) {
-    std::cerr << "i20: -o is not written with --check (the setup is the file checked)\n";
     return;
   }
   write_file_atomically(a.out, ops::commission_hal_fragment(report), a.overwrite);
@@ -246,8 +243,12 @@ void register_commission_command(CLI::App& app, Context& ctx) {
       "the brake released? the motor connected?), a rotor that does not follow, the travel or time limit, a "
       "latched fault, another host, or Ctrl-C; every stop ends with QSETPOINT 0 and the port stopped, and "
       "the "
-      "8I20's 40 ms watchdog disables it should this program die. Exit 0: found and checked; 3: stopped by a "
-      "safety rule or not every value could be told (the report says why); 130: a signal. -o FILE.hal writes "
+      "8I20's 40 ms watchdog disables it should this program die. Exit 0: found and checked; 1: the card not "
+      "reached or the link lost; 2: bad options or not confirmed (nothing driven); 3: stopped by a safety "
+      "rule "
+      "or not every value could be told (the report says why); 4: the stop was not confirmed (the watchdog "
+      "turns the output off); 6: the report or -o FILE could not be written; 130: a signal. -o FILE.hal "
+      "writes "
       "bldc's setup for LinuxCNC; --check FILE.hal re-runs only the closed-loop check with an existing "
       "setup. "
       "docs/commissioning.md walks through a real axis.");

@@ -25,8 +25,11 @@ namespace {
 namespace L = i20::linuxcnc;
 
 // "12", "12A", "12 A", "800mA": amps.
+// A current with its unit ("12A", "500mA"), as every other command takes one: a bare number
+// is refused rather than guessed to be amps.
 double parse_amps(const std::string& option, const std::string& text) {
-  if (const auto plain = L::number(text)) return *plain;
+  if (L::number(text))
+    throw UsageError(option + " " + text + ": give the unit, e.g. " + text + "A (amps) or " + text + "mA");
   std::string why;
   const auto v = profile::parse_quantity(profile::Quantity::Current, text, why);
   if (!v) throw UsageError(option + " " + text + ": " + why);
@@ -150,7 +153,7 @@ std::string command_line(const L::HalPlan& p) {
   if (p.poles) c << " --poles " << *p.poles;
   if (p.counts_per_rev) c << " --counts-per-rev " << *p.counts_per_rev;
   if (p.encoder_offset) c << " --encoder-offset " << *p.encoder_offset;
-  if (p.max_current) c << " --max-current " << *p.max_current;
+  if (p.max_current) c << " --max-current " << *p.max_current << "A";
   for (const auto& h : p.halls) c << " --halls " << h;
   if (!p.estop_in.empty()) c << " --estop-in " << p.estop_in;
   return c.str();
@@ -205,9 +208,9 @@ void register_hal_commands(CLI::App& app, Context& ctx) {
       "--counts-per-rev", p.counts_per_rev,
       "Encoder counts per motor revolution, bldc's scale (cfg with q; negative reverses commutation)");
   hal->add_option("--encoder-offset", p.encoder_offset, "Counts from the index to electrical zero (cfg qhi)");
-  hal->add_option(
-      "--max-current", o->max_current,
-      "The card's MAXCURRENT in amps, e.g. 12A: the pid's output limit (this or --profile is required)");
+  hal->add_option("--max-current", o->max_current,
+                  "The card's MAXCURRENT with its unit, e.g. 12A: the pid's output limit (this or --profile "
+                  "is required)");
   hal->add_option("--halls", p.halls,
                   "The HAL pins of Hall 1,2,3, comma-separated, once per axis (cfg with h), e.g. "
                   "hm2_7i96s.0.inm.00.input-00,hm2_7i96s.0.inm.00.input-01,hm2_7i96s.0.inm.00.input-02");
@@ -233,8 +236,9 @@ void register_hal_commands(CLI::App& app, Context& ctx) {
       "POSTGUI_HALFILE). Prints FILE:LINE: error|warning: ...; exit 0 clean, 1 findings, 2 unreadable or a "
       "line halcmd rejects");
   lint->add_option("files", lo->files, "HAL files, in the order LinuxCNC runs them")->required();
-  lint->add_option("--max-current", lo->max_current,
-                   "The card's MAXCURRENT in amps: report current commands that can exceed it");
+  lint->add_option(
+      "--max-current", lo->max_current,
+      "The card's MAXCURRENT with its unit, e.g. 12A: report current commands that can exceed it");
   lint->add_option("--profile", lo->profile,
                    "A motor profile (name or file) whose MAXCURRENT is the limit, instead of --max-current")
       ->transform(profile_file())

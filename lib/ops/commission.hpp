@@ -84,6 +84,9 @@ struct CommissionOptions {
   double check_bound_deg = 10.0;
   std::chrono::milliseconds period{10};
   std::optional<CheckFile> check_file;  // --check: only the closed-loop check, with this file
+  // -o: a HAL fragment is wanted. Refused before anything moves where none could be written
+  // (no Halls, or --check, whose setup is the file checked).
+  bool hal_fragment = false;
 };
 
 struct Preflight {

@@ -40,6 +40,12 @@ void check_options(const CommissionOptions& o) {
   if (o.counts_per_turn && *o.counts_per_turn < 4) throw UsageError("--counts-per-rev: at least 4");
   if (o.no_halls && !o.halls.empty()) throw UsageError("--halls and --no-halls contradict each other");
   if (!o.halls.empty() && o.halls.size() != 3) throw UsageError("--halls: three inputs, Hall 1, 2, 3");
+  if (o.hal_fragment && o.no_halls)
+    throw UsageError(
+        "-o with --no-halls: no HAL fragment can be written for a motor without Hall sensors (bldc's q modes "
+        "without h align the rotor through its own A/B/C outputs, which the 8I20 does not take)");
+  if (o.hal_fragment && o.check_file)
+    throw UsageError("-o with --check: the setup checked is the file's own; nothing new would be written");
 }
 
 double reading_of(const std::vector<Reading>& readings, std::size_t i, const char* name) {

@@ -40,7 +40,7 @@ TEST(HalCli, WritesAFileThatItsOwnLintPasses) {
   ASSERT_EQ(made.exit_code, 0) << made.err;
   EXPECT_NE(read(file).find("net j0-rotor-angle bldc.0.rotor-angle => hm2_7i96s.0.8i20.0.0.angle"),
             std::string::npos);
-  const auto lint = run("i20", {"hal", "lint", "--max-current", "12", "--pattern", "17", file.string()});
+  const auto lint = run("i20", {"hal", "lint", "--max-current", "12A", "--pattern", "17", file.string()});
   EXPECT_EQ(lint.exit_code, 0) << lint.out << lint.err;
   EXPECT_EQ(lint.out, "");
 }
@@ -78,6 +78,12 @@ TEST(HalCli, BadOptionsFailWithOneLineAndExit2) {
   EXPECT_NE(no_current.err.find("--max-current (or --profile) is required"), std::string::npos)
       << no_current.err;
   EXPECT_EQ(run("i20", with(kGood, {"--max-current", "12 furlongs"})).exit_code, 2);
+  // A bare number is refused, as by every other command that takes a current: amps or mA?
+  auto bare_args = kGood;
+  *std::find(bare_args.begin(), bare_args.end(), std::string("12A")) = "10";
+  const auto bare = run("i20", bare_args);
+  EXPECT_EQ(bare.exit_code, 2) << bare.err;
+  EXPECT_NE(bare.err.find("give the unit, e.g. 10A"), std::string::npos) << bare.err;
 }
 
 TEST(HalCli, LintExitCodes) {

@@ -85,6 +85,10 @@ TEST(CommissionCli, BadOptionsAreRefusedBeforeTheCardIsAsked) {
             2);
   EXPECT_EQ(commission({"--eth", "127.0.0.1:1"}, {"--yes", "--halls", "a,b,c", "--no-halls"}).exit_code, 2);
   EXPECT_EQ(commission({"--eth", "127.0.0.1:1"}, {"--yes", "--check", "/nonexistent/axis.hal"}).exit_code, 2);
+  // No fragment could be written: refused before anything is driven, not after the run.
+  const auto no_halls = commission({"--eth", "127.0.0.1:1"}, {"--yes", "--no-halls", "-o", "/tmp/never.hal"});
+  EXPECT_EQ(no_halls.exit_code, 2) << no_halls.err;
+  EXPECT_NE(no_halls.err.find("-o with --no-halls"), std::string::npos) << no_halls.err;
 }
 
 class CommissionCliSim : public ::testing::Test {
