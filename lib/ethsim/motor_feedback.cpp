@@ -52,10 +52,21 @@ HallSpec hall_spec(const motor::MotorParams& motor) {
   return spec;
 }
 
-ShaftSource motor_shaft(const sim::Virtual8i20& amplifier) {
+namespace {
+
+// The shaft as one sensor sees it: the motor's, or where the sensor froze while the motor's
+// fault (`motor fault encoder-lost|hall-stuck`) is on, so the card's inputs show the fault.
+ShaftSource sensor_shaft(const sim::Virtual8i20& amplifier, bool motor::SensorFaults::*fault,
+                         double (motor::Motor::*frozen)() const) {
   const sim::Amplifier* a = &amplifier.amplifier();
-  return [a](Clock::time_point t) { return a->motor_turns_at(t).value_or(0.0); };
+  const motor::Motor* m = amplifier.motor();
+  return [a, m, fault, frozen](Clock::time_point t) {
+    if (m && m->sensor_faults().*fault) return (m->*frozen)();
+    return a->motor_turns_at(t).value_or(0.0);
+  };
 }
+
+}  // namespace
 
 std::optional<unsigned> connect_motor_feedback(VirtualBoard& card, const sim::Virtual8i20& amplifier,
                                                unsigned port, unsigned channel) {
@@ -66,12 +77,12 @@ std::optional<unsigned> connect_motor_feedback(VirtualBoard& card, const sim::Vi
     const AxisWiring& wiring = axes[axis];
     if (wiring.sserial_port != port || wiring.channel != channel) continue;
     const auto& p = m->params();
-    if (p.encoder && p.halls)
-      card.feedback().connect_axis(axis, encoder_spec(*p.encoder), hall_spec(p), motor_shaft(amplifier));
-    else if (p.encoder)
-      card.feedback().connect_encoder(wiring.encoder, encoder_spec(*p.encoder), motor_shaft(amplifier));
-    else if (p.halls)
-      card.feedback().connect_halls(wiring.hall_pins, hall_spec(p), motor_shaft(amplifier));
+    const auto encoder_shaft =
+        sensor_shaft(amplifier, &motor::SensorFaults::encoder_lost, &motor::Motor::encoder_frozen_turns);
+    const auto hall_shaft =
+        sensor_shaft(amplifier, &motor::SensorFaults::hall_stuck, &motor::Motor::hall_frozen_turns);
+    if (p.encoder) card.feedback().connect_encoder(wiring.encoder, encoder_spec(*p.encoder), encoder_shaft);
+    if (p.halls) card.feedback().connect_halls(wiring.hall_pins, hall_spec(p), hall_shaft);
     return axis;
   }
   return std::nullopt;

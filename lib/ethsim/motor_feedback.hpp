@@ -21,13 +21,12 @@ EncoderSpec encoder_spec(const motor::EncoderDescription& encoder);
 // Throws UsageError when the Halls' `inputs` are not the axis's three inputs 0, 1, 2.
 HallSpec hall_spec(const motor::MotorParams& motor);
 
-// The shaft of the motor on `amplifier`: the rotor's angle at a card time, moved on from
-// the motor's last state at its speed (cheap; the motor itself advances with the card).
-// The amplifier must outlive the card's use of the shaft (it lives in the card).
-ShaftSource motor_shaft(const sim::Virtual8i20& amplifier);
-
 // Connects the motor on `amplifier` (the 8I20 on SSERIAL `port`, `channel`) to the card's
 // axis with that port and channel: its encoder and/or Halls, as far as the motor has them.
+// Each sensor reads the rotor's angle at a card time, moved on from the motor's last state
+// at its speed (cheap; the motor itself advances with the card), or, while the motor's
+// encoder-lost or hall-stuck fault is on, where that sensor froze. The amplifier must
+// outlive the card's use of them (it lives in the card).
 // Returns the axis number, or nullopt when the card has no axis for that 8I20 or the
 // amplifier no motor (nothing is connected then).
 std::optional<unsigned> connect_motor_feedback(VirtualBoard& card, const sim::Virtual8i20& amplifier,

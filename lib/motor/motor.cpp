@@ -239,6 +239,10 @@ void Motor::set_sensor_faults(SensorFaults faults) {
   sensor_faults_ = faults;
 }
 
+double Motor::hall_frozen_turns() const {
+  return hall_frozen_electrical_ / (2.0 * std::numbers::pi * params_.pole_pairs);
+}
+
 SensorReading Motor::read_sensors() const {
   SensorReading r;
   if (params_.encoder)

@@ -99,6 +99,11 @@ class Motor {
   // Sensor faults freeze the reading at the moment they are switched on.
   void set_sensor_faults(SensorFaults faults);
   const SensorFaults& sensor_faults() const { return sensor_faults_; }
+  // Where the sensors saw the shaft when they failed, in mechanical turns: the encoder's
+  // turns, and the Halls' frozen electrical angle as turns of a shaft that gives it. Every
+  // model of the card's inputs reads these while the fault is on (read_sensors() does).
+  double encoder_frozen_turns() const { return encoder_frozen_turns_; }
+  double hall_frozen_turns() const;
   SensorReading read_sensors() const;
   // Stored in the winding's inductance: 3/4 L |i|^2.
   double magnetic_energy_j() const;

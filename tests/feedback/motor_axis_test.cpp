@@ -19,6 +19,7 @@
 #include "lbp16/lbp16.hpp"
 #include "motor/loader.hpp"
 #include "motor/sensors.hpp"
+#include "sim/control.hpp"
 
 using namespace i20;
 using namespace i20::ethsim;
@@ -56,6 +57,7 @@ class Axis {
   std::optional<unsigned> axis() const { return axis_; }
   const motor::Motor& motor() const { return *amplifier_->motor(); }
   sim::Virtual8i20& amplifier() { return *amplifier_; }
+  Clock::time_point now() const { return now_; }
 
   // The 1 kHz servo thread commutates with ANGLE = the rotor's electrical angle and a
   // fixed QSETPOINT, for `d`; every period it reads the encoder count and the Hall pins.
@@ -190,6 +192,30 @@ TEST(MotorAxis, TheHallInputsReadTheMotorsPattern25Code) {
   // period: at most a sample on a Hall edge may differ.
   EXPECT_LE(disagreements, 2u);
   EXPECT_EQ(codes_seen, 0b0111'1110u) << "every one of the six codes passed";
+}
+
+// The motor's sensor faults reach the card's inputs, as the serial simulator shows them: a
+// lost encoder stops counting and stuck Halls hold their code while the shaft turns on.
+TEST(MotorAxis, SensorFaultsFreezeTheCardsEncoderAndHallInputs) {
+  Axis axis(servo());
+  const auto before = axis.servo(30ms, kTwoAmps);
+  ASSERT_EQ(sim::apply_control(axis.amplifier(), "motor fault encoder-lost on", axis.now()), "ok");
+  ASSERT_EQ(sim::apply_control(axis.amplifier(), "motor fault hall-stuck on", axis.now()), "ok");
+  const auto during = axis.servo(100ms, kTwoAmps);
+  ASSERT_GT(during.back().motor_turns, during.front().motor_turns + 0.5) << "the shaft turns on";
+  for (const auto& s : during) {
+    EXPECT_NEAR(static_cast<double>(s.count), static_cast<double>(during.front().count), 1.0)
+        << "the lost encoder's count stays";
+    EXPECT_EQ(s.hall_inputs, during.front().hall_inputs) << "the stuck Halls' code stays";
+  }
+  EXPECT_NEAR(static_cast<double>(during.front().count), static_cast<double>(before.back().count),
+              before.back().tolerance_counts + 1.0)
+      << "frozen where the fault came";
+  ASSERT_EQ(sim::apply_control(axis.amplifier(), "motor fault encoder-lost off", axis.now()), "ok");
+  const auto after = axis.servo(20ms, kTwoAmps);
+  EXPECT_NEAR(static_cast<double>(after.back().count), after.back().motor_turns * 2000.0,
+              after.back().tolerance_counts)
+      << "the encoder counts the shaft again";
 }
 
 TEST(MotorAxis, ANegativeEncoderDirectionCountsDownWhileTheMotorTurnsForward) {
