@@ -173,6 +173,22 @@ TEST_F(CommissionCliSim, JsonReportAndTheHalFragment) {
   EXPECT_EQ(again.exit_code, 2) << again.err;
 }
 
+// A sensor fault the simulator injects reaches the card's inputs, and commissioning says it
+// could not find the commutation (exit 3) and writes no fragment: judged by the file.
+TEST_F(CommissionCliSim, AFrozenSensorIsNeverFoundAndChecked) {
+  for (const std::string fault : {"encoder-lost", "hall-stuck"}) {
+    ASSERT_EQ(card.control("ch 1 motor fault " + fault + " on"), "ok");
+    TempDir dir;
+    const auto hal = dir / "axis.hal";
+    auto args = quick();
+    args.insert(args.end(), {"--yes", "-o", hal.string()});
+    const auto r = commission_kept_time(target(), args);
+    EXPECT_EQ(r.exit_code, 3) << fault << "\n" << r.out << r.err;
+    EXPECT_FALSE(std::filesystem::exists(hal)) << fault << ": a fragment was written";
+    ASSERT_EQ(card.control("ch 1 motor fault " + fault + " off"), "ok");
+  }
+}
+
 // kill -9 cannot be caught: the tool cannot zero the current then. The 8I20's 40 ms watchdog
 // (manual, "8I20 DEVICE SPECIFIC SETUP") is the backstop the plan promises: with no DOIT the card
 // turns its output off and latches WATCHDOG, and no NV access or RPC memory mode is left on
