@@ -45,7 +45,10 @@ PortReport scan_port(Lbp16Transport& bus, const SserialPort& port, bool timer_sp
 
 std::string linuxcnc_device_name(std::string_view card_name, unsigned board_index, unsigned sserial_port,
                                  unsigned channel, std::string_view remote) {
-  return "hm2_" + lower(card_name) + "." + std::to_string(board_index) + "." + lower(remote) + "." +
+  // hm2_eth names a 7I92T like the 7I92 (docs/linuxcnc-hal.md), as `i20 hal` writes it.
+  std::string board = lower(card_name);
+  if (board == "7i92t") board = "7i92";
+  return "hm2_" + board + "." + std::to_string(board_index) + "." + lower(remote) + "." +
          std::to_string(sserial_port) + "." + std::to_string(channel);
 }
 

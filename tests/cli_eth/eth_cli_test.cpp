@@ -292,8 +292,8 @@ TEST(EthCli, ScanNamesEach8I20AsLinuxCncDoes) {
   SimProcess card({"--card", "7i92t", "--channels", "2"}, Transport::Eth);
   const auto r = run_i20(eth(card), {"scan"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("eth://" + card.port() + "/ch1  LinuxCNC hm2_7i92t.0.8i20.0.1"), std::string::npos)
+  EXPECT_NE(r.out.find("eth://" + card.port() + "/ch1  LinuxCNC hm2_7i92.0.8i20.0.1"), std::string::npos)
       << r.out;
   const auto j = run_i20(eth(card), {"--json", "scan"});
-  EXPECT_NE(j.out.find("\"linuxcnc_name\": \"hm2_7i92t.0.8i20.0.0\""), std::string::npos) << j.out;
+  EXPECT_NE(j.out.find("\"linuxcnc_name\": \"hm2_7i92.0.8i20.0.0\""), std::string::npos) << j.out;
 }

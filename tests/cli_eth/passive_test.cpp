@@ -111,7 +111,7 @@ TEST(EthPassive, ScanListsEveryChannelTheHostRunsWithItsBusVoltage) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("ch 0: 8I20 run by the host, BUSV 320.00 V, FAULT 0x0000"), std::string::npos)
       << r.out;
-  EXPECT_NE(r.out.find("hm2_7i92t.0.8i20.0.1"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("hm2_7i92.0.8i20.0.1"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("host: running"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("2 8I20(s) in the running host's cycle"), std::string::npos) << r.out;
   const auto host = m.sim.control("host");

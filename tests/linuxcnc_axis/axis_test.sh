@@ -137,33 +137,44 @@ run_axis_once() {
     "$read_errors read errors; halrun $run_seconds s"
 }
 
-# A run that kept time (rig.sh: a servo-thread stall past the watchdog is run again).
+# run_axis LABEL SETP JUDGE: runs the experiment and judges it with JUDGE, a function that
+# prints what failed (nothing when all passed); a failure in a run the host stalled is run
+# again (rig.sh's judged).
 run_axis() {
-  local try
+  local label=$1 extra=$2 judge=$3 try
   for ((try = 1; ; try++)); do
-    run_axis_once "$@"
-    kept_time "$1" "$try" && return
+    run_axis_once "$label" "$extra"
+    judged "$label" "$try" "$($judge)" && return
   done
 }
 follows() { ((moved_forward > COUNTS / 2 && moved_back > COUNTS / 2)); }
 
 # --- 1. the true configuration: the loop closes ---------------------------------------------
-run_axis "true configuration" ""
-follows || {
-  cat "$work/hal.out"
-  fail "the motor did not follow the torque command (forward $moved_forward, back $moved_back counts)"
+closes_the_loop() {
+  if ! follows; then
+    cat "$work/hal.out" >&2
+    echo "the motor did not follow the torque command (forward $moved_forward, back $moved_back counts)"
+  elif [[ $hall_error != FALSE ]]; then
+    echo "bldc.0.hall-error went TRUE with the motor's own Hall pattern"
+  elif [[ $watchdog_bit != FALSE ]]; then
+    echo "the 8I20's watchdog bit while the servo thread ran"
+  elif ! awk -v e="$encoder_turns" -v s="$sim_turns" 'BEGIN { d = e - s; exit !(d < 0.001 && d > -0.001) }'; then
+    echo "hostmot2's encoder reads $encoder_turns turns, the simulator's rotor is at $sim_turns"
+  fi
 }
-[[ $hall_error == FALSE ]] || fail "bldc.0.hall-error went TRUE with the motor's own Hall pattern"
-[[ $watchdog_bit == FALSE ]] || fail "the 8I20's watchdog bit while the servo thread ran"
-awk -v e="$encoder_turns" -v s="$sim_turns" 'BEGIN { d = e - s; exit !(d < 0.001 && d > -0.001) }' ||
-  fail "hostmot2's encoder reads $encoder_turns turns, the simulator's rotor is at $sim_turns"
+run_axis "true configuration" "" closes_the_loop
 
 # --- 2. wrong configurations: the same check must see the motor not follow -----------------
-run_axis "encoder sign wrong" "setp bldc.0.scale -$COUNTS"
-follows && fail "with bldc's encoder sign wrong the motor still followed: the check cannot fail"
+# (A stall cannot make a wrong configuration follow: these are judged on any run.)
+wrong_sign_does_not_follow() {
+  if follows; then echo "with bldc's encoder sign wrong the motor still followed: the check cannot fail"; fi
+}
+run_axis "encoder sign wrong" "setp bldc.0.scale -$COUNTS" wrong_sign_does_not_follow
 # ... and a wrong Hall pattern (17 for the motor's 25) must not follow either.
-run_axis "Hall pattern wrong" "setp bldc.0.pattern 17"
-follows && fail "with bldc's Hall pattern wrong the motor still followed: the check cannot fail"
+wrong_pattern_does_not_follow() {
+  if follows; then echo "with bldc's Hall pattern wrong the motor still followed: the check cannot fail"; fi
+}
+run_axis "Hall pattern wrong" "setp bldc.0.pattern 17" wrong_pattern_does_not_follow
 
 # --- 3. the HAL `i20 hal` writes for this card loads against it ------------------------------
 # Both axes of the card's port 0 (channel k = encoder k), with the motion module and an INI
@@ -179,6 +190,7 @@ check_generated_hal_once() {
     axes_args=(--board 7i92t --axes 2 --halls "$BOARD.gpio.010.in,$BOARD.gpio.011.in,$BOARD.gpio.012.in"
       --halls "$(IFS=,; echo "${HALL_NETS[*]}")" --estop-in "$BOARD.gpio.016.in")
   fi
+  rm -f "$work/generated.hal" # a run again writes it anew
   "$I20" hal "${axes_args[@]}" --board-ip "$CARD_IP" --cfg qh --pattern 25 --poles $POLES \
     --counts-per-rev $COUNTS --max-current 10A -o "$work/generated.hal" 2>"$work/i20.err" ||
     fail "i20 hal failed: $(cat "$work/i20.err")"
@@ -258,11 +270,17 @@ check_generated_hal_once() {
     "enabled: i20-estop-ok.and $(value ok_before), fault.watchdog $(value watchdog); bias +/-$TORQUE_A A moved" \
     "$moved_forward / $moved_back counts; after an overcurrent: ${sig}8i20-fault $(value fault_after)," \
     "i20-estop-ok.and $(value ok_after); servo period max $(value period_max) ns"
-  kept_time "i20 hal" "$try" || return 1
-  [[ $(value ok_before) == TRUE ]] || fail "the generated configuration was not out of E-stop with no fault"
-  follows || fail "the generated configuration's torque command did not turn the motor (forward $moved_forward, back $moved_back counts)"
-  [[ $(value fault_after) == TRUE ]] || fail "the 8I20's overcurrent did not reach ${sig}8i20-fault"
-  [[ $(value ok_after) == FALSE ]] || fail "the machine did not drop out (estop-ok stayed TRUE) on the 8I20's fault"
+  local why=""
+  if [[ $(value ok_before) != TRUE ]]; then
+    why="the generated configuration was not out of E-stop with no fault"
+  elif ! follows; then
+    why="the generated configuration's torque command did not turn the motor (forward $moved_forward, back $moved_back counts)"
+  elif [[ $(value fault_after) != TRUE ]]; then
+    why="the 8I20's overcurrent did not reach ${sig}8i20-fault"
+  elif [[ $(value ok_after) != FALSE ]]; then
+    why="the machine did not drop out (estop-ok stayed TRUE) on the 8I20's fault"
+  fi
+  judged "i20 hal" "$try" "$why"
 }
 check_generated_hal() {
   local try

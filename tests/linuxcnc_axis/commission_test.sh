@@ -82,14 +82,20 @@ for ((try = 1; ; try++)); do
     cat "$work/hal.out"
     fail "halrun did not run the experiment with the fragment"
   }
-  kept_time "with the fragment" "$try" && break
+  forward=$(($(value forward) - $(value start)))
+  back=$(($(value forward) - $(value back)))
+  note "with the fragment: +$TORQUE_A A moved $forward counts, -$TORQUE_A A moved back $back counts;" \
+    "hall-error $(value hall_error), fault.watchdog $(value watchdog); servo period max $(value period_max) ns"
+  why=""
+  if ((forward <= COUNTS / 4)); then
+    why="a positive torque did not turn the motor forward ($forward counts)"
+  elif ((back <= COUNTS / 4)); then
+    why="a negative torque did not turn the motor back ($back counts)"
+  elif [[ $(value hall_error) != FALSE ]]; then
+    why="bldc.0.hall-error went TRUE with the fragment's pattern"
+  elif [[ $(value watchdog) != FALSE ]]; then
+    why="the 8I20's watchdog bit while the servo thread kept time"
+  fi
+  judged "with the fragment" "$try" "$why" && break
 done
-forward=$(($(value forward) - $(value start)))
-back=$(($(value forward) - $(value back)))
-note "with the fragment: +$TORQUE_A A moved $forward counts, -$TORQUE_A A moved back $back counts;" \
-  "hall-error $(value hall_error), fault.watchdog $(value watchdog); servo period max $(value period_max) ns"
-((forward > COUNTS / 4)) || fail "a positive torque did not turn the motor forward ($forward counts)"
-((back > COUNTS / 4)) || fail "a negative torque did not turn the motor back ($back counts)"
-[[ $(value hall_error) == FALSE ]] || fail "bldc.0.hall-error went TRUE with the fragment's pattern"
-[[ $(value watchdog) == FALSE ]] || fail "the 8I20's watchdog bit while the servo thread kept time"
 note "PASS"

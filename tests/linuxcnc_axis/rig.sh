@@ -45,3 +45,15 @@ kept_time() {
   note "$label: a period of $ms ms, $past: the run measured this host, not the axis; running it again ($try of $STALL_TRIES)"
   return 1
 }
+
+# judged LABEL TRY WHY [LONGEST_NS [LIMIT_NS]]: run TRY's checks found WHY (empty: they all
+# passed). A pass stands whatever the host did (a stall makes a run fail, never pass); a
+# failure in a run that stalled (kept_time) is run again while tries remain (returns 1); a
+# failure in a run that kept time fails the test.
+judged() {
+  local label=$1 try=$2 why=$3
+  [[ -z $why ]] && return 0
+  note "$label: $why"
+  kept_time "$label" "$try" "${@:4}" && fail "$label: $why"
+  return 1
+}
