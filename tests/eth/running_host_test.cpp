@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <optional>
 #include <thread>
 
 #include "eth/batched_opening.hpp"
@@ -414,13 +415,28 @@ TEST(EthRunningHost, TakeOverStopsTheMachineAsItSays) {
   EXPECT_EQ(mode_of(card), ethsim::ChannelMode::Setup) << "the host's normal mode is gone";
   // The stand-in keeps writing DOITs, as a host that was not stopped would: each one runs
   // whatever the passthrough left in CS, and one of them can be taken for ours. So nothing
-  // read beside it is reported as the card's.
-  try {
-    for (int i = 0; i < 20; ++i) link->execute_one(lbp::read(2344, lbp::DataSize::Four));
-    FAIL() << "results taken while another host sent DOITs";
-  } catch (const ForeignHostError& e) {
-    EXPECT_NE(std::string(e.what()).find("results were discarded"), std::string::npos) << e.what();
+  // read beside it is reported as the card's. Reads go on until the stand-in has run a DOIT
+  // between two of them (its counter, not a count of reads: a loaded host may not schedule
+  // the stand-in for many of our exchanges); the read after that DOIT must refuse.
+  std::optional<std::string> refused;
+  unsigned long doits = host_doits(card);
+  bool doit_since_previous_read = false;
+  const auto deadline = std::chrono::steady_clock::now() + 30s;
+  while (!refused && std::chrono::steady_clock::now() < deadline) {
+    try {
+      link->execute_one(lbp::read(2344, lbp::DataSize::Four));
+    } catch (const ForeignHostError& e) {
+      refused = e.what();
+      break;
+    }
+    // A DOIT counted before the previous read's sample reached the card before this read.
+    ASSERT_FALSE(doit_since_previous_read) << "a result taken after another host's DOIT";
+    const unsigned long now = host_doits(card);
+    doit_since_previous_read = now > doits;
+    doits = now;
   }
+  ASSERT_TRUE(refused) << "the stand-in ran no DOIT in 30 s";
+  EXPECT_NE(refused->find("results were discarded"), std::string::npos) << *refused;
   card.server().stop_host();  // LinuxCNC finally exits (and stops the port)
   const auto again = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   EXPECT_EQ(lbp::read_le(again->execute_one(lbp::read(2344, lbp::DataSize::Four))), 0x00012345u);
