@@ -251,6 +251,9 @@ void NormalModeSession::stop() {
   {
     std::lock_guard lock(mutex_);
     stopped_ = true;
+    // A sample the loop published before it stopped and nobody took goes with the session:
+    // wait_for_sample() on a stopped session never returns one (it times out at once).
+    if (latest_) returned_sequence_ = latest_->sequence;
   }
   changed_.notify_all();
   port_->wait_idle();  // the last DOIT may still be running; a stop written now would be ignored

@@ -132,7 +132,8 @@ class NormalModeSession {
   // The newest sample, nullopt until the first one. Rethrows the worker's failure.
   std::optional<LiveStatus> latest() const;
   // Blocks until a sample newer than the one this call returned last time. Throws
-  // link::TimeoutError when none comes in time, or the worker's failure.
+  // link::TimeoutError when none comes in time (at once once stopped: a sample not taken
+  // before stop() goes with the session), or the worker's failure.
   LiveStatus wait_for_sample(std::chrono::milliseconds timeout);
 
   // Ends the cycles and stops the SSLBP port. Idempotent; the destructor calls it and
