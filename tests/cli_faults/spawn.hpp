@@ -25,6 +25,8 @@ class Spawned {
                        std::chrono::milliseconds timeout = std::chrono::seconds(15));
   // Sends `sig` (SIGINT: what Ctrl-C sends), collects the rest of the output and the exit code.
   Result finish(int sig, std::chrono::milliseconds timeout = std::chrono::seconds(15));
+  // Collects output for up to `wait`; false once the program has closed its output (ended).
+  bool running(std::chrono::milliseconds wait) { return pump(static_cast<int>(wait.count())); }
   const std::string& out() const { return out_; }
   const std::string& err() const { return err_; }
 

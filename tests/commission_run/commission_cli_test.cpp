@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -199,7 +200,6 @@ TEST_F(CommissionCliSim, KilledMidMoveTheWatchdogTurnsTheOutputOff) {
   args.push_back("commission");
   for (const auto& a : quick()) args.push_back(a);
   args.push_back("--yes");
-  Spawned run("i20", args);
   // Asks the simulator `line` every 20 ms until its answer satisfies `done` or `limit` passes.
   const auto until = [&](const std::string& line, const auto& done, std::chrono::milliseconds limit) {
     const auto deadline = std::chrono::steady_clock::now() + limit;
@@ -215,11 +215,31 @@ TEST_F(CommissionCliSim, KilledMidMoveTheWatchdogTurnsTheOutputOff) {
     const auto at = motor.find(" id=");
     return at == std::string::npos ? 0.0 : std::stod(motor.substr(at + 4));
   };
-  const auto driving = until(
-      "ch 1 motor", [&](const std::string& m) { return std::abs(current_d(m)) >= 0.5; },
-      std::chrono::seconds(20));
-  ASSERT_GE(std::abs(current_d(driving)), 0.5) << driving << run.err();
-  const auto killed = run.finish(SIGKILL);
+  // Starts the run and waits while it lives for the current to flow. A run the host starved
+  // (the watchdog bit with its own worst DOIT gap at 40 ms or more, as commission_kept_time
+  // judges) ended before it drove: that measured the host, so it is run again, 3 runs in all.
+  std::unique_ptr<Spawned> run;
+  Result ended;
+  for (int attempt = 1; attempt <= 3; ++attempt) {
+    run = std::make_unique<Spawned>("i20", args);
+    // The run's own time limits end it; a minute bounds a run that hangs, which fails.
+    const auto hung = std::chrono::steady_clock::now() + std::chrono::minutes(1);
+    std::string motor = card.control("ch 1 motor");
+    while (std::abs(current_d(motor)) < 0.5 && run->running(std::chrono::milliseconds(20)) &&
+           std::chrono::steady_clock::now() < hung)
+      motor = card.control("ch 1 motor");
+    if (std::abs(current_d(motor)) >= 0.5) break;
+    ended = run->finish(SIGKILL);
+    run.reset();
+    const auto gap = worst_doit_gap_us(ended.out);
+    const bool starved =
+        (ended.out + ended.err).find("WATCHDOG") != std::string::npos && gap && *gap >= 40000;
+    if (!starved) break;
+    std::cout << "run " << attempt << ": the loop was starved (a DOIT gap of " << *gap << " us), run again\n";
+  }
+  ASSERT_TRUE(run) << "the run ended before it drove: exit " << ended.exit_code << "\n"
+                   << ended.out << ended.err;
+  const auto killed = run->finish(SIGKILL);
   EXPECT_EQ(killed.exit_code, 128 + SIGKILL);
   // 40 ms after the last DOIT; a second is margin for a loaded machine, not the figure.
   const auto after = until(
