@@ -26,16 +26,6 @@ void print_list(std::ostream& out, const char* heading, const std::vector<std::s
   }
 }
 
-std::string now_text(const F::ReportLine& line, const Readings& live, const std::string& clear) {
-  const CauseNow c = cause_now(line.bit, live);
-  if (c.state == CauseNow::Present)
-    return "cause still present: " + c.evidence + "; it cannot be cleared until that is fixed";
-  if (c.state == CauseNow::Gone) return "cause gone (" + c.evidence + "): `" + clear + "` should clear it";
-  if (line.clears_while_cause_persists)
-    return "latched event: `" + clear + "` clears it unless it happens again at once";
-  return "`" + clear + "` clears it once the cause is gone";
-}
-
 // "(bit 8, bus-under-voltage, maskable, masked)".
 std::string bit_tags(const F::ReportLine& line) {
   std::string tags = "bit " + std::to_string(line.bit);
@@ -46,9 +36,7 @@ std::string bit_tags(const F::ReportLine& line) {
 }
 
 void print_fault_line(std::ostream& out, const F::ReportLine& line, const RenderOptions& o) {
-  out << "\n"
-      << (line.reserved ? "reserved bit " + std::to_string(line.bit) : line.name) << " " << bit_tags(line)
-      << "\n";
+  out << "\n" << fault_heading(line) << "\n";
   // The name a LinuxCNC user sees in halshow, after hm2_<board>.<n>.8i20.<port>.<channel>.
   if (!line.linuxcnc_pin.empty()) out << "  LinuxCNC HAL pin: " << line.linuxcnc_pin << "\n";
   out << "  " << line.meaning << "\n";
@@ -77,6 +65,39 @@ app::Json cause_json(const CauseNow& c) {
 
 }  // namespace
 
+std::string fault_heading(const F::ReportLine& line) {
+  return (line.reserved ? "reserved bit " + std::to_string(line.bit) : line.name) + " " + bit_tags(line);
+}
+
+std::string now_text(const F::ReportLine& line, const Readings& live, const std::string& clear) {
+  const CauseNow c = cause_now(line.bit, live);
+  if (c.state == CauseNow::Present)
+    return "cause still present: " + c.evidence + "; it cannot be cleared until that is fixed";
+  if (c.state == CauseNow::Gone) return "cause gone (" + c.evidence + "): `" + clear + "` should clear it";
+  if (line.clears_while_cause_persists)
+    return "latched event: `" + clear + "` clears it unless it happens again at once";
+  return "`" + clear + "` clears it once the cause is gone";
+}
+
+std::string status_heading(const F::ReportLine& line) {
+  return bit_label(line) + ", " + std::string(F::to_string(line.severity)) + (line.sticky ? ", sticky" : "") +
+         (line.linuxcnc_pin.empty() ? "" : ", HAL pin " + line.linuxcnc_pin);
+}
+
+bool status_checks_shown(const F::ReportLine& line) {
+  return line.severity != F::Impact::Info;
+}
+
+std::string why_remaining(const F::ReportLine& line, const Readings& r, const std::string& flags) {
+  const CauseNow c = cause_now(line.bit, r);
+  if (c.state == CauseNow::Present) return "the cause is still present: " + c.evidence;
+  if (c.state == CauseNow::Gone)
+    return "set again at once although " + c.evidence +
+           ": the condition is marginal or intermittent; watch it with `i20 " + flags + " watch`";
+  if (line.reserved) return "a bit the manual does not define came back: note the value and ask Mesa";
+  return "set again at once: the card still detects it, so its cause is present now";
+}
+
 std::string fault_output_text(const F::Report& report) {
   const std::string head = "Fault output (TB1 pins 5-6): ";
   if (!report.fault_output_on)
@@ -101,12 +122,9 @@ void print_fault_report(std::ostream& out, const F::Report& report, const Render
 void print_status_report(std::ostream& out, const F::Report& report) {
   out << report.title << "\n";
   for (const auto& line : report.lines) {
-    out << "  " << bit_label(line) << ", " << F::to_string(line.severity) << (line.sticky ? ", sticky" : "")
-        << (line.linuxcnc_pin.empty() ? "" : ", HAL pin " + line.linuxcnc_pin) << ": " << line.meaning
-        << "\n";
+    out << "  " << status_heading(line) << ": " << line.meaning << "\n";
     if (line.escalated) out << "      now: " << line.evidence << "\n";
-    // Informational bits explain themselves; warnings need something to act on.
-    if (line.severity != F::Impact::Info)
+    if (status_checks_shown(line))
       for (const auto& check : line.checks) out << "      check: " << check << "\n";
   }
 }

@@ -55,6 +55,21 @@ void print_status_report(std::ostream& out, const faults::Report& report);
 // "Fault output (TB1 pins 5-6): OFF: ..." for a FAULT report.
 std::string fault_output_text(const faults::Report& report);
 
+// The words `i20 faults` and `i20 clear-faults` say about one bit, shared with the console
+// so that the page explains a fault exactly as the commands do:
+// "BUSLOVFAULT (bit 8, bus-under-voltage, maskable)": a FAULT bit's heading.
+std::string fault_heading(const faults::ReportLine& line);
+// The "now:" line: whether the cause is still there (from live readings) and what clears it;
+// `clear` names how faults are cleared ("i20 --sim clear-faults", or the console's button).
+std::string now_text(const faults::ReportLine& line, const Readings& live, const std::string& clear);
+// "BUSUNDERVSTATUS (bit 3), warning, sticky, HAL pin status.bus-underv": a STATUS bit's heading.
+std::string status_heading(const faults::ReportLine& line);
+// Whether a STATUS bit's checks are worth showing: informational bits explain themselves.
+bool status_checks_shown(const faults::ReportLine& line);
+// Why a FAULT bit is still set right after CLEARFAULT; `flags` are the target's global
+// options for the advice (`i20 FLAGS watch`).
+std::string why_remaining(const faults::ReportLine& line, const Readings& r, const std::string& flags);
+
 // JSON of a report: raw value, hex, title, and every set bit with all its advice; with
 // live readings each FAULT bit also says whether its cause is present now.
 app::Json report_json(const faults::Report& report, const Readings* live = nullptr);

@@ -5,16 +5,15 @@
 #include <random>
 
 namespace i20::console {
-namespace {
 
-// Compares in time independent of where the strings differ, so the token cannot be guessed
-// a character at a time from response times.
 bool same_secret(const std::string& a, const std::string& b) {
   if (a.size() != b.size()) return false;
   unsigned char diff = 0;
   for (std::size_t i = 0; i < a.size(); ++i) diff |= static_cast<unsigned char>(a[i] ^ b[i]);
   return diff == 0;
 }
+
+namespace {
 
 std::string trimmed(std::string_view s) {
   while (!s.empty() && s.front() == ' ') s.remove_prefix(1);

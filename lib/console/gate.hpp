@@ -22,6 +22,9 @@ namespace i20::console {
 
 // A fresh token of 128 random bits, as 32 hex digits (std::random_device: the kernel's).
 std::string make_token();
+// Whether two secrets are equal, in time independent of where they differ, so that a secret
+// cannot be guessed a character at a time from response times.
+bool same_secret(const std::string& a, const std::string& b);
 
 class Gate {
  public:
