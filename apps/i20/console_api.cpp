@@ -2,8 +2,10 @@
 #include "console_api.hpp"
 
 #include <sstream>
+#include <utility>
 
 #include "change_render.hpp"
+#include "console/gate.hpp"
 #include "faults_render.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/apply_run.hpp"
@@ -26,6 +28,10 @@ using console::http::verb;
 
 // How long CLEARFAULT may stay set, as `i20 clear-faults` waits by default.
 constexpr std::chrono::milliseconds kClearWait{1000};
+// The request header an apply names its preview in.
+constexpr const char* kPreviewHeader = "I20-Preview";
+// How the page clears faults, for the "now:" lines that `i20 faults` words with its command.
+constexpr const char* kClearButton = "Clear faults";
 
 // The HTTP status of an outcome: the JSON body says the rest.
 status status_of(ops::Outcome outcome) {
@@ -93,6 +99,118 @@ app::Json bit_labels(const std::vector<F::ReportLine>& lines) {
   return arr;
 }
 
+// ------------------------------------------------------------------ changes
+// The writes a run plans, in order, each with the value the card holds: a preview and its
+// apply must agree on every one for the page's "card holds / would write" table to be true.
+std::vector<std::string> planned_writes(const ops::TargetRun& run) {
+  std::vector<std::string> writes;
+  if (!run.result) return writes;
+  for (const auto& step : run.result->plan.steps)
+    writes.push_back(step.cell + ": " + (step.card_raw ? std::to_string(*step.card_raw) : "unknown") +
+                     " -> " + std::to_string(step.profile_raw));
+  return writes;
+}
+
+// Only a preview that would write something can be applied.
+bool would_write(const ops::TargetRun& run) {
+  return run.outcome == ops::Outcome::DryRun && run.result && !run.result->plan.empty();
+}
+
+// A cell's state after a write, in the words `i20 set` prints for it ("written, read back
+// equal" for a verified write), not the transaction's internal "intended".
+std::string cell_state_text(const ops::CellState& cell) {
+  switch (cell.status) {
+    case ops::CellStatus::Intended: return "written, read back equal";
+    case ops::CellStatus::Original: return "original (restored)";
+    case ops::CellStatus::Other: return "OTHER: neither the old nor the new value";
+    case ops::CellStatus::Unknown: return "UNKNOWN: " + cell.error;
+  }
+  return "UNKNOWN";
+}
+
+// `i20 set --json`'s report, and each cell's state in words for the page.
+app::Json change_json(const ops::TargetRun& run) {
+  auto j = app::render::run_json(run);
+  auto states = app::Json::array();
+  if (run.result)
+    for (const auto& c : run.result->cells)
+      states.push(
+          app::Json::object().set("cell", c.cell).set("now", c.actual_text).set("state", cell_state_text(c)));
+  j.set("cell_states", std::move(states));
+  return j;
+}
+
+// An apply that does not match the live preview: 409, nothing sent to the card.
+console::Response apply_refused(const std::string& why, const console::Request& request) {
+  const std::string message = why + "; nothing was written: preview the values again, then apply";
+  auto j = app::Json::object();
+  j.set("outcome", ops::to_string(ops::Outcome::Refused))
+      .set("ok", false)
+      .set("summary", "REFUSED: " + message);
+  j.set("lines",
+        app::Json::array().push(app::Json::object().set("label", "refused").set("message", message)));
+  return json_response(status::conflict, j, request);
+}
+
+// ------------------------------------------------------------------ faults in words
+// A FAULT report as `i20 faults` prints it: per bit its heading, HAL pin, meaning, whether
+// the cause is there now, causes and checks; the fault output and the register's notes.
+app::Json fault_words(const F::Report& report, const Readings& live) {
+  auto bits = app::Json::array();
+  for (const auto& line : report.lines) {
+    auto bit = app::Json::object();
+    bit.set("heading", fault_heading(line)).set("severity", std::string(F::to_string(line.severity)));
+    bit.set("hal_pin", line.linuxcnc_pin).set("meaning", line.meaning);
+    bit.set("now", line.reserved ? std::string() : now_text(line, live, kClearButton));
+    bit.set("causes", strings(line.causes)).set("checks", strings(line.checks));
+    bits.push(std::move(bit));
+  }
+  auto j = app::Json::object();
+  j.set("title", report.title).set("fault_output", fault_output_text(report));
+  j.set("bits", std::move(bits)).set("notes", strings(report.notes));
+  return j;
+}
+
+// A STATUS report as `i20 faults` prints it: heading, meaning, what was measured when a bit
+// escalated, and the checks of the bits that need acting on.
+app::Json status_words(const F::Report& report) {
+  auto bits = app::Json::array();
+  for (const auto& line : report.lines) {
+    auto bit = app::Json::object();
+    bit.set("heading", status_heading(line)).set("severity", std::string(F::to_string(line.severity)));
+    bit.set("meaning", line.meaning).set("now", line.escalated ? line.evidence : std::string());
+    bit.set("checks", status_checks_shown(line) ? strings(line.checks) : app::Json::array());
+    bits.push(std::move(bit));
+  }
+  return app::Json::object().set("title", report.title).set("bits", std::move(bits));
+}
+
+// What a clear did, as `i20 clear-faults` says it: which bits it cleared, which remain
+// latched and why, and the fault output now.
+app::Json clear_words(const ops::ClearResult& res, const std::string& flags) {
+  const auto& r = res.after;
+  const auto cleared = F::fault_report(static_cast<std::uint16_t>(res.fault_before & ~r.fault));
+  const auto remaining = F::fault_report(r.fault, r.faultmask);
+  const bool nothing = res.fault_before == 0 && r.fault == 0;
+  auto left = app::Json::array();
+  for (const auto& line : remaining.lines)
+    left.push(app::Json::object()
+                  .set("heading", bit_label(line) + (line.masked ? " [masked]" : ""))
+                  .set("meaning", line.meaning)
+                  .set("why", why_remaining(line, r, flags))
+                  .set("checks", strings(line.checks)));
+  auto j = app::Json::object();
+  const std::string took = "CLEARFAULT acknowledged in " + std::to_string(res.took.count()) + " ms";
+  j.set("summary", nothing ? "No faults to clear: FAULT 0x0000 (" + took + ")"
+                           : took + ": FAULT " + lbp::hex_value(res.fault_before, 4) + " -> " +
+                                 lbp::hex_value(r.fault, 4) + ", " + std::to_string(cleared.lines.size()) +
+                                 " cleared, " + std::to_string(remaining.lines.size()) + " remaining");
+  j.set("cleared", bit_labels(cleared.lines)).set("remaining", std::move(left));
+  j.set("fault_output", fault_output_text(remaining));
+  j.set("advice", remaining.lines.empty() ? "" : "Fix the causes, then clear faults again.");
+  return j;
+}
+
 }  // namespace
 
 ConsoleApi::ConsoleApi(ops::Session& session) : session_(session) {}
@@ -110,8 +228,8 @@ console::Response ConsoleApi::handle(const console::Request& request) {
     if (get && path == "/api/overview") return overview(request);
     if (get && path == "/api/params") return params(request);
     if (get && path == "/api/faults") return faults(request);
-    if (!get && path == "/api/preview") return change(request, true);
-    if (!get && path == "/api/apply") return change(request, false);
+    if (!get && path == "/api/preview") return preview(request);
+    if (!get && path == "/api/apply") return apply(request);
     if (!get && path == "/api/clear-faults") return clear(request);
     if (!get && path == "/api/reset") return reset(request);
   } catch (...) {
@@ -127,7 +245,12 @@ console::Response ConsoleApi::failure(const console::Request& request) {
     lines.push(app::Json::object().set("label", line.label).set("message", line.message));
   auto j = app::Json::object();
   j.set("outcome", ops::to_string(report.outcome)).set("lines", std::move(lines));
-  if (live_) live_->reconnect();  // the next read opens the line again
+  // The next read opens the line again, after a failure of the card or its line only: input
+  // the rules refused never reached the card (and reopening the built-in simulator would
+  // start a fresh simulated card with its --sim-control world again).
+  const bool input_refused =
+      report.outcome == ops::Outcome::BadInput || report.outcome == ops::Outcome::Refused;
+  if (live_ && !input_refused) live_->reconnect();
   return json_response(status_of(report.outcome), j, request);
 }
 
@@ -177,33 +300,74 @@ console::Response ConsoleApi::faults(const console::Request& request) {
   j.set("target", live().describe()).set("method", live().method());
   j.set("fault", report_json(F::fault_report(r.fault, r.faultmask), &r));
   j.set("status", report_json(live_status_report(r))).set("readings", readings_json(r));
+  j.set("explained", app::Json::object()
+                         .set("fault", fault_words(F::fault_report(r.fault, r.faultmask), r))
+                         .set("status", status_words(live_status_report(r))));
   return json_response(status::ok, j, request);
 }
 
-console::Response ConsoleApi::change(const console::Request& request, bool dry_run) {
+ops::TargetRun ConsoleApi::run_change(const std::vector<std::string>& assignments, bool dry_run) {
   const auto& loaded = session_.db();
   // Bad input and the rules that need no card refuse before anything is sent, as `i20 set`.
-  const auto profile =
-      ops::profile_from_assignments(assignments_of(request.body()), loaded, ops::ValueSyntax::Engineering);
+  const auto profile = ops::profile_from_assignments(assignments, loaded, ops::ValueSyntax::Engineering);
   ops::precheck(profile, loaded, {});
   auto& card = session_.card();
   const auto job = ops::make_apply_job(
       {.profile = &profile, .db = &card.db(), .dry_run = dry_run, .cancel = card.cancel()});
-  const auto run = ops::run_apply_on(card, job);
-  return json_response(status_of(run.outcome), app::render::run_json(run), request);
+  return ops::run_apply_on(card, job);
+}
+
+console::Response ConsoleApi::preview(const console::Request& request) {
+  preview_.reset();  // a new preview ends the last one, whatever this one ends in
+  const auto assignments = assignments_of(request.body());
+  const auto run = run_change(assignments, true);
+  auto j = change_json(run);
+  if (would_write(run)) {
+    preview_ = Preview{console::make_token(), assignments, planned_writes(run)};
+    j.set("preview_id", preview_->id);
+  }
+  return json_response(status_of(run.outcome), j, request);
+}
+
+// The page applies only what it previewed and shows; a stale page, a second click or a
+// forged request must not write anything else. So an apply names its preview, carries the
+// same lines, and is planned again exactly as the preview was (the same dry run) before the
+// transaction writes: any difference refuses it with nothing sent but reads.
+console::Response ConsoleApi::apply(const console::Request& request) {
+  const auto previewed = std::exchange(preview_, std::nullopt);  // one apply per preview, however it ends
+  const auto assignments = assignments_of(request.body());
+  const auto id = console::text(request[kPreviewHeader]);
+  if (!previewed || !console::same_secret(id, previewed->id))
+    return apply_refused(
+        "not the current preview (none was made, a newer one, an apply, a reset or a clear "
+        "came since, or the request names another)",
+        request);
+  if (assignments != previewed->assignments)
+    return apply_refused("the values differ from the ones previewed", request);
+  const auto again = run_change(assignments, true);
+  if (again.outcome != ops::Outcome::DryRun)
+    return json_response(status_of(again.outcome), change_json(again), request);
+  if (planned_writes(again) != previewed->writes)
+    return apply_refused(
+        "the card changed since the preview: the writes it shows are no longer the ones planned", request);
+  const auto run = run_change(assignments, false);
+  return json_response(status_of(run.outcome), change_json(run), request);
 }
 
 console::Response ConsoleApi::clear(const console::Request& request) {
+  preview_.reset();                                            // the card is not the one previewed any more
   ops::check_offline(session_.db().get("CLEARFAULT"), 1, {});  // refused before anything is sent
   const auto res = ops::clear_faults(session_.card(), {}, kClearWait);
   const auto& r = res.after;
   auto j = app::Json::object();
   j.set("outcome", ops::to_string(res.outcome())).set("fault_before", lbp::hex_value(res.fault_before, 4));
   j.set("fault", report_json(F::fault_report(r.fault, r.faultmask), &r)).set("readings", readings_json(r));
+  j.set("explained", clear_words(res, session_.endpoint().flags()));
   return json_response(status_of(res.outcome()), j, request);
 }
 
 console::Response ConsoleApi::reset(const console::Request& request) {
+  preview_.reset();  // a reset makes other values live: preview again
   const auto run = ops::reset_card(session_.card(), false);
   auto findings = app::Json::array();
   for (const auto& f : run.judgement.findings)

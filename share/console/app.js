@@ -16,8 +16,8 @@ function el(tag, attrs, text) {
   return e;
 }
 
-async function api(path, body) {
-  const options = body === undefined ? {} : { method: 'POST', body, headers: { 'Content-Type': 'text/plain' } };
+async function api(path, body, headers) {
+  const options = body === undefined ? {} : { method: 'POST', body, headers: { 'Content-Type': 'text/plain', ...headers } };
   const res = await fetch(path, options);
   const type = res.headers.get('Content-Type') || '';
   const data = type.startsWith('application/json') ? await res.json() : { outcome: 'error', lines: [{ label: 'error', message: await res.text() }] };
@@ -45,7 +45,7 @@ async function loadOverview() {
     ['Firmware', 'SWREVISION ' + data.swrevision],
     ['Working map', data.working_map_confirmed ? 'confirmed for this firmware' : 'NOT confirmed for this firmware (NV parameters only; run i20 discover)'],
     ['Bus voltage', r.busv_v === null ? 'unknown' : r.busv_v.toFixed(1) + ' V'],
-    ['Temperature', r.temperature_c === null ? 'unknown' : r.temperature_c.toFixed(1) + ' °C'],
+    ['Temperature', r.temperature_c === null ? 'unknown' : r.temperature_c.toFixed(1) + ' degC'],
     ['Target', data.target],
   ];
   for (const [k, v] of rows) {
@@ -53,8 +53,24 @@ async function loadOverview() {
     tr.append(el('th', {}, k), el('td', { 'data-key': k }, v));
     table.append(tr);
   }
-  $('overview-faults').textContent = data.fault.title + '. ' + data.status.title;
+  showOverviewFaults(data.fault, data.status);
   $('overview-pending').textContent = data.pending.length ? data.pending.join(', ') + ' (a reset makes them live)' : 'none';
+}
+
+// A latched fault must not read like no fault: it stands out, says which bits, and leads to
+// the Faults page where each is explained.
+function showOverviewFaults(fault, status) {
+  const target = $('overview-faults');
+  target.textContent = '';
+  const latched = fault.bits.length > 0;
+  const box = el('div', { class: 'result ' + (latched ? 'alert' : 'ok'), id: 'overview-fault-state', 'data-latched': String(latched) });
+  box.append(el('p', {}, fault.title));
+  if (latched) {
+    const link = el('a', { href: '#faults', id: 'overview-faults-link' }, 'Explain and clear them on the Faults page');
+    link.addEventListener('click', (event) => { event.preventDefault(); show('faults'); });
+    box.append(link);
+  }
+  target.append(box, el('p', {}, status.title));
 }
 
 // The server judges what a reset would make live by the write rules and refuses an unsafe
@@ -73,6 +89,7 @@ async function resetCard() {
 
 // ------------------------------------------------------------------ parameters
 async function loadParams() {
+  forgetPreview();  // the boxes are emptied: what was previewed is no longer on the page
   const { status, data } = await api('/api/params');
   const body = $('params').querySelector('tbody');
   body.textContent = '';
@@ -87,7 +104,11 @@ async function loadParams() {
     if (p.not_live_until_reset) note.append(el('span', { class: 'badge' }, 'not live until reset'));
     if (p.guard) note.append(el('span', { title: p.guard }, ' guarded'));
     const edit = el('td');
-    if (p.writable && p.fact) edit.append(el('input', { name: p.name, placeholder: p.unit || 'value' }));
+    if (p.writable && p.fact) {
+      const input = el('input', { name: p.name, placeholder: p.unit || 'value' });
+      input.addEventListener('input', previewOutdated);
+      edit.append(input);
+    }
     tr.append(el('td', { title: p.description }, p.name), value, el('td', {}, p.min + ' … ' + p.max),
       el('td', {}, p.twin || ''), note, edit);
     body.append(tr);
@@ -110,7 +131,7 @@ function showRun(target, status, data) {
   box.append(el('p', {}, data.summary || failureText(data)));
   for (const f of data.findings || [])
     box.append(el('p', { class: f.severity }, f.severity + ': ' + (f.key ? f.key + ': ' : '') + f.message + ' [' + f.rule + ']'));
-  const cells = data.cells && data.cells.length ? data.cells : null;
+  const cells = data.cell_states && data.cell_states.length ? data.cell_states : null;
   const steps = data.plan ? data.plan.steps : [];
   if (cells || steps.length) {
     const t = el('table', { class: 'grid' });
@@ -119,7 +140,7 @@ function showRun(target, status, data) {
       t.lastChild.append(el('th', {}, 'Cell'), el('th', {}, 'Now on the card'), el('th', {}, 'Outcome'));
       for (const c of cells) {
         const tr = el('tr', { 'data-cell': c.cell });
-        tr.append(el('td', {}, c.cell), el('td', {}, c.actual_text), el('td', {}, c.status + (c.error ? ': ' + c.error : '')));
+        tr.append(el('td', {}, c.cell), el('td', {}, c.now), el('td', {}, c.state));
         t.append(tr);
       }
     } else {
@@ -138,42 +159,84 @@ function showRun(target, status, data) {
   return ok;
 }
 
-let previewed = '';
+// Apply writes exactly what the last preview showed: the lines previewed and the id the
+// server gave that preview. An edit after it disables Apply until the values are previewed
+// again; the server refuses an apply whose lines or planned writes differ from its preview.
+let previewed = null;  // { lines, id }
+
+function forgetPreview() {
+  previewed = null;
+  $('apply').disabled = true;
+}
+
+function showOutdated() {
+  const note = $('preview-outdated');
+  note.textContent = 'Edited since the preview: Preview again before Apply (Apply writes only what a preview showed).';
+  note.classList.remove('hidden');
+}
+
+function previewOutdated() {
+  if (!previewed) return;
+  forgetPreview();
+  showOutdated();
+}
+
 async function preview() {
-  previewed = assignments();
-  const { status, data } = await api('/api/preview', previewed);
-  const fine = showRun($('change-result'), status, data) && data.plan && data.plan.steps.length > 0;
-  $('apply').disabled = !fine;
+  forgetPreview();
+  $('preview-outdated').classList.add('hidden');
+  const lines = assignments();
+  const { status, data } = await api('/api/preview', lines);
+  showRun($('change-result'), status, data);
+  if (!data.preview_id) return;
+  // A box edited while the preview was on its way: what it showed is not on the page any more.
+  if (assignments() !== lines) return showOutdated();
+  previewed = { lines, id: data.preview_id };
+  $('apply').disabled = false;
 }
 
 async function apply() {
-  $('apply').disabled = true;
-  const { status, data } = await api('/api/apply', previewed);
+  if (!previewed || assignments() !== previewed.lines) return previewOutdated();
+  const { lines, id } = previewed;
+  forgetPreview();
+  const { status, data } = await api('/api/apply', lines, { 'I20-Preview': id });
   showRun($('change-result'), status, data);
   await loadParams();
 }
 
 // ------------------------------------------------------------------ faults
+// Text from the server in `i20 faults`'s words; a `command` or button name in backticks is
+// shown as code.
+function words(tag, text, attrs) {
+  const e = el(tag, attrs || {});
+  text.split('`').forEach((part, i) => e.append(i % 2 ? el('code', {}, part) : document.createTextNode(part)));
+  return e;
+}
+
+function list(box, title, items, ordered) {
+  if (!items || !items.length) return;
+  box.append(el('p', {}, title));
+  const l = el(ordered ? 'ol' : 'ul');
+  for (const item of items) l.append(words('li', item));
+  box.append(l);
+}
+
 function bitBox(bit) {
   const box = el('div', { class: 'bit ' + bit.severity });
-  box.append(el('h3', {}, (bit.name || 'reserved') + ' (bit ' + bit.bit + ', ' + bit.severity + ')'));
-  box.append(el('p', {}, bit.meaning));
-  if (bit.cause_now) box.append(el('p', {}, 'now: ' + (bit.cause_now.text || JSON.stringify(bit.cause_now))));
-  for (const [title, list] of [['Causes', bit.causes], ['Check', bit.checks]]) {
-    if (!list || !list.length) continue;
-    box.append(el('p', {}, title + ':'));
-    const ul = el('ul');
-    for (const item of list) ul.append(el('li', {}, item));
-    box.append(ul);
-  }
+  box.append(el('h3', {}, bit.heading));
+  if (bit.hal_pin) box.append(el('p', { class: 'hint' }, 'LinuxCNC HAL pin: ' + bit.hal_pin));
+  box.append(words('p', bit.meaning));
+  if (bit.now) box.append(words('p', 'Now: ' + bit.now, { class: 'now' }));
+  list(box, 'Likely causes:', bit.causes, false);
+  list(box, 'Check:', bit.checks, true);
   return box;
 }
 
 function showReport(titleEl, bitsEl, report) {
   titleEl.textContent = report.title;
   bitsEl.textContent = '';
+  if (report.fault_output) bitsEl.append(words('p', report.fault_output, { class: 'fault-output' }));
   for (const b of report.bits) bitsEl.append(bitBox(b));
-  for (const n of report.notes || []) bitsEl.append(el('p', { class: 'hint' }, n));
+  if (report.notes && report.notes.length) list(bitsEl, 'About FAULT:', report.notes, false);
 }
 
 async function loadFaults() {
@@ -182,16 +245,32 @@ async function loadFaults() {
     $('fault-title').textContent = failureText(data);
     return;
   }
-  showReport($('fault-title'), $('fault-bits'), data.fault);
-  showReport($('status-title'), $('status-bits'), data.status);
+  showReport($('fault-title'), $('fault-bits'), data.explained.fault);
+  showReport($('status-title'), $('status-bits'), data.explained.status);
+}
+
+// What the clear did, as `i20 clear-faults` says it: cleared, still latched and why.
+function showCleared(box, said) {
+  box.append(el('p', {}, said.summary));
+  if (said.cleared.length) box.append(el('p', {}, 'Cleared: ' + said.cleared.join(', ')));
+  for (const bit of said.remaining) {
+    const b = el('div', { class: 'bit fault' });
+    b.append(el('h3', {}, 'Remains latched: ' + bit.heading), words('p', bit.meaning), words('p', 'Why: ' + bit.why));
+    list(b, 'Check:', bit.checks, true);
+    box.append(b);
+  }
+  box.append(words('p', said.fault_output));
+  if (said.advice) box.append(el('p', {}, said.advice));
 }
 
 async function clearFaults() {
   const { status, data } = await api('/api/clear-faults', '');
   const ok = status === 200 && data.outcome === 'done';
+  const box = el('div', { class: 'result ' + (ok ? 'ok' : 'refused'), id: 'clear-outcome', 'data-outcome': data.outcome });
+  if (data.explained) showCleared(box, data.explained);
+  else box.append(el('p', {}, failureText(data)));
   $('clear-result').textContent = '';
-  $('clear-result').append(el('div', { class: 'result ' + (ok ? 'ok' : 'refused') },
-    data.fault ? 'FAULT ' + data.fault_before + ' before; now ' + data.fault.title : failureText(data)));
+  $('clear-result').append(box);
   await loadFaults();
 }
 
@@ -222,7 +301,7 @@ function showSample(s) {
   }
   $('live-state').textContent = 'live';
   $('live-busv').textContent = s.busv === null ? 'unknown' : s.busv.toFixed(1) + ' V';
-  $('live-temp').textContent = s.temperature === null ? 'unknown' : s.temperature.toFixed(1) + ' °C';
+  $('live-temp').textContent = s.temperature === null ? 'unknown' : s.temperature.toFixed(1) + ' degC';
   $('live-fault').textContent = s.fault + (s.fault_bits.length ? ' ' + s.fault_bits.join(', ') : '');
   $('live-status').textContent = s.status + (s.status_bits.length ? ' ' + s.status_bits.join(', ') : '');
 }
@@ -233,22 +312,39 @@ function svg(tag, attrs) {
   return e;
 }
 
-// One series scaled into the plot area: its polyline and its axis labels.
-function series(plot, points, key, color, side, unit) {
+// Two bands, one above the other, each with its own scale, axis labels and legend: scaled
+// into one area, a steady bus voltage and a steady temperature both sit in the middle and
+// one line hides the other.
+const PLOT = { left: 60, width: 680 };
+const BANDS = {
+  busv: { top: 30, height: 105, color: '#1565c0', unit: 'V', label: 'Bus voltage' },
+  temperature: { top: 175, height: 105, color: '#c62828', unit: 'degC', label: 'Temperature' },
+};
+
+function plotX(now, t) {
+  return PLOT.left + (PLOT.width * (WINDOW_S * 1000 - (now - t))) / (WINDOW_S * 1000);
+}
+
+// One series in its band: frame, legend, min/max labels and its line.
+function series(plot, points, key) {
+  const band = BANDS[key];
+  plot.append(svg('rect', { x: PLOT.left, y: band.top, width: PLOT.width, height: band.height, fill: 'none', stroke: '#ccc' }));
   const values = points.filter((p) => p[key] !== null && p[key] !== undefined);
+  const legend = svg('text', { x: PLOT.left, y: band.top - 6, fill: band.color, 'font-size': 12, class: 'legend-' + key });
+  const last = values.length ? values[values.length - 1][key].toFixed(1) + ' ' + band.unit : 'unknown';
+  legend.textContent = band.label + ' (' + band.unit + '): ' + last;
+  plot.append(legend);
   if (!values.length) return;
   let lo = Math.min(...values.map((p) => p[key]));
   let hi = Math.max(...values.map((p) => p[key]));
   if (hi - lo < 1) { lo -= 0.5; hi += 0.5; }
   const now = points[points.length - 1].t;
-  const x = (t) => 50 + (700 * (WINDOW_S * 1000 - (now - t))) / (WINDOW_S * 1000);
-  const y = (v) => 270 - (250 * (v - lo)) / (hi - lo);
-  const line = values.map((p) => x(p.t).toFixed(1) + ',' + y(p[key]).toFixed(1)).join(' ');
-  plot.append(svg('polyline', { points: line, fill: 'none', stroke: color, 'stroke-width': 1.5, class: 'series-' + key }));
-  const tx = side === 'left' ? 5 : 755;
+  const y = (v) => band.top + band.height - 5 - ((band.height - 10) * (v - lo)) / (hi - lo);
+  const line = values.map((p) => plotX(now, p.t).toFixed(1) + ',' + y(p[key]).toFixed(1)).join(' ');
+  plot.append(svg('polyline', { points: line, fill: 'none', stroke: band.color, 'stroke-width': 1.5, class: 'series-' + key }));
   for (const v of [lo, hi]) {
-    const label = svg('text', { x: tx, y: y(v) + 4, fill: color, 'font-size': 11 });
-    label.textContent = v.toFixed(1) + unit;
+    const label = svg('text', { x: PLOT.left - 4, y: y(v) + 4, fill: band.color, 'font-size': 11, 'text-anchor': 'end' });
+    label.textContent = v.toFixed(1);
     plot.append(label);
   }
 }
@@ -258,17 +354,15 @@ function drawPlot() {
   const now = samples.length ? samples[samples.length - 1].t : 0;
   const points = samples.filter((s) => !s.error && now - s.t <= WINDOW_S * 1000);
   plot.textContent = '';
-  plot.append(svg('rect', { x: 50, y: 20, width: 700, height: 250, fill: 'none', stroke: '#ccc' }));
-  // A red band wherever FAULT was non-zero.
+  // A red band across both plots wherever FAULT was non-zero.
   for (const p of points) {
     if (p.fault === '0x0000') continue;
-    const x = 50 + (700 * (WINDOW_S * 1000 - (now - p.t))) / (WINDOW_S * 1000);
-    plot.append(svg('rect', { x: x - 1, y: 20, width: 2, height: 250, fill: '#fcc' }));
+    plot.append(svg('rect', { x: plotX(now, p.t) - 1, y: 30, width: 2, height: 250, fill: '#fcc' }));
   }
-  series(plot, points, 'busv', '#1565c0', 'left', ' V');
-  series(plot, points, 'temperature', '#c62828', 'right', ' °C');
-  const caption = svg('text', { x: 50, y: 290, 'font-size': 11, fill: '#555' });
-  caption.textContent = 'last ' + WINDOW_S + ' s: bus voltage (blue, left), temperature (red, right), FAULT set (red band)';
+  series(plot, points, 'busv');
+  series(plot, points, 'temperature');
+  const caption = svg('text', { x: PLOT.left, y: 296, 'font-size': 11, fill: '#555' });
+  caption.textContent = 'last ' + WINDOW_S + ' s, each line on its own scale; FAULT set: red band';
   plot.append(caption);
   plot.setAttribute('data-points', String(points.length));
 }

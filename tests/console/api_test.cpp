@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // `i20 console`'s API against the simulator, through the real program over a real socket:
 // the values are the ones `i20 get` reads, an applied edit lands in the simulator's EEPROM
-// (read back by `i20 get` after the console ended), a refused value writes nothing, and
-// Ctrl-C ends the console as it ends every command (exit 130, the card settled).
+// (read back by `i20 get` after the console ended), a refused value writes nothing, an apply
+// that is not the current preview's (stale, edited, forged, the card changed) writes nothing,
+// faults are explained in `i20 faults`'s words, and Ctrl-C ends the console as it ends every
+// command (exit 130, the card settled).
 #include <gtest/gtest.h>
 #include <poll.h>
 #include <signal.h>
@@ -63,10 +65,16 @@ class ConsoleProcess {
   testing::Reply get(const std::string& path) const {
     return ask(port_, testing::get_request(port_, path, cookie()));
   }
-  testing::Reply post(const std::string& path, const std::string& body) const {
-    return ask(port_, testing::post_request(
-                          port_, path, body,
-                          cat(cookie(), "Origin: http://127.0.0.1:", std::to_string(port_), "\r\n")));
+  // `headers`: more header lines ("I20-Preview: ...\r\n").
+  testing::Reply post(const std::string& path, const std::string& body,
+                      const std::string& headers = "") const {
+    return ask(port_, testing::post_request(port_, path, body,
+                                            cat(cookie(), "Origin: http://127.0.0.1:", std::to_string(port_),
+                                                "\r\n", headers)));
+  }
+  // An apply naming the preview `id`.
+  testing::Reply apply(const std::string& body, const std::string& id) const {
+    return post("/api/apply", body, cat("I20-Preview: ", id, "\r\n"));
   }
 
  private:
@@ -82,6 +90,49 @@ std::string raw_of(const std::string& json, const std::string& name) {
       cat(R"(\{"name":")", name, R"(","space":"[a-z]+","unit":"[^"]*","raw":(-?\d+|null))"));
   std::smatch m;
   return std::regex_search(json, m, field) ? std::string(m[1]) : "absent";
+}
+
+// The id a preview was given ("preview_id":"..."), "" when none.
+std::string preview_id(const testing::Reply& preview) {
+  const std::regex field(R"re("preview_id":"([0-9a-f]+)")re");
+  std::smatch m;
+  return std::regex_search(preview.body, m, field) ? std::string(m[1]) : "";
+}
+
+// The member `key` of a compact JSON text: its value, an object or array with what it
+// holds, up to its matching bracket ("absent" when there is none).
+std::string member(const std::string& json, const std::string& key) {
+  const auto start = json.find(cat("\"", key, "\":"));
+  if (start == std::string::npos) return "absent";
+  const auto value = start + key.size() + 3;
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (auto i = value; i < json.size(); ++i) {
+    const char c = json[i];
+    if (in_string) {
+      if (escaped)
+        escaped = false;
+      else if (c == '\\')
+        escaped = true;
+      else if (c == '"')
+        in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '{' || c == '[') {
+      ++depth;
+    } else if ((c == '}' || c == ']') && --depth == 0) {
+      return json.substr(value, i + 1 - value);
+    }
+  }
+  return "absent";
+}
+
+// The rest of the first line of `text` that follows `prefix` ("" when none).
+std::string line_after(const std::string& text, const std::string& prefix) {
+  const auto start = text.find(prefix);
+  if (start == std::string::npos) return "";
+  const auto from = start + prefix.size();
+  return text.substr(from, text.find('\n', from) - from);
 }
 
 // `i20 --sim --sim-eeprom FILE get --raw NAME`: "36000".
@@ -150,10 +201,12 @@ TEST_F(ConsoleApi, AnAppliedEditLandsInTheCard) {
   ASSERT_EQ(preview.status, 200) << preview.body;
   EXPECT_NE(preview.body.find(R"("outcome":"dry-run")"), std::string::npos) << preview.body;
   EXPECT_NE(raw_of(console.get("/api/params").body, "NVKQP"), "72");  // a preview writes nothing
-  const auto applied = console.post("/api/apply", "NVKQP=72\nKQP=73");
+  const auto applied = console.apply("NVKQP=72\nKQP=73", preview_id(preview));
   ASSERT_EQ(applied.status, 200) << applied.body;
   EXPECT_NE(applied.body.find(R"("outcome":"done")"), std::string::npos) << applied.body;
   EXPECT_NE(applied.body.find(R"("cell":"NVKQP")"), std::string::npos);
+  // Each cell's outcome in `i20 set`'s words, not the transaction's internal state name.
+  EXPECT_NE(applied.body.find(R"("state":"written, read back equal")"), std::string::npos) << applied.body;
   EXPECT_EQ(raw_of(console.get("/api/params").body, "KQP"), "73");  // the working value, in RAM
   const auto reset = console.post("/api/reset", "");                // makes the EEPROM's 72 live
   ASSERT_EQ(reset.status, 200) << reset.body;
@@ -168,13 +221,15 @@ TEST_F(ConsoleApi, ARefusedValueWritesNothing) {
   const auto off_before = get_raw(eeprom(), "NVBRAKEOFFV");
   ConsoleProcess console(eeprom());
   ASSERT_TRUE(console.up());
-  const auto range = console.post("/api/apply", "NVBRAKEONV=9999V");  // outside its range
+  const auto range = console.post("/api/preview", "NVBRAKEONV=9999V");  // outside its range
   EXPECT_EQ(range.status, 422) << range.body;
   EXPECT_NE(range.body.find("outside its valid range"), std::string::npos) << range.body;
-  const auto rule = console.post("/api/apply", "NVBRAKEOFFV=380V");  // above NVBRAKEONV: the manual's rule
+  const auto rule = console.post("/api/preview", "NVBRAKEOFFV=380V");  // above NVBRAKEONV: the manual's rule
   EXPECT_EQ(rule.status, 422) << rule.body;
   EXPECT_NE(rule.body.find(R"("outcome":"refused")"), std::string::npos) << rule.body;
-  const auto bad = console.post("/api/apply", "NOSUCHPARAM=1");
+  EXPECT_EQ(preview_id(rule), "");  // a refused preview cannot be applied
+  EXPECT_EQ(console.post("/api/apply", "NVBRAKEOFFV=380V").status, 409);
+  const auto bad = console.post("/api/preview", "NOSUCHPARAM=1");
   EXPECT_EQ(bad.status, 400) << bad.body;
   EXPECT_EQ(console.stop(), 130);
   EXPECT_EQ(get_raw(eeprom(), "NVBRAKEONV"), before);
@@ -214,6 +269,104 @@ TEST_F(ConsoleApi, ExplainsFaultsAsIFaultsDoes) {
   EXPECT_NE(cleared.body.find(R"("outcome":"faults-remain")"), std::string::npos) << cleared.body;
 }
 
+// The page applies only what it previewed: an apply must name the current preview and carry
+// its very lines. Judged by the card: every refused apply leaves NVKQP as it was, in RAM and
+// in the EEPROM; the one matching apply at the end writes its value, so the refusals are not
+// an apply that never works.
+TEST_F(ConsoleApi, AnApplyWritesOnlyWhatItsPreviewShowed) {
+  ConsoleProcess console(eeprom());
+  ASSERT_TRUE(console.up());
+  const auto before = raw_of(console.get("/api/params").body, "NVKQP");
+  ASSERT_NE(before, "absent");
+  ASSERT_NE(before, "55");
+  ASSERT_NE(before, "60");
+  const auto refused = [&](const testing::Reply& reply, const std::string& what) {
+    EXPECT_EQ(reply.status, 409) << what << ": " << reply.body;
+    EXPECT_NE(reply.body.find("nothing was written"), std::string::npos) << what << ": " << reply.body;
+    EXPECT_EQ(raw_of(console.get("/api/params").body, "NVKQP"), before) << what;
+  };
+
+  refused(console.post("/api/apply", "NVKQP=60"), "no preview at all");
+  const auto preview = console.post("/api/preview", "NVKQP=55");
+  ASSERT_EQ(preview.status, 200) << preview.body;
+  const auto id = preview_id(preview);
+  ASSERT_EQ(id.size(), 32u) << preview.body;
+  refused(console.apply("NVKQP=60", id), "the box edited to 60 after previewing 55");
+  refused(console.apply("NVKQP=55", id), "the previewed values, but that preview was used up");
+
+  const auto older = preview_id(console.post("/api/preview", "NVKQP=55"));
+  const auto newer = preview_id(console.post("/api/preview", "NVKQP=57"));
+  ASSERT_FALSE(older.empty());
+  ASSERT_NE(older, newer);
+  refused(console.apply("NVKQP=55", older), "a preview a newer one replaced");
+  refused(console.apply("NVKQP=57", std::string(32, '0')), "a forged id");
+  refused(console.apply("NVKQP=57", newer), "the current preview, but a forged apply used it up");
+
+  const auto before_reset = preview_id(console.post("/api/preview", "NVKQP=57"));
+  ASSERT_EQ(console.post("/api/reset", "").status, 200);
+  refused(console.apply("NVKQP=57", before_reset), "a preview made before a reset");
+
+  const auto current = preview_id(console.post("/api/preview", "NVKQP=57"));
+  const auto applied = console.apply("NVKQP=57", current);
+  EXPECT_EQ(applied.status, 200) << applied.body;
+  EXPECT_EQ(raw_of(console.get("/api/params").body, "NVKQP"), "57");
+  EXPECT_EQ(console.stop(), 130);
+  EXPECT_EQ(get_raw(eeprom(), "NVKQP"), "57");
+}
+
+// The fault page's text is `i20 faults`'s and `i20 clear-faults`'s own words: the same "now:"
+// and "why:" sentences the commands print, and no JSON object rendered as text.
+TEST_F(ConsoleApi, ExplainsFaultsInTheWordsOfIFaults) {
+  const std::string world = "busv 30";  // below BUSUNDERV: the under-voltage fault, its cause present
+  const auto cli = test::run("i20", {"--sim", "--sim-control", world, "faults"});
+  const auto cli_clear = test::run("i20", {"--sim", "--sim-control", world, "clear-faults"});
+  const auto now = line_after(cli.out, "  now: ");
+  const auto why = line_after(cli_clear.out, "  why:   ");
+  ASSERT_NE(now.find("cause still present: BUSV is 30.00 V"), std::string::npos) << cli.out;
+  ASSERT_NE(why.find("the cause is still present"), std::string::npos) << cli_clear.out;
+  ConsoleProcess console(eeprom(), world);
+  ASSERT_TRUE(console.up());
+
+  const auto faults = console.get("/api/faults");
+  ASSERT_EQ(faults.status, 200);
+  const auto words = member(faults.body, "explained");
+  EXPECT_NE(words.find(R"x("heading":"BUSLOVFAULT (bit 8, bus-under-voltage, maskable)")x"),
+            std::string::npos)
+      << words;
+  EXPECT_NE(words.find(cat(R"("now":")", now, R"(")")), std::string::npos) << now << "\n" << words;
+  EXPECT_NE(words.find(line_after(cli.out, "Fault output (TB1 pins 5-6): ")), std::string::npos) << words;
+  EXPECT_EQ(words.find(R"(\")"), std::string::npos) << "JSON rendered as text: " << words;
+  EXPECT_EQ(words.find("\"state\""), std::string::npos) << words;
+
+  const auto cleared = console.post("/api/clear-faults", "");
+  ASSERT_EQ(cleared.status, 200) << cleared.body;
+  const auto said = member(cleared.body, "explained");
+  EXPECT_NE(said.find(R"(, 0 cleared, 1 remaining")"), std::string::npos) << said;
+  EXPECT_NE(said.find(cat(R"("why":")", why, R"(")")), std::string::npos) << why << "\n" << said;
+  EXPECT_NE(said.find(R"x("heading":"BUSLOVFAULT (bit 8)")x"), std::string::npos) << said;
+  EXPECT_EQ(said.find(R"(\")"), std::string::npos) << "JSON rendered as text: " << said;
+}
+
+// Between preview and apply another program changed the card: the page's "card holds"
+// column is no longer true, so the apply is refused and the card keeps the other program's
+// value (the simulator counts no write).
+TEST(ConsoleOnCards, AnApplyIsRefusedWhenTheCardChangedSinceItsPreview) {
+  SimProcess card;
+  ASSERT_EQ(card.control("set NVKQP 63"), "ok");
+  ConsoleProcess console(std::vector<std::string>{"--port", card.port()});
+  ASSERT_TRUE(console.up());
+  const auto id = preview_id(console.post("/api/preview", "NVKQP=64"));
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(card.control("set NVKQP 62"), "ok");  // behind the console's back
+  const auto writes = card.writes_seen();
+  const auto applied = console.apply("NVKQP=64", id);
+  EXPECT_EQ(applied.status, 409) << applied.body;
+  EXPECT_NE(applied.body.find("the card changed since the preview"), std::string::npos) << applied.body;
+  EXPECT_EQ(card.control("get NVKQP"), "62");
+  EXPECT_EQ(card.writes_seen(), writes);
+  EXPECT_EQ(console.stop(), 130);
+}
+
 // The same console on a card behind a serial line (i20sim on a pty) and behind a virtual
 // 7I96S/7I92T (i20sim --eth, SSLBP passthrough): it reads what the card holds, writes what
 // it is asked to (the simulator's own value proves the write reached the card), and clears
@@ -230,7 +383,7 @@ TEST(ConsoleOnCards, ReadsChangesAndClearsFaultsOnAPtyCardAndAVirtualEthernetCar
     ConsoleProcess console(target);
     ASSERT_TRUE(console.up());
     EXPECT_EQ(raw_of(console.get("/api/params").body, "NVKQP"), "63");
-    const auto applied = console.post("/api/apply", "NVKQP=64");
+    const auto applied = console.apply("NVKQP=64", preview_id(console.post("/api/preview", "NVKQP=64")));
     ASSERT_EQ(applied.status, 200) << applied.body;
     EXPECT_NE(applied.body.find(R"("outcome":"done")"), std::string::npos) << applied.body;
     EXPECT_EQ(card.control("get NVKQP"), "64");
@@ -239,6 +392,8 @@ TEST(ConsoleOnCards, ReadsChangesAndClearsFaultsOnAPtyCardAndAVirtualEthernetCar
     const auto cleared = console.post("/api/clear-faults", "");
     EXPECT_EQ(cleared.status, 200) << cleared.body;
     EXPECT_NE(cleared.body.find(R"("outcome":"done")"), std::string::npos) << cleared.body;
+    EXPECT_NE(cleared.body.find(R"x("cleared":["NOENABLEFAULT (bit 1)"])x"), std::string::npos)
+        << cleared.body;
     EXPECT_EQ(card.control("get FAULT"), "0");
     EXPECT_EQ(console.stop(), 130);
   }
