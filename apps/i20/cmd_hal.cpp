@@ -78,7 +78,8 @@ app::Json finding_json(const L::LintFinding& f) {
   auto j = app::Json::object();
   j.set("file", f.at.file).set("line", f.at.line);
   j.set("severity", f.severity == L::LintSeverity::Error ? "error" : "warning");
-  return j.set("rule", f.rule).set("message", f.message).set("fix", f.fix);
+  j.set("rule", f.rule).set("message", f.message).set("fix", f.fix);
+  return j.set("halcmd_refuses", f.refused_by_halcmd);
 }
 
 // --load: the files run in halrun against the virtual card; halcmd's complaints join the
@@ -132,7 +133,11 @@ void run_lint(Context& ctx, const LintCliOptions& o) {
   if (!findings.empty() && !ctx.options.json)
     std::cerr << "i20: " << errors << " error" << (errors == 1 ? "" : "s") << ", " << findings.size() - errors
               << " warning" << (findings.size() - errors == 1 ? "" : "s") << "\n";
-  if (!findings.empty()) ctx.record(ops::Comparison::Differs);  // exit 1, as diff(1) reports a difference
+  // Exit 1 for findings, as diff(1) reports a difference; 2 when halcmd would refuse a line
+  // by its own rules, as for a line it cannot read.
+  const int code = L::lint_exit_code(findings);
+  if (code == 2) ctx.record(ops::Comparison::Trouble);
+  if (code == 1) ctx.record(ops::Comparison::Differs);
 }
 
 // ------------------------------------------------------------------ generate
@@ -232,9 +237,11 @@ void register_hal_commands(CLI::App& app, Context& ctx) {
       "lint",
       "Check LinuxCNC HAL files for 8I20 mistakes: pins removed in 2012 (amp_enable, max_current, ...), "
       "phase-angle into the 8I20's angle, current scaling, bldc pins its cfg does not create, initvalue 0, "
-      "fault pins that reach nothing, PnCconf's '..' names. Give all files of one configuration (HALFILE and "
-      "POSTGUI_HALFILE). Prints FILE:LINE: error|warning: ...; exit 0 clean, 1 findings, 2 unreadable or a "
-      "line halcmd rejects");
+      "fault pins that reach nothing, PnCconf's '..' names, misspelt 8I20, encoder, bldc and pid names "
+      "(aliases resolved), and what halcmd refuses (a module loaded twice, a pin on two signals, a signal "
+      "of two types or two writers, setp of a linked pin or an output). Give all files of one configuration "
+      "(HALFILE and POSTGUI_HALFILE). Prints FILE:LINE: error|warning: ...; exit 0 clean, 1 findings, 2 "
+      "unreadable or a line halcmd refuses by its own rules");
   lint->add_option("files", lo->files, "HAL files, in the order LinuxCNC runs them")->required();
   lint->add_option(
       "--max-current", lo->max_current,

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -78,6 +79,56 @@ std::string rule_condition(const BldcRule& rule) {
   return out;
 }
 
+// Optimal string alignment distance: insertions, deletions, substitutions and swaps of two
+// neighbours ("angel" -> "angle" is 1).
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+// The names closest to a misspelt `word` (at most two edits, and fewer for short words),
+// all of them when several are equally close.
+std::vector<std::string> nearest(const std::string& word, const HalObjects& objects,
+                                 const std::vector<std::string>& functions = {}) {
+  const std::size_t limit = std::clamp<std::size_t>(word.size() / 3, 1, 2);
+  std::size_t best = limit + 1;
+  std::vector<std::string> out;
+  const auto consider = [&](const std::string& name) {
+    const auto d = edit_distance(word, name);
+    if (d > best) return;
+    if (d < best) out.clear();
+    best = d;
+    out.push_back(name);
+  };
+  for (const auto& [name, object] : objects) consider(name);
+  for (const auto& name : functions) consider(name);
+  return out;
+}
+
+std::string either_of(const std::vector<std::string>& names, const std::string& prefix) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (i) out += i + 1 == names.size() ? " or " : ", ";
+    out += prefix + names[i];
+  }
+  return out;
+}
+
+// What `pin`'s direction means for a signal: halcmd allows one writer (an out pin), or any
+// number of io pins and no out pin.
+std::string describe(const HalObject& o) {
+  return o.type + " " + (o.direction == "io" ? "I/O" : o.direction);
+}
+
 struct BldcInstance {
   int index = 0;
   std::string cfg;
@@ -93,6 +144,14 @@ class Linter {
   }
 
   std::vector<LintFinding> run() {
+    module_loaded_twice();
+    pin_on_two_signals();
+    signal_pins();
+    setp_refused();
+    sets_refused();
+    signal_type_names();
+    function_added_twice();
+    unknown_names();
     malformed_names();
     obsolete_8i20_names();
     second_lead();
@@ -110,7 +169,249 @@ class Linter {
  private:
   void add(const SourceLine& at, LintSeverity severity, std::string rule, std::string message,
            std::string fix) {
-    findings_.push_back({at, severity, std::move(rule), std::move(message), std::move(fix)});
+    findings_.push_back({at, severity, std::move(rule), std::move(message), std::move(fix), false});
+  }
+
+  // A statement halcmd refuses by its own rules: an error, and the file does not load.
+  void refused(const SourceLine& at, std::string rule, std::string message, std::string fix) {
+    findings_.push_back({at, LintSeverity::Error, std::move(rule),
+                         std::move(message) + " (halcmd refuses this line)", std::move(fix), true});
+  }
+
+  // ---- the instances of the components whose names are known: 8I20, encoder, bldc, pid
+
+  struct Instance {
+    std::string kind;  // what makes it, for messages: "hostmot2's 8I20", "bldc.0 (cfg=qh)", ...
+    std::string rest;  // the name after the instance's prefix
+    HalObjects objects;
+    std::vector<std::string> functions;  // rests that are the instance's functions
+    bool judged_elsewhere = false;       // obsolete, malformed or bldc: their own rules speak
+  };
+
+  // The known instance `name` belongs to, if any.
+  std::optional<Instance> instance_of(const std::string& name) const {
+    if (const auto i20 = split_8i20(name)) {
+      const bool elsewhere = i20->extra_dots || names_.obsolete_8i20(i20->rest) != nullptr;
+      return Instance{"hostmot2's 8I20", i20->rest, names_.i20_objects(), {}, elsewhere};
+    }
+    static const std::regex kEncoder(R"(^hm2_[A-Za-z0-9]+\.[0-9]+\.encoder\.[0-9]{2}\.(.+)$)");
+    std::smatch m;
+    if (std::regex_match(name, m, kEncoder))
+      return Instance{"hostmot2's encoder", m[1].str(), names_.encoder_objects(), {}, false};
+    if (const auto b = split_bldc(name)) {
+      if (b->rest.empty()) return std::nullopt;  // bldc.N is the function
+      if (bldc_module_ == nullptr) return Instance{"bldc", b->rest, names_.bldc_any_cfg_objects(), {}, false};
+      const auto* instance = bldc(b->index);
+      if (instance == nullptr) return std::nullopt;  // bldc-instance says so
+      return Instance{"bldc." + std::to_string(b->index) + " (cfg=" + instance->cfg + ")",
+                      b->rest,
+                      names_.bldc_objects(instance->cfg),
+                      {},
+                      true};
+    }
+    for (const auto& prefix : pid_prefixes())
+      if (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0)
+        return Instance{"pid", name.substr(prefix.size()), names_.pid_objects(pid_debug()),
+                        names_.pid_functions(), false};
+    static const std::regex kPid(R"(^pid\.[0-9]+\.(.+)$)");
+    if (std::regex_match(name, m, kPid))
+      return Instance{"pid", m[1].str(), names_.pid_objects(pid_debug()), names_.pid_functions(), false};
+    return std::nullopt;
+  }
+
+  // "pid.x." for each names= of `loadrt pid`.
+  std::vector<std::string> pid_prefixes() const {
+    std::vector<std::string> out;
+    const auto* pid = design_.module("pid");
+    if (pid == nullptr) return out;
+    const auto names = pid->args.find("names");
+    if (names == pid->args.end()) return out;
+    for (const auto& n : split_commas(names->second)) out.push_back(n + ".");
+    return out;
+  }
+
+  // pid's debug=1 params exist; without the loadrt line in the files, they may.
+  bool pid_debug() const {
+    const auto* pid = design_.module("pid");
+    if (pid == nullptr) return true;
+    const auto debug = pid->args.find("debug");
+    return debug != pid->args.end() && number(debug->second).value_or(0) != 0;
+  }
+
+  // What `name` is when a known component makes it; nullopt otherwise (another component's,
+  // or a name that does not exist).
+  std::optional<HalObject> object_of(const std::string& name) const {
+    const auto instance = instance_of(name);
+    if (!instance) return std::nullopt;
+    const auto it = instance->objects.find(instance->rest);
+    if (it == instance->objects.end()) return std::nullopt;
+    return it->second;
+  }
+
+  // ---- what halcmd refuses by its own rules
+
+  void module_loaded_twice() {
+    std::map<std::string, const LoadedModule*> first;
+    for (const auto& m : design_.modules()) {
+      if (!m.realtime) continue;
+      const auto [it, fresh] = first.emplace(unquoted(m.name), &m);
+      if (fresh) continue;
+      refused(m.at, "module-loaded-twice",
+              "loadrt " + m.name + ": the module is already loaded at " + it->second->at.text() +
+                  ", and a module loads once (halcmd: \"" + m.name + ": already exists\")",
+              "load it once, with every instance on that line (bldc cfg=qh,qh; pid names=pid.x,pid.y); when "
+              "adding a fragment (i20 commission's), delete its loadrt and add its instance there");
+    }
+  }
+
+  void pin_on_two_signals() {
+    for (const auto& r : design_.relinks()) {
+      const auto* on = design_.signals().count(r.linked_to) ? &design_.signals().at(r.linked_to) : nullptr;
+      std::string where;
+      if (on != nullptr)
+        for (const auto& p : on->pins)
+          if (p.name == r.pin.name) where = " at " + p.at.text();
+      refused(r.pin.at, "pin-on-two-signals",
+              r.pin.shown() + " is already on signal " + r.linked_to + where +
+                  "; a pin is on one signal, so " + r.refused + " cannot take it",
+              "net it once: put what needs its value on signal " + r.linked_to + ", or rename " + r.refused +
+                  " to " + r.linked_to);
+    }
+  }
+
+  // One signal: every pin of one type (the newsig type or the first known pin's), and one
+  // writer (an out pin) or else only io pins. Pins of other components are not judged.
+  void signal_pins() {
+    for (const auto& [name, sig] : design_.signals()) {
+      std::optional<std::pair<std::string, std::string>> type;  // type, and who set it
+      if (!sig.declared_type.empty()) type = {sig.declared_type, "newsig at " + sig.first.text()};
+      const NameUse* writer = nullptr;
+      const NameUse* io = nullptr;
+      for (const auto& pin : sig.pins) {
+        const auto o = object_of(pin.name);
+        if (!o) continue;
+        if (!type) {
+          type = {o->type, pin.name + " at " + pin.at.text()};
+        } else if (type->first != o->type) {
+          refused(pin.at, "signal-type",
+                  "signal " + name + " is " + type->first + " (" + type->second + "), and " + pin.shown() +
+                      " is " + o->type + ": a signal links pins of one type",
+                  "use another signal for " + pin.name + ", or a conversion component (conv_*) between them");
+          continue;
+        }
+        const NameUse* clash = o->direction == "out"  ? (writer ? writer : io)
+                               : o->direction == "io" ? writer
+                                                      : nullptr;
+        if (clash != nullptr)
+          refused(pin.at, "signal-writers",
+                  "signal " + name + " already has " + (clash == writer ? "the output " : "the I/O pin ") +
+                      clash->name + " (" + clash->at.text() + "), and " + pin.shown() + " is " +
+                      describe(*o) + ": a signal has one output pin, or I/O pins and no output",
+                  "give " + pin.name + " a signal of its own");
+        else if (o->direction == "out")
+          writer = &pin;
+        else if (o->direction == "io" && io == nullptr)
+          io = &pin;
+      }
+    }
+  }
+
+  void setp_refused() {
+    for (const auto& s : design_.settings()) {
+      const std::string shown = NameUse{s.at, s.name, s.written}.shown();
+      const auto o = object_of(s.name);
+      if (o && !o->settable()) {
+        refused(s.at, "setp-not-writable",
+                "setp " + shown + ": it is " + (o->is_param() ? "a read-only param" : "an output pin") +
+                    " (" + describe(*o) + "), which setp cannot set",
+                o->is_param() ? "delete this line"
+                              : "delete this line; read it with getp, or net it to what needs it");
+      } else if (!s.linked_to.empty()) {
+        refused(s.at, "setp-linked-pin",
+                "setp " + shown + ": the pin is on signal " + s.linked_to +
+                    " by then, and setp sets only a pin on no signal",
+                "sets " + s.linked_to + " " + s.value + " (the signal's value), or setp before the net");
+      }
+    }
+  }
+
+  void sets_refused() {
+    for (const auto& v : design_.signal_values()) {
+      const auto& sig = design_.signals().at(v.signal);
+      if (!v.signal_existed) {
+        // Made later in these files: sets came too early. Made nowhere here: another file of
+        // the configuration may make it, which is not judged.
+        if (sig.pins.empty() && sig.declared_type.empty()) continue;
+        refused(v.at, "sets-signal",
+                "sets " + v.signal +
+                    ": no net or newsig has made this signal by then (sets makes none; it is made at " +
+                    sig.first.text() + ")",
+                "move this line after the net or newsig that makes " + v.signal);
+        continue;
+      }
+      for (std::size_t i = 0; i < v.pins_before && i < sig.pins.size(); ++i) {
+        const auto o = object_of(sig.pins[i].name);
+        if (!o || o->direction != "out") continue;
+        refused(v.at, "sets-signal",
+                "sets " + v.signal + ": the signal has the writer " + sig.pins[i].name + " (" +
+                    sig.pins[i].at.text() + "), which sets its value",
+                "delete this line, or take " + sig.pins[i].name + " off the signal");
+        break;
+      }
+    }
+  }
+
+  void signal_type_names() {
+    static const std::set<std::string> kTypes{"bit", "float", "s32", "u32"};
+    for (const auto& [name, sig] : design_.signals())
+      if (!sig.declared_type.empty() && kTypes.count(sig.declared_type) == 0)
+        refused(sig.first, "signal-type",
+                "newsig " + name + " " + sig.declared_type + ": HAL has no type '" + sig.declared_type +
+                    "' (halcmd: \"Unknown signal type\")",
+                "use bit, float, s32 or u32");
+  }
+
+  // A function of bldc or pid runs in one thread, once: halcmd refuses a second addf.
+  void function_added_twice() {
+    std::map<std::string, SourceLine> first;
+    for (const auto& f : design_.functions()) {
+      const auto b = split_bldc(f.name);
+      const auto instance = instance_of(f.name);
+      const bool known = (b && b->rest.empty()) ||
+                         (instance && std::find(instance->functions.begin(), instance->functions.end(),
+                                                instance->rest) != instance->functions.end());
+      if (!known) continue;
+      const auto [it, fresh] = first.emplace(f.name, f.at);
+      if (fresh) continue;
+      refused(f.at, "function-added-twice",
+              "addf " + f.name + ": it is already added at " + it->second.text() +
+                  ", and it may run in one thread, once (halcmd: \"may only be added to one thread\")",
+              "delete this addf");
+    }
+  }
+
+  // ---- names no component makes
+
+  void unknown_names() {
+    for (const auto& use : design_.names()) {
+      const auto instance = instance_of(use.name);
+      if (!instance || instance->judged_elsewhere || instance->objects.count(instance->rest) != 0 ||
+          std::find(instance->functions.begin(), instance->functions.end(), instance->rest) !=
+              instance->functions.end())
+        continue;
+      unknown_name(use, *instance);
+    }
+  }
+
+  void unknown_name(const NameUse& use, const Instance& instance) {
+    const auto close = nearest(instance.rest, instance.objects, instance.functions);
+    const std::string prefix = use.name.substr(0, use.name.size() - instance.rest.size());
+    add(use.at, LintSeverity::Error, "unknown-name",
+        use.shown() + ": " + instance.kind + " has no pin, param or function '" + instance.rest +
+            "' (halcmd finds no such name)" +
+            (close.empty() ? std::string() : "; did you mean " + either_of(close, prefix) + "?"),
+        close.size() == 1 ? "write " + prefix + close.front()
+                          : "use a name " + instance.kind + " makes (docs/linuxcnc-hal.md; halcmd show pin)");
   }
 
   void collect_bldc() {
@@ -337,12 +638,14 @@ class Linter {
       }
       if (b->rest.empty() || names_.bldc_names(instance->cfg).has(b->rest)) continue;
       const auto* rule = names_.bldc_rule_for(b->rest);
+      if (rule == nullptr) {
+        unknown_name(use, *instance_of(use.name));
+        continue;
+      }
       add(use.at, LintSeverity::Error, "bldc-cfg",
-          use.name + " does not exist: bldc." + std::to_string(b->index) +
-              " is loaded with cfg=" + instance->cfg +
-              (rule ? ", and '" + b->rest + "' exists only with " + rule_condition(*rule)
-                    : ", and bldc has no pin or param '" + b->rest + "'"),
-          rule ? "delete this line, or change the cfg at " + instance->loaded_at.text() : "delete this line");
+          use.name + " does not exist: bldc." + std::to_string(b->index) + " is loaded with cfg=" +
+              instance->cfg + ", and '" + b->rest + "' exists only with " + rule_condition(*rule),
+          "delete this line, or change the cfg at " + instance->loaded_at.text());
     }
   }
 
@@ -405,13 +708,20 @@ class Linter {
     }
   }
 
+  // A fault pin hostmot2 makes (or its -not twin): a misspelt one reaches nothing.
+  bool is_fault_pin(const std::string& rest) const {
+    const auto& faults = names_.i20_fault_pins();
+    const auto& twin = names_.bit_pin_twin_suffix();
+    return std::any_of(faults.begin(), faults.end(),
+                       [&](const auto& f) { return rest == f || rest == f + twin; });
+  }
+
   void fault_pins() {
     for (const auto& device : devices_) {
       bool reaches = false;
       for (const auto& use : design_.names()) {
         const auto name = split_8i20(use.name);
-        if (name && name->device == device.name && name->rest.rfind("fault.", 0) == 0 &&
-            design_.connected(use.name))
+        if (name && name->device == device.name && is_fault_pin(name->rest) && design_.connected(use.name))
           reaches = true;
       }
       if (reaches) continue;
@@ -492,6 +802,12 @@ std::vector<LintFinding> lint(const std::vector<Statement>& statements, const Li
   std::stable_sort(findings.begin(), findings.end(),
                    [&](const auto& a, const auto& b) { return rank(a.at) < rank(b.at); });
   return findings;
+}
+
+int lint_exit_code(const std::vector<LintFinding>& findings) {
+  if (std::any_of(findings.begin(), findings.end(), [](const auto& f) { return f.refused_by_halcmd; }))
+    return 2;
+  return findings.empty() ? 0 : 1;
 }
 
 std::string to_string(const LintFinding& finding) {

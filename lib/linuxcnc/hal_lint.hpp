@@ -21,6 +21,10 @@ struct LintFinding {
   std::string rule;     // short id: obsolete-8i20-name, second-lead, ...
   std::string message;  // what is wrong, one sentence
   std::string fix;      // what to write instead
+  // halcmd refuses the statement by its own rules, whatever the components are (a module
+  // loaded twice, a pin on two signals, two writers or two types on one signal, setp of a
+  // linked pin or an output): the file does not load. Exit 2, as a syntax error is.
+  bool refused_by_halcmd = false;
 };
 
 struct LintOptions {
@@ -34,6 +38,10 @@ struct LintOptions {
 // Findings in the order of the files and lines they point at (files in the order given).
 std::vector<LintFinding> lint(const std::vector<Statement>& statements, const LintOptions& options,
                               const HalNames& names = HalNames::builtin());
+
+// `i20 hal lint`'s exit code for these findings: 0 none, 1 findings, 2 a statement halcmd
+// refuses (refused_by_halcmd).
+int lint_exit_code(const std::vector<LintFinding>& findings);
 
 // "FILE:LINE: error: MESSAGE (fix: FIX)".
 std::string to_string(const LintFinding& finding);
