@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <stdlib.h>
+#include <sys/ioctl.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -70,6 +71,31 @@ class Pty {
  private:
   int master_ = -1;
   std::string slave_path_;
+};
+
+// The slave side's input queue, as the program reading the port will find it. Bytes the test
+// sends on the master reach that queue later (the kernel moves them in a work item), so a test
+// that needs them there waits for the count instead of sleeping. Open it before the program
+// under test opens the port (its exclusive access keeps later openers out); it reads nothing
+// and takes no lock.
+class SlaveQueue {
+ public:
+  explicit SlaveQueue(const Pty& pty)
+      : fd_(::open(pty.slave_path().c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK)) {
+    if (fd_ < 0) throw std::runtime_error("cannot open the pseudo-terminal's slave side");
+  }
+  ~SlaveQueue() { ::close(fd_); }
+  SlaveQueue(const SlaveQueue&) = delete;
+  SlaveQueue& operator=(const SlaveQueue&) = delete;
+
+  // Bytes received and not yet read.
+  std::size_t queued() const {
+    int n = 0;
+    return ::ioctl(fd_, FIONREAD, &n) == 0 && n > 0 ? static_cast<std::size_t>(n) : 0;
+  }
+
+ private:
+  int fd_;
 };
 
 // A FakeCard answering real LBP framing on the master side, in its own thread.

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "eventually.hpp"
 #include "lbp/command.hpp"
 #include "link/serial_link.hpp"
 #include "pty.hpp"
@@ -18,6 +19,7 @@ using namespace i20::link;
 using namespace std::chrono_literals;
 using fake::Pty;
 using fake::PtyCard;
+using fake::SlaveQueue;
 using lbp::Bytes;
 namespace fs = std::filesystem;
 
@@ -138,6 +140,8 @@ TEST(SerialStream, FarDeadlineReturnsAsSoonAsBytesArrive) {
   Pty pty;
   SerialStream stream(pty.slave_path(), port_figures());
   std::thread sender([&] {
+    // The subject is timing: the byte comes while read_some() waits (had the read not started
+    // yet, the test would still pass, only prove less). A head start, not an ordering.
     std::this_thread::sleep_for(100ms);
     pty.send(Bytes{7});
   });
@@ -150,9 +154,11 @@ TEST(SerialStream, FarDeadlineReturnsAsSoonAsBytesArrive) {
 
 TEST(SerialStream, DeadlineInThePastStillReturnsBufferedBytes) {
   Pty pty;
+  const SlaveQueue queue(pty);
   SerialStream stream(pty.slave_path(), port_figures());
   pty.send(Bytes{1, 2, 3});
-  std::this_thread::sleep_for(200ms);  // let the pty move them to the slave's queue
+  ASSERT_TRUE(i20::test::eventually([&] { return queue.queued() == 3; }))  // in the slave's queue
+      << queue.queued() << " bytes arrived";
   lbp::Byte buffer[8];
   EXPECT_EQ(stream.read_some(buffer, Clock::now() - 1s), 3u);
   EXPECT_EQ(stream.read_some(buffer, Clock::now()), 0u);
@@ -160,9 +166,11 @@ TEST(SerialStream, DeadlineInThePastStillReturnsBufferedBytes) {
 
 TEST(SerialStream, DiscardInputDropsWhatArrivedBefore) {
   Pty pty;
+  const SlaveQueue queue(pty);
   SerialStream stream(pty.slave_path(), port_figures());
   pty.send(Bytes{0xEE, 0xEE, 0xEE, 0xEE});
-  std::this_thread::sleep_for(200ms);
+  ASSERT_TRUE(i20::test::eventually([&] { return queue.queued() == 4; }))  // arrived: before the discard
+      << queue.queued() << " bytes arrived";
   stream.discard_input();
   pty.send(Bytes{0x11, 0x22});
   EXPECT_EQ(read_exactly(stream, 2), (Bytes{0x11, 0x22}));
@@ -300,13 +308,15 @@ TEST(SerialStream, CarriesPipelinedLbpToAFakeCard) {
 
 TEST(SerialStream, LinkDropsStaleBytesAndReportsASilentCard) {
   Pty pty;
+  const SlaveQueue queue(pty);
   const PipelinedLinkOptions options{
       .base_timeout = 500ms, .retries = 0u, .max_drain = std::chrono::milliseconds(500)};
   std::unique_ptr<Link> link = open_serial_link(pty.slave_path(), options, port_figures());
   {
     PtyCard card(pty);
     pty.send(Bytes{0x00, 0x99});  // a late reply from an earlier exchange
-    std::this_thread::sleep_for(200ms);
+    ASSERT_TRUE(i20::test::eventually([&] { return queue.queued() == 2; }))  // waiting on the port
+        << queue.queued() << " bytes arrived";
     EXPECT_EQ(link->execute_one(lbp::local_read(lbp::local::kGetCookie)), Bytes{0x5A});
   }
   const auto start = Clock::now();
