@@ -22,6 +22,7 @@
 #include <iterator>
 #include <thread>
 
+#include "eventually.hpp"
 #include "harness.hpp"
 
 using namespace i20::test;
@@ -33,16 +34,6 @@ constexpr auto kPatience = 20s;  // a loaded 2-core machine; the conditions usua
 
 bool has(const std::string& text, const std::string& needle) {
   return text.find(needle) != std::string::npos;
-}
-
-// Polls `condition` until it holds or `kPatience` passes.
-bool eventually(const std::function<bool()>& condition) {
-  const auto deadline = std::chrono::steady_clock::now() + kPatience;
-  while (!condition()) {
-    if (std::chrono::steady_clock::now() >= deadline) return false;
-    std::this_thread::sleep_for(2ms);  // a poll interval, not a wait for anything to happen
-  }
-  return true;
 }
 
 std::string slurp(const std::filesystem::path& path) {
@@ -75,14 +66,16 @@ class Tool {
   bool signal_delivered(int sig) const {
     signal(sig);
     const std::uint64_t bit = std::uint64_t{1} << (sig - 1);
-    return eventually([&] {
-      std::ifstream status("/proc/" + std::to_string(pid_) + "/status");
-      std::uint64_t pending = 0;
-      for (std::string line; std::getline(status, line);)
-        if (line.rfind("SigPnd:", 0) == 0 || line.rfind("ShdPnd:", 0) == 0)
-          pending |= std::stoull(line.substr(7), nullptr, 16);
-      return (pending & bit) == 0;
-    });
+    return eventually(
+        [&] {
+          std::ifstream status("/proc/" + std::to_string(pid_) + "/status");
+          std::uint64_t pending = 0;
+          for (std::string line; std::getline(status, line);)
+            if (line.rfind("SigPnd:", 0) == 0 || line.rfind("ShdPnd:", 0) == 0)
+              pending |= std::stoull(line.substr(7), nullptr, 16);
+          return (pending & bit) == 0;
+        },
+        kPatience);
   }
   int killed_by() const { return killed_by_; }  // the signal that ended it, 0 if it exited
   // The reader of stdout exits (`i20 ... | head -1` after its line): later writes fail.
@@ -170,10 +163,12 @@ class Signals : public ::testing::Test {
 
   // Waits on the simulator while pumping the tool's pipes.
   bool until(Tool& tool, const std::function<bool()>& condition) {
-    return eventually([&] {
-      tool.pump();
-      return condition();
-    });
+    return eventually(
+        [&] {
+          tool.pump();
+          return condition();
+        },
+        kPatience);
   }
 
   // The verdict after a stop in the middle of the change: the EEPROM image is the one the

@@ -15,22 +15,10 @@
 
 #include "eth/target.hpp"
 #include "ethsim/server.hpp"
+#include "eventually.hpp"  // test::eventually, for what the card's server thread does
 #include "lbp16/lbp16.hpp"
 
 namespace i20::test {
-
-// Waits until `done()` holds, for at most `limit`: for what another thread does (the virtual
-// card's server, the LinuxCNC stand-in), so a loaded machine slows a test but fails none.
-// Returns the last answer; assert on it.
-template <class Done>
-bool eventually(Done&& done, std::chrono::milliseconds limit = std::chrono::milliseconds(5000)) {
-  const auto deadline = std::chrono::steady_clock::now() + limit;
-  while (!done()) {
-    if (std::chrono::steady_clock::now() >= deadline) return done();
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  return true;
-}
 
 // A virtual card serving on 127.0.0.1:<ephemeral> for the lifetime of the object.
 class RunningBoard {

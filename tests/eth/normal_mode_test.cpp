@@ -45,7 +45,15 @@ TEST(EthNormalMode, StartsReadsUnitNumberAndStreamsTheAmplifiersValues) {
 TEST(EthNormalMode, KeepsTheWatchdogFedAndNeverCommandsCurrent) {
   test::RunningBoard card;
   const auto session = NormalModeSession::open(card.target(0), programs_timing::normal_mode());
-  std::this_thread::sleep_for(300ms);  // the caller dawdles; the worker keeps cadence
+  // The caller dawdles (it takes no sample) while the worker keeps cadence: until the worker
+  // has published ten DOITs' worth, however long a loaded machine takes.
+  ASSERT_TRUE(test::eventually(
+      [&] {
+        const auto latest = session->latest();
+        return latest && latest->doits >= 10;
+      },
+      20s))
+      << "the worker did not keep cadence on its own";
   const LiveStatus s = session->wait_for_sample(500ms);
   EXPECT_GE(s.doits, 10u);
   card.with_amplifier(0, 0, [&](sim::Virtual8i20& amp) {

@@ -346,8 +346,15 @@ TEST(EthBatching, ALostReplyOfAResetIsNeverResent) {
   const auto reset_count = [&] {
     return card.with_amplifier(0, 0, [](sim::Virtual8i20& a) { return a.stats().resets; });
   };
-  test::eventually([&] { return reset_count() > resets; });  // the DOIT runs on the server's thread
-  std::this_thread::sleep_for(30ms);                         // and a second one would come soon after
+  // The DOIT runs on the server's thread. Every packet the link sent was answered before
+  // execute_one() returned (the loss is the test's, after the reply), so a second reset, had
+  // one been sent, was started by then: once the SSLBP is idle again, every DOIT it was
+  // given has run, and the count is final.
+  const auto settled = [&] {
+    return card.server().with_card([](ethsim::VirtualBoard& c) { return !c.sslbp(0).busy(); }) &&
+           reset_count() > resets;
+  };
+  ASSERT_TRUE(test::eventually(settled, 20s)) << "the reset never ran";
   EXPECT_EQ(reset_count(), resets + 1);
 }
 

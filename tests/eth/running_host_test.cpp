@@ -363,7 +363,7 @@ class AnotherClientAfter final : public Lbp16Transport {
     talker_ = std::thread([this, read] {
       while (!stop_) {
         other_->transact(std::span(&read, 1));
-        std::this_thread::sleep_for(1ms);
+        std::this_thread::sleep_for(1ms);  // the other host's pace (a servo thread), not an ordering
       }
     });
   }

@@ -61,6 +61,9 @@ TEST(EthUdpClient, RepliesFromAnotherSenderAreIgnored) {
     lbp::Bytes forged = good;
     forged.back() = 0xEE;
     s.impostor.send_to(boost::asio::buffer(forged), client);  // same size, wrong address:port
+    // Kept: a head start for the forged datagram. Loopback delivers in send order already;
+    // no event says the client's socket holds it (its statistics are the client thread's),
+    // and a late forgery would fail the test loudly (foreign_ignored 0), not pass it wrongly.
     std::this_thread::sleep_for(2ms);
     s.card.send_to(boost::asio::buffer(good), client);
   });
@@ -179,7 +182,7 @@ TEST(EthUdpClient, RejectsBadAddresses) {
 TEST(EthUdpClient, ASlowCardsRoundTripIsLearntAndItsWritesAreAnsweredInTime) {
   // Every reply leaves 40 ms after its request arrived (a loaded host), past the 10 ms floor.
   ScriptedBoard card([](const lbp::Bytes& request, const auto& client, ScriptedBoard::Sockets s) {
-    std::this_thread::sleep_for(40ms);
+    std::this_thread::sleep_for(40ms);  // the subject: a late reply, not an ordering
     s.card.send_to(boost::asio::buffer(test::zero_card_reply(request)), client);
   });
   UdpClient client("127.0.0.1", card.port(),
