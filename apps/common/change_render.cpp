@@ -8,6 +8,17 @@
 #include "params/value.hpp"
 
 namespace i20::app::render {
+
+std::string cell_state_text(const ops::CellState& cell) {
+  switch (cell.status) {
+    case ops::CellStatus::Intended: return "written, read back equal";
+    case ops::CellStatus::Original: return "original (restored)";
+    case ops::CellStatus::Other: return "OTHER: neither the old nor the new value";
+    case ops::CellStatus::Unknown: return "UNKNOWN: " + cell.error;
+  }
+  return "UNKNOWN";
+}
+
 namespace {
 
 using ops::CellStatus;
@@ -87,11 +98,8 @@ void print_writes(std::ostream& out, const std::string& title, const std::vector
 void print_cells(std::ostream& out, const TargetRun& run, const params::ParamDb& db) {
   Table t({"CELL", "BEFORE", "INTENDED", "NOW", "STATE"});
   for (const auto& c : run.result->cells) {
-    std::string state = ops::to_string(c.status);
-    if (c.status == CellStatus::Original) state = "original (restored)";
-    if (c.status == CellStatus::Unknown) state = "UNKNOWN: " + c.error;
-    if (c.status == CellStatus::Other) state = "OTHER: neither the old nor the new value";
-    t.add({c.cell, text_of(db, c.cell, c.original), text_of(db, c.cell, c.intended), c.actual_text, state});
+    t.add({c.cell, text_of(db, c.cell, c.original), text_of(db, c.cell, c.intended), c.actual_text,
+           cell_state_text(c)});
   }
   t.print(out);
 }

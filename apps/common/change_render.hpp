@@ -40,6 +40,11 @@ std::string finding_text(const profile::Finding& finding);
 std::string reason_text(const ops::TransactionResult& result);
 std::string error_text(const TargetRun& run);
 
+// A cell's state after a change, in words: "written, read back equal" for a verified write
+// (the transaction's "intended"), "original (restored)", OTHER or UNKNOWN with why. The
+// commands' cell table and the console say the same.
+std::string cell_state_text(const ops::CellState& cell);
+
 // "profiles/x.yaml:12: error: NVBRAKEOFFV: must be below BRAKEONV ... [brake-order]";
 // findings without a line name `file`.
 void print_findings(std::ostream& out, const std::vector<profile::Finding>& findings,

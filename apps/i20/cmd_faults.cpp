@@ -231,16 +231,6 @@ struct ClearOptions {
   unsigned wait_ms = static_cast<unsigned>(ops::timing::kClearFaultWait.count());
 };
 
-std::string why_remaining(const F::ReportLine& line, const Readings& r, const std::string& flags) {
-  const CauseNow c = cause_now(line.bit, r);
-  if (c.state == CauseNow::Present) return "the cause is still present: " + c.evidence;
-  if (c.state == CauseNow::Gone)
-    return "set again at once although " + c.evidence +
-           ": the condition is marginal or intermittent; watch it with `i20 " + flags + " watch`";
-  if (line.reserved) return "a bit the manual does not define came back: note the value and ask Mesa";
-  return "set again at once: the card still detects it, so its cause is present now";
-}
-
 void print_remaining(const F::Report& remaining, const Readings& r, const std::string& flags) {
   for (const auto& line : remaining.lines) {
     std::cout << "\nRemains: " << bit_label(line) << (line.masked ? " [masked]" : "") << ": " << line.meaning

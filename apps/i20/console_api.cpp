@@ -116,26 +116,16 @@ bool would_write(const ops::TargetRun& run) {
   return run.outcome == ops::Outcome::DryRun && run.result && !run.result->plan.empty();
 }
 
-// A cell's state after a write, in the words `i20 set` prints for it ("written, read back
-// equal" for a verified write), not the transaction's internal "intended".
-std::string cell_state_text(const ops::CellState& cell) {
-  switch (cell.status) {
-    case ops::CellStatus::Intended: return "written, read back equal";
-    case ops::CellStatus::Original: return "original (restored)";
-    case ops::CellStatus::Other: return "OTHER: neither the old nor the new value";
-    case ops::CellStatus::Unknown: return "UNKNOWN: " + cell.error;
-  }
-  return "UNKNOWN";
-}
-
 // `i20 set --json`'s report, and each cell's state in words for the page.
 app::Json change_json(const ops::TargetRun& run) {
   auto j = app::render::run_json(run);
   auto states = app::Json::array();
   if (run.result)
     for (const auto& c : run.result->cells)
-      states.push(
-          app::Json::object().set("cell", c.cell).set("now", c.actual_text).set("state", cell_state_text(c)));
+      states.push(app::Json::object()
+                      .set("cell", c.cell)
+                      .set("now", c.actual_text)
+                      .set("state", app::render::cell_state_text(c)));
   j.set("cell_states", std::move(states));
   return j;
 }

@@ -136,6 +136,38 @@ std::optional<Finding<double>> counts_per_turn_from_index(const std::vector<doub
       "the distance between " + std::to_string(marks.size()) + " index marks a turn apart"};
 }
 
+// One index mark and a given counts per turn: had the encoder travelled a given turn past the
+// mark either way, the index would have latched there too. False (a problem added) when it
+// did and did not; a note when the given turn, alone deciding the pole pairs, went unchecked.
+bool one_mark_agrees(std::span<const Sample> samples, double mark, double turn, double tolerance,
+                     bool pole_pairs_given, CommutationResult& result) {
+  const auto [low, high] =
+      std::minmax_element(samples.begin(), samples.end(),
+                          [](const auto& a, const auto& b) { return a.encoder_count < b.encoder_count; });
+  const auto lowest = static_cast<double>(low->encoder_count);
+  const auto highest = static_cast<double>(high->encoder_count);
+  if (mark + turn < highest - tolerance || mark - turn > lowest + tolerance) {
+    result.problems.push_back(
+        {ProblemKind::IndexInconsistent,
+         "the index latched at one mark while the encoder covered " + fixed(highest - lowest, 0) +
+             " counts: a turn of " + fixed(turn, 0) +
+             " counts would have latched it again, so the counts per turn are wrong (a turn is more than " +
+             fixed(std::max(highest - mark, mark - lowest), 0) + " counts), or the index is missing pulses"});
+    return false;
+  }
+  if (!pole_pairs_given)
+    result.notes.push_back("the index passed once: the given " + fixed(turn, 0) +
+                           " counts per turn, which set the pole pairs, could not be checked against it");
+  return true;
+}
+
+// The index contradicts the counts per turn given: what was derived from them (the pole
+// pairs, unless given too) must not reach bldc's settings.
+void forget_scale(const AnalysisOptions& options, CommutationResult& result) {
+  result.counts_per_turn.reset();
+  if (!options.pole_pairs) result.pole_pairs.reset();
+}
+
 struct Scale {
   double counts_per_electrical_turn = 0;  // what the offset is computed with
   bool exact = false;                     // from an exact counts per turn and pole pairs
@@ -200,9 +232,11 @@ std::optional<Scale> decide_scale(const AnalysisOptions& options, const Finding<
     cpr = from_index;
   }
   if (!cpr) {
-    result.problems.push_back({ProblemKind::NeedPolePairsOrCounts,
-                               "pole pairs need the counts per turn or the pole count: give either, or sweep "
-                               "more than a mechanical turn each way so the index passes twice"});
+    result.problems.push_back(
+        {ProblemKind::NeedPolePairsOrCounts,
+         "the index did not pass twice, so the counts per turn are unknown, and the pole "
+         "pairs need them or the pole count: give either (a motor with more pole pairs than "
+         "half the search's electrical turns needs one)"});
     return Scale{cpet, false};
   }
   result.counts_per_turn = cpr;
@@ -417,6 +451,13 @@ std::optional<RotorAngleFromEncoder> analyse_encoder(std::span<const Sample> sam
                                              " counts apart, but a turn is " +
                                              std::to_string(*options.counts_per_turn) +
                                              " counts: a noisy index, or the counts per turn are wrong"});
+    forget_scale(options, result);
+    return std::nullopt;
+  }
+  if (marks.size() == 1 && options.counts_per_turn &&
+      !one_mark_agrees(samples, marks.front(), static_cast<double>(*options.counts_per_turn),
+                       3.0 + 0.01 * measured->value, options.pole_pairs.has_value(), result)) {
+    forget_scale(options, result);
     return std::nullopt;
   }
   if (marks.size() > 1 && !from_index) {

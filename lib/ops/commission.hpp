@@ -110,8 +110,9 @@ struct CommissionPlan {
   double max_electrical_turns = 0;
   std::optional<double> max_mechanical_turns;  // when the pole pairs are known
   double runaway_turns_per_s = 0;              // electrical
-  // The forward sweep goes on until the index has passed this often (twice when the counts
-  // per turn are not given: the distance gives them), up to search_turns electrical turns.
+  // The forward sweep goes on until the index has passed this often (twice unless the counts
+  // per turn and the pole pairs are both given: the distance gives or checks the counts per
+  // turn), up to search_turns electrical turns.
   int index_passes = 1;
   double search_turns = 0;
   double time_limit_s = 0;
@@ -167,7 +168,7 @@ struct CommissionReport {
   std::optional<ClosedLoopCheck> check;
   std::optional<unsigned> encoder_instance;
   std::vector<std::string> hall_pins;  // Hall 1, 2, 3
-  std::size_t samples = 0;
+  std::size_t samples = 0;             // the drive cycles recorded, however far the run got
   double elapsed_s = 0;
   eth::DoitStats doit;
   bool current_zeroed = false;  // QSETPOINT 0 sent and the port stopped, confirmed

@@ -143,7 +143,11 @@ CommissionPlan prepare_commission(Session& session, const CommissionOptions& opt
     plan.estimated_s = check_s + 1.0 + plan.check->poles / 2.0 / options.turns_per_s;
     plan.max_mechanical_turns = plan.max_electrical_turns / (plan.check->poles / 2.0);
   } else {
-    plan.index_passes = options.counts_per_turn ? 1 : 2;
+    // Twice unless both nameplate figures are given: the distance between two passes gives
+    // the counts per turn, or checks given ones that alone would set the pole pairs unseen
+    // (a wrong --counts-per-rev with the right counts per electrical turn commutates, and
+    // names the wrong poles and scale). With both given, the sweep checks them together.
+    plan.index_passes = options.counts_per_turn && options.pole_pairs ? 1 : 2;
     // The first pass comes within a mechanical turn, the second one turn later.
     plan.search_turns =
         std::max(options.sweep_turns,
@@ -176,6 +180,13 @@ std::vector<std::string> CommissionPlan::lines() const {
     sweep += std::string(" electrical turns forward and back at ") + fixed(turns_per_s, 2) + " turns/s, " +
              fixed(current_a, 2) + " A";
     out.push_back(sweep);
+    // Said before anything moves: a motor with more pole pairs than the search covers ends
+    // "could not tell" after the whole search.
+    if (!max_mechanical_turns && index_passes == 2)
+      out.push_back("without --poles the index passes twice within " + fixed(search_turns, 0) +
+                    " electrical turns only on a motor of up to " +
+                    std::to_string(static_cast<int>(search_turns / 2)) +
+                    " pole pairs: for more, give --poles (and --counts-per-rev)");
   }
   out.push_back(std::string("check: closed loop at ") + fixed(check_current_a, 2) +
                 " A, one to two electrical turns each way, then two holds");

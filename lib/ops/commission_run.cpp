@@ -27,6 +27,9 @@ namespace {
 constexpr double kScaleTurns = 1.0;
 // Fewer counts than this over that turn: the encoder did not move.
 constexpr std::int64_t kStallCounts = 4;
+// Given figures within this share of the first turn's measure are trusted for the follow
+// check (the first turn measures within a few percent; a wrong figure is off by a pole pair).
+constexpr double kGivenScaleAgreement = 0.2;
 // The check: how long each direction may push, and how far it should get.
 constexpr double kCheckPushS = 1.5;
 constexpr double kCheckRampS = 1.0;  // the check current from 0 to full
@@ -188,8 +191,14 @@ void Procedure::learn_scale(std::size_t sweep_start) {
   Scale scale{.encoder = e,
               .direction = moved > 0 ? 1 : -1,
               .counts_per_electrical_turn = std::abs(static_cast<double>(moved)) / kScaleTurns};
-  if (options_.pole_pairs && options_.counts_per_turn)
-    scale.counts_per_electrical_turn = static_cast<double>(*options_.counts_per_turn) / *options_.pole_pairs;
+  // Given figures make the follow check exact, but only when the rotor agrees with them: a
+  // wrong --poles or --counts-per-rev would make the check see a slip that is not there
+  // (the analysis names the mismatch instead).
+  if (options_.pole_pairs && options_.counts_per_turn) {
+    const double given = static_cast<double>(*options_.counts_per_turn) / *options_.pole_pairs;
+    if (std::abs(given / scale.counts_per_electrical_turn - 1.0) < kGivenScaleAgreement)
+      scale.counts_per_electrical_turn = given;
+  }
   report_.encoder_instance = m_.loop().feedback().encoders[e].instance;
   m_.set_scale(scale, true);
 }
@@ -262,12 +271,11 @@ void Procedure::commission() {
   for (auto k : halls) report_.hall_pins.push_back(m_.loop().feedback().inputs[k].hal_pin);
   const std::size_t e = m_.scale()->encoder;
   report_.recorded = samples(e, halls);
-  report_.samples = report_.recorded.size();
   commission::AnalysisOptions analysis;
   analysis.pole_pairs = options_.pole_pairs;
   analysis.counts_per_turn = options_.counts_per_turn;
   analysis.hall_sensors_expected = !halls.empty();
-  say(std::string("analysing ") + std::to_string(report_.samples) + " samples");
+  say(std::string("analysing ") + std::to_string(report_.recorded.size()) + " samples");
   const auto result = commission::analyse(report_.recorded, analysis);
   report_.result = result;
   report_.bldc = commission::bldc_settings(result);
@@ -456,6 +464,8 @@ CommissionReport run_commission(Session& session, const CommissionPlan& plan,
   CommissionReport report;
   report.plan = plan;
   std::unique_ptr<eth::DriveLoop> loop;
+  // Outlives the try: a run stopped midway still reports the cycles it drove.
+  std::optional<Motion> motion;
   const auto started = std::chrono::steady_clock::now();
   const eth::RealtimePriority realtime;
   if (!realtime.granted())
@@ -464,8 +474,8 @@ CommissionReport run_commission(Session& session, const CommissionPlan& plan,
         "loaded machine a late DOIT may let the 8I20's watchdog stop the run");
   try {
     loop = eth::DriveLoop::open(plan.preflight.target, loop_options(options, session));
-    Motion motion(*loop, plan, options, session.cancel());
-    Procedure procedure(motion, plan, options, progress, report);
+    motion.emplace(*loop, plan, options, session.cancel());
+    Procedure procedure(*motion, plan, options, progress, report);
     if (plan.check)
       procedure.check_only(*plan.check);
     else
@@ -486,6 +496,7 @@ CommissionReport run_commission(Session& session, const CommissionPlan& plan,
     report.stop = StopReason::Error;
     report.message = e.what();
   }
+  if (motion) report.samples = motion->ticks().size();
   if (report.stop != StopReason::Signal && session.stop_requested()) {
     report.notes.push_back("a stop signal arrived as the run ended: " + report.message);
     report.stop = StopReason::Signal;

@@ -28,17 +28,21 @@ bool is_digit_in(char c, int base) {
   return base == 16 && ((c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F'));
 }
 
+// A refusal speaks the user's units first; the raw counts the card holds come second, for
+// those who compare with the manual's tables.
 std::string range_text(const Param& p) {
-  std::string text = std::to_string(p.min) + ".." + std::to_string(p.max);
-  if (!p.unit.empty())
-    text += " (" + format_engineering(p, p.min) + " .. " + format_engineering(p, p.max) + ")";
-  return text;
+  const std::string raw = std::to_string(p.min) + ".." + std::to_string(p.max);
+  if (p.unit.empty()) return raw;
+  return format_engineering(p, p.min) + " .. " + format_engineering(p, p.max) + " (raw " + raw + ")";
+}
+
+std::string value_text(const Param& p, std::int64_t raw) {
+  if (p.unit.empty()) return std::to_string(raw);
+  return format_engineering(p, raw) + " (raw " + std::to_string(raw) + ")";
 }
 
 [[noreturn]] void out_of_range(const Param& p, const std::string& text) {
-  std::string range = std::to_string(p.min) + ".." + std::to_string(p.max);
-  if (!p.unit.empty()) range += " = " + format_engineering(p, p.min) + " .. " + format_engineering(p, p.max);
-  throw ValueError(text + " is out of range for " + p.name + " (" + range + ")");
+  throw ValueError(text + " is out of range for " + p.name + ": " + range_text(p));
 }
 
 // A signed count from a magnitude, if int64 holds it.
@@ -429,9 +433,7 @@ std::int64_t parse_value(const Param& param, std::string_view text) {
 }
 
 void check_range(const Param& param, std::int64_t raw) {
-  const std::string shown = param.unit.empty()
-                                ? std::to_string(raw)
-                                : std::to_string(raw) + " (" + format_engineering(param, raw) + ")";
+  const std::string shown = value_text(param, raw);
   if (raw < param.min || raw > param.max)
     throw ValueError(param.name + " = " + shown + " is outside its valid range " + range_text(param));
   if (!param.allowed.empty() && std::ranges::find(param.allowed, raw) == param.allowed.end()) {

@@ -149,7 +149,8 @@ std::vector<BadInput> table() {
        with(i20, {"set", "NVMAXCURRENT=45A"}),
        {},
        3,
-       "i20: refused: NVMAXCURRENT = 4500 (45.00 A) is outside its valid range 0..3000 (0.00 A .. 30.00 A); "
+       "i20: refused: NVMAXCURRENT = 45.00 A (raw 4500) is outside its valid range 0.00 A .. 30.00 A (raw "
+       "0..3000); "
        "nothing was written"},
       {"SetReadOnly",
        "i20",
@@ -252,7 +253,7 @@ std::vector<BadInput> table() {
        {"NVMAXCURRENT", "99999999999999999999"},
        {},
        2,
-       "wpd: error: 99999999999999999999 is out of range for NVMAXCURRENT (0..3000 = 0.00 A .. 30.00 A)"},
+       "wpd: error: 99999999999999999999 is out of range for NVMAXCURRENT: 0.00 A .. 30.00 A (raw 0..3000)"},
       {"WpdFraction",
        "wpd",
        {"NVMAXCURRENT", "12.5"},
@@ -478,7 +479,8 @@ std::vector<BadInput> table() {
        with(i20, {"profile", "apply", "{DIR}/rating.yaml", "--yes"}),
        {},
        3,
-       "i20: refused: NVMAXCURRENT = 4500 (45.00 A) is outside its valid range 0..3000 (0.00 A .. 30.00 A); "
+       "i20: refused: NVMAXCURRENT = 45.00 A (raw 4500) is outside its valid range 0.00 A .. 30.00 A (raw "
+       "0..3000); "
        "nothing was written"},
       {"ProfileNotFound",
        "i20",

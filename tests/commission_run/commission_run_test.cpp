@@ -156,6 +156,55 @@ TEST(CommissionRun, RandomMotorsMatchTheTruth) {
   }
 }
 
+// A wrong --counts-per-rev alone (half the encoder's 4,000) commutates, because the counts
+// per electrical turn are measured, but would name half the poles and half the scale: the
+// sweep goes on until the index has passed twice, and its distance says the given turn is
+// wrong. No bldc values come out of it.
+TEST(CommissionRun, AWrongCountsPerRevIsToldByTheIndex) {
+  auto options = quick_options();
+  options.counts_per_turn = MotorSpec{}.counts_per_turn / 2;
+  std::optional<VirtualAxis> held;
+  const auto r = commission_kept_time(held, MotorSpec{}, options);
+  EXPECT_EQ(r.plan.index_passes, 2);
+  EXPECT_EQ(r.stop, ops::StopReason::CouldNotTell) << describe(r);
+  EXPECT_EQ(ops::exit_code(r.outcome()), 3) << describe(r);
+  ASSERT_TRUE(r.result) << describe(r);
+  const auto said = describe(r);
+  EXPECT_NE(said.find("index marks 4000 counts apart, but a turn is 2000 counts"), std::string::npos) << said;
+  EXPECT_FALSE(r.bldc && r.bldc->poles) << said;
+  EXPECT_TRUE(r.current_zeroed);
+
+  // Given with the right pole pairs, the sweep measures 1,000 counts per electrical turn
+  // against the 500 the figures make: told without a second pass.
+  options.pole_pairs = MotorSpec{}.pole_pairs;
+  const auto both = commission_kept_time(held, MotorSpec{}, options);
+  EXPECT_EQ(both.plan.index_passes, 1);
+  EXPECT_EQ(both.stop, ops::StopReason::CouldNotTell) << describe(both);
+  EXPECT_NE(describe(both).find("counts per electrical turn"), std::string::npos) << describe(both);
+}
+
+// With nothing given, the sweep searches 12 electrical turns for two index passes: enough
+// for 6 pole pairs. A 7-pole-pair motor whose index lies late in the turn (the 263
+// degrees) passes it once; the plan says so before anything moves, and the report says why
+// it could not tell and what to give.
+TEST(CommissionRun, AMotorBeyondTheSearchIsToldInThePlanAndTheReport) {
+  MotorSpec spec;
+  spec.pole_pairs = 7;
+  spec.index_deg = 263;
+  std::optional<VirtualAxis> held;
+  const auto r = commission_kept_time(held, spec, quick_options());
+  EXPECT_EQ(r.plan.index_passes, 2);
+  std::string plan;
+  for (const auto& line : r.plan.lines()) plan += line + "\n";
+  EXPECT_NE(plan.find("only on a motor of up to 6 pole pairs: for more, give --poles"), std::string::npos)
+      << plan;
+  EXPECT_EQ(r.stop, ops::StopReason::CouldNotTell) << describe(r);
+  EXPECT_EQ(ops::exit_code(r.outcome()), 3) << describe(r);
+  EXPECT_NE(describe(r).find("the index did not pass twice"), std::string::npos) << describe(r);
+  EXPECT_TRUE(r.current_zeroed);
+  EXPECT_EQ(held->qsetpoint(), 0.0);
+}
+
 // --- aborts: each ends with QSETPOINT 0, the port stopped, and says why -----------------
 
 void expect_stopped(VirtualAxis& axis, const ops::CommissionReport& r, ops::StopReason reason,
@@ -165,6 +214,9 @@ void expect_stopped(VirtualAxis& axis, const ops::CommissionReport& r, ops::Stop
   EXPECT_TRUE(r.current_zeroed) << r.zero_note;
   EXPECT_EQ(axis.qsetpoint(), 0.0);
   EXPECT_NE(r.outcome(), ops::Outcome::Done);
+  // A run stopped midway still counts the cycles it drove (it reported "0 samples in 3.4 s").
+  EXPECT_GT(r.samples, 0u) << describe(r);
+  EXPECT_LE(r.samples, r.doit.doits) << describe(r);
 }
 
 TEST(CommissionRun, BrakeEngagedIsAStall) {

@@ -64,8 +64,9 @@ TEST(ParamValue, RangeCheckNamesTheLimitsInUnits) {
     FAIL();
   } catch (const ValueError& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find("NVBRAKEONV = 39000 (390.00 V)"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("385.00 V"), std::string::npos) << msg;
+    // The user's units first, the card's raw counts after them.
+    EXPECT_NE(msg.find("NVBRAKEONV = 390.00 V (raw 39000)"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("0.00 V .. 385.00 V (raw 0..38500)"), std::string::npos) << msg;
   }
   EXPECT_THROW(check_range(db().get("NVMAXCURRENT"), 3001), ValueError);
   EXPECT_THROW(check_range(db().get("NVMAXCURRENT"), -1), ValueError);
@@ -133,7 +134,7 @@ TEST(ParamValue, NoNanInfinityOrHexFractions) {
 TEST(ParamValue, IntegersBeyondInt64AreOutOfRangeWithTheRange) {
   EXPECT_TRUE(refused_with("NVMAXCURRENT", "--9223372036854775808", "not a"));
   EXPECT_EQ(refusal("NVMAXCURRENT", "raw:18446744073709551616"),
-            "raw:18446744073709551616 is out of range for NVMAXCURRENT (0..3000 = 0.00 A .. 30.00 A)");
+            "raw:18446744073709551616 is out of range for NVMAXCURRENT: 0.00 A .. 30.00 A (raw 0..3000)");
   EXPECT_TRUE(refused_with("NVMAXCURRENT", "raw:9223372036854775808", "out of range for NVMAXCURRENT"));
   EXPECT_TRUE(refused_with("NVMAXCURRENT", "raw:0x10000000000000000", "out of range for NVMAXCURRENT"));
   EXPECT_TRUE(refused_with("NVMAXCURRENT", "18446744073709551616", "needs its unit"))

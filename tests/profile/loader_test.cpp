@@ -279,7 +279,7 @@ TEST(ProfileLoader, RejectsValuesThatAreNotExactNumbers) {
   }
   EXPECT_EQ(load_error(with_params("  NVMAXCURRENT: {raw: --1000}\n")).rule(), "value");
   EXPECT_EQ(load_error(with_params("  NVMAXCURRENT: {raw: 18446744073709551616}\n")).reason(),
-            "18446744073709551616 is out of range for NVMAXCURRENT (0..3000 = 0.00 A .. 30.00 A)");
+            "18446744073709551616 is out of range for NVMAXCURRENT: 0.00 A .. 30.00 A (raw 0..3000)");
 }
 
 TEST(ProfileLoader, RejectsQuantitiesThatAreNotPlainPositiveNumbers) {
