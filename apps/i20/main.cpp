@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "cmd_doctor.hpp"
 #include "cmd_inventory.hpp"
 #include "context.hpp"
 #include "ops/signals.hpp"
@@ -66,6 +67,7 @@ int main(int argc, char** argv) {
   cli::register_hal_commands(app, ctx);
   cli::register_commission_command(app, ctx);  // apps/i20/cmd_commission.cpp
   cli::register_console_command(app, ctx);
+  cli::register_doctor_command(app, ctx);  // apps/i20/cmd_doctor.cpp
   // Before the command runs: what it reports may name the options that override a refusal,
   // and only those the command has (`i20 set` has --force, `i20 faults clear` has not).
   app.parse_complete_callback([&app] { app::set_overrides(app::overrides_of_parsed(app)); });
