@@ -3,14 +3,14 @@
 // operation that stops, starts or re-modes an SSERIAL port: on a running machine a stop
 // drops every axis on that port (their 8I20s see no DOIT for 40 ms and disable).
 //
-// What is measured, over a short window (default 30 ms, longer when a little foreign
-// traffic is seen: RunningHostCheck::extra_windows), with read-only packets:
+// What is measured, over a short window (RunningHostCheck::window, set in ops/timing.hpp;
+// longer when a little foreign traffic is seen: extra_windows), with read-only packets:
 //
 //  1. LBP16 space 6 RXUDPCount (0x0A) and TXUDPCount (0x10), read at the start and the end
 //     (7I96S/7I92T manuals, "SPACE 6 LBP STATUS/CONTROL AREA"). The card counts every UDP
 //     packet it receives and sends; whatever moved beyond our own packets came from, or went
 //     to, another host. LinuxCNC's hm2_eth exchanges packets every servo period (1 ms by
-//     default), so a running machine shows tens of foreign packets in 30 ms.
+//     default), so a running machine shows tens of foreign packets in one window.
 //  2. Each SSERIAL port's COMMAND register, sampled a few times in the window. We issue no
 //     command during the window, so a non-zero COMMAND is someone else's DOIT (or start)
 //     in flight (8I20 manual, "DOIT": SSLBP clears COMMAND when a DOIT completes).
@@ -51,7 +51,7 @@ struct RunningHostCheck {
   // Windows added, one at a time, while foreign packets were seen but no more than the
   // limit. A host that DOITs every 20 ms (the slowest period that keeps the 8I20's 40 ms
   // watchdog fed), or a 10 ms one whose cycles run late on a loaded PC, can show a single
-  // exchange in 30 ms, as a stray query does; a longer watch tells them apart. An idle
+  // exchange in one window, as a stray query does; a longer watch tells them apart. An idle
   // card (nothing foreign) and a host above the limit cost no extra window.
   link::Given<unsigned> extra_windows;
   // How often a counter read is sent again because its request went out more than once
@@ -82,9 +82,9 @@ struct HostActivity {
   std::uint64_t sent_at_last = 0;
 
   std::uint32_t foreign_packets() const { return foreign_received + foreign_sent; }
-  // "the card received 31 UDP packets and sent 30 that were not ours in 30 ms; SSERIAL
+  // "the card received 31 UDP packets and sent 30 that were not ours in W ms; SSERIAL
   // port 0 COMMAND was busy with 0x1001 (a DOIT)" or "no other host talked to the card
-  // in 30 ms".
+  // in W ms", W the window watched (ops/timing.hpp sets it).
   std::string describe() const;
 };
 

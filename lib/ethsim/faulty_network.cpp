@@ -61,6 +61,8 @@ struct FaultyNetwork::Impl {
   std::uint64_t order = 0;
   // Per direction, the datagram held back until the next one of its direction overtakes it.
   std::optional<Pending> overtaken[2];
+  // The datagram hold_share holds until the next one of either direction has passed.
+  std::optional<Pending> held_one;
   mutable std::mutex mutex;  // guards stats and the queue's size for idle()
   NetworkStats counted;
   std::size_t held = 0;
@@ -108,13 +110,19 @@ struct FaultyNetwork::Impl {
           static_cast<std::size_t>(unit(faults.seed, dir, index, 6) * static_cast<double>(bytes.size() - 1));
       const std::vector<std::uint8_t> cut(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(keep));
       schedule(from, to, cut, Clock::duration{0});
-      held = queue.size();
+      held = count_held();
+      return;
+    }
+    if (spoil && !held_one && unit(faults.seed, dir, index, 8) < faults.hold_share) {
+      ++counted.held;
+      held_one = Pending{Clock::time_point::max(), order++, &from, to, bytes};
+      held = count_held();
       return;
     }
     if (spoil && !overtaken[dir] && unit(faults.seed, dir, index, 7) < faults.reorder_share) {
       ++counted.reordered;
       overtaken[dir] = Pending{Clock::now() + faults.max_delay, order++, &from, to, bytes};
-      held = queue.size() + 1;
+      held = count_held();
       return;
     }
     Clock::duration delay{0};
@@ -133,7 +141,19 @@ struct FaultyNetwork::Impl {
       queue.push(std::move(*overtaken[dir]));
       overtaken[dir].reset();
     }
-    held = queue.size() + (overtaken[0] ? 1 : 0) + (overtaken[1] ? 1 : 0);
+    if (held_one) release_held_one(delay);  // this one passed: the held one right after it
+    held = count_held();
+  }
+
+  std::size_t count_held() const {
+    return queue.size() + (overtaken[0] ? 1 : 0) + (overtaken[1] ? 1 : 0) + (held_one ? 1 : 0);
+  }
+
+  void release_held_one(Clock::duration delay) {
+    held_one->due = Clock::now() + delay;
+    held_one->order = order++;
+    queue.push(std::move(*held_one));
+    held_one.reset();
   }
 
   void release_due() {
@@ -149,7 +169,7 @@ struct FaultyNetwork::Impl {
       p.from->send_to(asio::buffer(p.bytes), p.to, 0, ec);  // a closed client port is the client's loss
       queue.pop();
     }
-    held = queue.size() + (overtaken[0] ? 1 : 0) + (overtaken[1] ? 1 : 0);
+    held = count_held();
   }
 
   bool idle_queue() const {
@@ -220,6 +240,12 @@ bool FaultyNetwork::wait_idle(std::chrono::milliseconds limit) const {
 void FaultyNetwork::set_faults(const NetworkFaults& faults) {
   std::lock_guard lock(impl_->mutex);
   impl_->faults = faults;
+}
+
+void FaultyNetwork::release_held() {
+  std::lock_guard lock(impl_->mutex);
+  if (impl_->held_one) impl_->release_held_one(Clock::duration{0});
+  impl_->held = impl_->count_held();
 }
 
 NetworkStats FaultyNetwork::stats() const {

@@ -36,6 +36,11 @@ struct NetworkFaults {
   // Held until the next datagram of the same direction has gone by, then delivered after it
   // (a reordering switch or proxy); one that nothing follows within max_delay goes then.
   double reorder_share = 0.0;
+  // Held until the next datagram of either direction has passed, then delivered right after
+  // it, however long that takes (issue 40's proxy): a held request is answered only after
+  // the tool's next datagram, a held reply arrives only after the tool has sent again. One
+  // is held at a time; release_held() delivers it when nothing follows (the end of a run).
+  double hold_share = 0.0;
   std::chrono::milliseconds min_delay{80};
   std::chrono::milliseconds max_delay{400};
   bool requests = true;  // spoil tool-to-card datagrams
@@ -44,7 +49,7 @@ struct NetworkFaults {
 
 struct NetworkStats {
   std::uint64_t requests = 0, replies = 0;  // datagrams received from either side
-  std::uint64_t delayed = 0, duplicated = 0, dropped = 0, truncated = 0, reordered = 0;
+  std::uint64_t delayed = 0, duplicated = 0, dropped = 0, truncated = 0, reordered = 0, held = 0;
 };
 
 class FaultyNetwork {
@@ -61,6 +66,9 @@ class FaultyNetwork {
   // duplicated one too) has been delivered. False when `limit` passed first.
   bool wait_idle(std::chrono::milliseconds limit) const;
   NetworkStats stats() const;
+  // Delivers the datagram hold_share holds, if any, as if the next one had passed: a run
+  // is judged after every datagram it sent reached its end.
+  void release_held();
   // From the next datagram on, these faults (the soak turns them on once the card is open
   // and off again when the fault heals).
   void set_faults(const NetworkFaults& faults);
