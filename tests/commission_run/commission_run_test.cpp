@@ -6,12 +6,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <csignal>
 #include <iostream>
 #include <optional>
 #include <random>
 #include <thread>
 
+#include "eventually.hpp"
 #include "ops/outcome.hpp"
 #include "sim/amplifier.hpp"
 #include "sim/bits.hpp"
@@ -207,6 +209,19 @@ TEST(CommissionRun, AMotorBeyondTheSearchIsToldInThePlanAndTheReport) {
 
 // --- aborts: each ends with QSETPOINT 0, the port stopped, and says why -----------------
 
+// Waits until the run drives the motor (the card is given current) and has run `cycles` DOITs
+// since: mid-run however slow the machine is, where a fixed time could land before the move
+// on a loaded machine or after the run on a fast one. False when `ended` came first (the
+// caller injects anyway, and the test's expectations say what went wrong) or after a minute.
+bool driving_for(VirtualAxis& axis, const std::atomic<bool>& ended, std::uint64_t cycles = 10) {
+  const auto doits = [&] {
+    return axis.server().with_card([](ethsim::VirtualBoard& card) { return card.sslbp(0).stats().doits; });
+  };
+  if (!eventually([&] { return ended || axis.qsetpoint() != 0.0; }, 60s, 5ms) || ended) return false;
+  const auto from = doits();
+  return eventually([&] { return ended || doits() >= from + cycles; }, 60s, 5ms) && !ended;
+}
+
 void expect_stopped(VirtualAxis& axis, const ops::CommissionReport& r, ops::StopReason reason,
                     const std::string& says) {
   EXPECT_EQ(r.stop, reason) << describe(r);
@@ -241,25 +256,29 @@ TEST(CommissionRun, AnOverhaulingLoadIsARunaway) {
 
 TEST(CommissionRun, AFaultLatchedMidRunStopsIt) {
   VirtualAxis axis(MotorSpec{});
+  std::atomic<bool> ended{false};
   std::thread fault([&] {
-    std::this_thread::sleep_for(700ms);
+    EXPECT_TRUE(driving_for(axis, ended)) << "the run never drove, or ended first";
     axis.server().with_card([&](ethsim::VirtualBoard& card) {
       axis.server().amplifier(card, 0, 0)->amplifier().world().settings().forced_faults =
           sim::fault::kOverTemp;
     });
   });
   const auto r = commission(axis, quick_options()).report;
+  ended = true;
   fault.join();
   expect_stopped(axis, r, ops::StopReason::Fault, "OVERTEMPFAULT");
 }
 
 TEST(CommissionRun, AnotherHostAppearingStopsIt) {
   VirtualAxis axis(MotorSpec{});
+  std::atomic<bool> ended{false};
   std::thread host([&] {
-    std::this_thread::sleep_for(700ms);
+    EXPECT_TRUE(driving_for(axis, ended)) << "the run never drove, or ended first";
     axis.server().start_host(ethsim::HostOptions{});
   });
   const auto r = commission(axis, quick_options()).report;
+  ended = true;
   host.join();
   axis.server().stop_host();
   EXPECT_EQ(r.stop, ops::StopReason::OtherHost) << describe(r);
@@ -272,11 +291,15 @@ TEST(CommissionRun, ASignalStopsItAndSaysSo) {
   ops::Session session(axis.session_options());
   const auto options = quick_options();
   const auto plan = ops::prepare_commission(session, options);
-  std::thread signal([] {
-    std::this_thread::sleep_for(600ms);
-    std::raise(SIGTERM);
+  std::atomic<bool> ended{false};
+  std::thread signal([&] {
+    if (driving_for(axis, ended))
+      std::raise(SIGTERM);
+    else
+      ADD_FAILURE() << "the run never drove, or ended first";  // no SIGTERM past the run's handler
   });
   const auto r = ops::run_commission(session, plan, options);
+  ended = true;
   signal.join();
   expect_stopped(axis, r, ops::StopReason::Signal, "SIGTERM");
   EXPECT_EQ(r.outcome(), ops::Outcome::Interrupted);
