@@ -26,7 +26,7 @@ install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR
 install(FILES ${PROJECT_SOURCE_DIR}/docs/README.md ${PROJECT_SOURCE_DIR}/docs/facts.md
               ${PROJECT_SOURCE_DIR}/docs/motor-model.md
               ${PROJECT_SOURCE_DIR}/docs/commissioning-analysis.md ${PROJECT_SOURCE_DIR}/docs/commissioning.md
-              ${PROJECT_SOURCE_DIR}/docs/linuxcnc-hal.md
+              ${PROJECT_SOURCE_DIR}/docs/linuxcnc-hal.md ${PROJECT_SOURCE_DIR}/docs/field-messages.md
               ${PROJECT_SOURCE_DIR}/docs/virtual-feedback.md ${PROJECT_SOURCE_DIR}/docs/console.md DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)
 install(FILES ${PROJECT_SOURCE_DIR}/motors/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR}/motors)
 install(FILES ${PROJECT_SOURCE_DIR}/profiles/README.md ${PROJECT_SOURCE_DIR}/profiles/TUNING.md

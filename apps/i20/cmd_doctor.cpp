@@ -227,7 +227,10 @@ void run_doctor(Context& ctx, const DoctorOptions& o) {
   CardState card;
   if (o.passive) card = read_card(ctx);
   const std::size_t problems = d.problems() + card.problems;
+  // A checker's codes, as `i20 profile diff` and `i20 hal lint`: 1 found something, 2 could
+  // not look (here: the card not reached).
   if (problems > 0) ctx.record(ops::Comparison::Differs);
+  if (!card.error.empty()) ctx.record(ops::Comparison::Trouble);
 
   if (ctx.options.json) {
     auto j = app::Json::object();
@@ -303,7 +306,7 @@ void register_doctor_command(CLI::App& app, Context& ctx) {
       "stopping anything: each 8I20's FAULT, STATUS and bus voltage from LinuxCNC's last cycle");
   doctor->footer(
       "Exit 0 when nothing points at a problem (notes, such as a non-realtime kernel, do not count), 1 when "
-      "there are findings (or --passive did not reach the card), 2 when a file cannot be read. --json gives "
+      "there are findings, 2 when a file cannot be read or --passive did not reach the card. --json gives "
       "every "
       "finding with its lines. Examples:\n"
       "  halrun -f axis.hal 2>&1 | tee hal.out; i20 doctor hal.out\n"
