@@ -41,9 +41,13 @@ class Json {
 
   std::string dump(int indent = 2) const;
 
+  // The value itself, for a writer of another format (the --yaml of a report built as Json).
+  using Value = std::variant<std::nullptr_t, bool, std::int64_t, double, std::string, Array, Object>;
+  const Value& value() const { return value_; }
+
  private:
   void write(std::string& out, int indent, int depth) const;
-  std::variant<std::nullptr_t, bool, std::int64_t, double, std::string, Array, Object> value_;
+  Value value_;
 };
 
 }  // namespace i20::app

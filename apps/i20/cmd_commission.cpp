@@ -5,12 +5,12 @@
 #include <yaml-cpp/yaml.h>
 
 #include <CLI/CLI.hpp>
-#include <charconv>
-#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <type_traits>
+#include <variant>
 
 #include "commission/format.hpp"
 #include "context.hpp"
@@ -49,96 +49,104 @@ std::string read_text(const std::string& path) {
 }
 
 template <class T>
-void finding(YAML::Emitter& y, const char* key, const std::optional<commission::Finding<T>>& f) {
+void finding(app::Json& findings, const char* key, const std::optional<commission::Finding<T>>& f) {
   if (!f) return;
-  y << YAML::Key << key << YAML::Value << YAML::BeginMap << YAML::Key << "value" << YAML::Value << f->value
-    << YAML::Key << "uncertainty" << YAML::Value << f->uncertainty << YAML::Key << "how" << YAML::Value
-    << f->how << YAML::EndMap;
+  findings.set(
+      key, app::Json::object().set("value", f->value).set("uncertainty", f->uncertainty).set("how", f->how));
 }
 
-// The report as one YAML document; --json converts the same tree.
-std::string report_yaml(const ops::CommissionReport& r) {
-  YAML::Emitter y;
-  y << YAML::BeginMap;
-  y << YAML::Key << "target" << YAML::Value << r.plan.preflight.target.url();
-  y << YAML::Key << "stop" << YAML::Value << std::string(ops::stop_reason_name(r.stop));
-  y << YAML::Key << "message" << YAML::Value << r.message;
-  y << YAML::Key << "current_zeroed" << YAML::Value << r.current_zeroed;
-  if (!r.zero_note.empty()) y << YAML::Key << "zero_note" << YAML::Value << r.zero_note;
-  if (r.encoder_instance) y << YAML::Key << "encoder" << YAML::Value << *r.encoder_instance;
-  y << YAML::Key << "hall_inputs" << YAML::Value << YAML::Flow << r.hall_pins;
+template <class T>
+app::Json array_of(const std::vector<T>& items) {
+  auto j = app::Json::array();
+  for (const auto& item : items) j.push(item);
+  return j;
+}
+
+// The report as one typed tree: --json prints it, --yaml writes the same tree as YAML.
+app::Json report_json(const ops::CommissionReport& r) {
+  auto j = app::Json::object();
+  j.set("target", r.plan.preflight.target.url());
+  j.set("stop", std::string(ops::stop_reason_name(r.stop)));
+  j.set("message", r.message);
+  j.set("current_zeroed", r.current_zeroed);
+  if (!r.zero_note.empty()) j.set("zero_note", r.zero_note);
+  if (r.encoder_instance) j.set("encoder", *r.encoder_instance);
+  j.set("hall_inputs", array_of(r.hall_pins));
   if (r.bldc) {
-    y << YAML::Key << "bldc" << YAML::Value << YAML::BeginMap;
-    if (r.bldc->pattern) y << YAML::Key << "pattern" << YAML::Value << *r.bldc->pattern;
-    if (r.bldc->poles) y << YAML::Key << "poles" << YAML::Value << *r.bldc->poles;
-    if (r.bldc->scale) y << YAML::Key << "scale" << YAML::Value << *r.bldc->scale;
-    if (r.bldc->encoder_offset) y << YAML::Key << "encoder-offset" << YAML::Value << *r.bldc->encoder_offset;
-    y << YAML::Key << "missing" << YAML::Value << r.bldc->missing;
-    y << YAML::EndMap;
+    auto b = app::Json::object();
+    if (r.bldc->pattern) b.set("pattern", *r.bldc->pattern);
+    if (r.bldc->poles) b.set("poles", *r.bldc->poles);
+    if (r.bldc->scale) b.set("scale", *r.bldc->scale);
+    if (r.bldc->encoder_offset) b.set("encoder-offset", *r.bldc->encoder_offset);
+    b.set("missing", array_of(r.bldc->missing));
+    j.set("bldc", std::move(b));
   }
   if (r.result) {
     const auto& f = *r.result;
-    y << YAML::Key << "findings" << YAML::Value << YAML::BeginMap;
-    finding(y, "encoder_direction", f.encoder_direction);
-    finding(y, "counts_per_electrical_turn", f.counts_per_electrical_turn);
-    finding(y, "pole_pairs", f.pole_pairs);
-    finding(y, "counts_per_turn", f.counts_per_turn);
-    finding(y, "index_electrical_angle_deg", f.index_electrical_angle_deg);
-    finding(y, "encoder_offset_counts", f.encoder_offset_counts);
-    finding(y, "hall_pattern", f.hall.bldc_pattern);
-    finding(y, "friction_lag_deg", f.friction_lag_deg);
-    y << YAML::EndMap;
-    y << YAML::Key << "problems" << YAML::Value << YAML::BeginSeq;
-    for (const auto& p : f.problems) y << p.message;
-    y << YAML::EndSeq;
+    auto findings = app::Json::object();
+    finding(findings, "encoder_direction", f.encoder_direction);
+    finding(findings, "counts_per_electrical_turn", f.counts_per_electrical_turn);
+    finding(findings, "pole_pairs", f.pole_pairs);
+    finding(findings, "counts_per_turn", f.counts_per_turn);
+    finding(findings, "index_electrical_angle_deg", f.index_electrical_angle_deg);
+    finding(findings, "encoder_offset_counts", f.encoder_offset_counts);
+    finding(findings, "hall_pattern", f.hall.bldc_pattern);
+    finding(findings, "friction_lag_deg", f.friction_lag_deg);
+    j.set("findings", std::move(findings));
+    auto problems = app::Json::array();
+    for (const auto& p : f.problems) problems.push(p.message);
+    j.set("problems", std::move(problems));
   }
   if (r.check) {
-    y << YAML::Key << "check" << YAML::Value << YAML::BeginMap << YAML::Key << "passed" << YAML::Value
-      << r.check->passed;
-    y << YAML::Key << "moved_electrical_turns" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-    for (const auto& d : r.check->directions) y << d.moved_electrical_turns;
-    y << YAML::EndSeq << YAML::Key << "hold_errors_deg" << YAML::Value << YAML::Flow
-      << r.check->hold_errors_deg;
-    y << YAML::Key << "bound_deg" << YAML::Value << r.check->bound_deg;
-    y << YAML::Key << "how" << YAML::Value << r.check->how << YAML::EndMap;
+    auto moved = app::Json::array();
+    for (const auto& d : r.check->directions) moved.push(d.moved_electrical_turns);
+    j.set("check", app::Json::object()
+                       .set("passed", r.check->passed)
+                       .set("moved_electrical_turns", std::move(moved))
+                       .set("hold_errors_deg", array_of(r.check->hold_errors_deg))
+                       .set("bound_deg", r.check->bound_deg)
+                       .set("how", r.check->how));
   }
-  y << YAML::Key << "notes" << YAML::Value << r.notes;
-  y << YAML::Key << "samples" << YAML::Value << r.samples;
-  y << YAML::Key << "elapsed_s" << YAML::Value << r.elapsed_s;
-  y << YAML::Key << "doit_period_us" << YAML::Value << YAML::BeginMap << YAML::Key << "p50" << YAML::Value
-    << r.doit.percentile(50).count() << YAML::Key << "p99" << YAML::Value << r.doit.percentile(99).count()
-    << YAML::Key << "worst" << YAML::Value << r.doit.worst().count() << YAML::Key << "late" << YAML::Value
-    << r.doit.late << YAML::Key << "missed" << YAML::Value << r.doit.missed << YAML::EndMap;
-  y << YAML::EndMap;
+  j.set("notes", array_of(r.notes));
+  j.set("samples", r.samples);
+  j.set("elapsed_s", r.elapsed_s);
+  j.set("doit_period_us", app::Json::object()
+                              .set("p50", r.doit.percentile(50).count())
+                              .set("p99", r.doit.percentile(99).count())
+                              .set("worst", r.doit.worst().count())
+                              .set("late", r.doit.late)
+                              .set("missed", r.doit.missed));
+  return j;
+}
+
+void emit_yaml(YAML::Emitter& y, const app::Json& j) {
+  std::visit(
+      [&y](const auto& v) {
+        using V = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<V, std::nullptr_t>) {
+          y << YAML::Null;
+        } else if constexpr (std::is_same_v<V, app::Json::Array>) {
+          y << YAML::BeginSeq;
+          for (const auto& item : v) emit_yaml(y, item);
+          y << YAML::EndSeq;
+        } else if constexpr (std::is_same_v<V, app::Json::Object>) {
+          y << YAML::BeginMap;
+          for (const auto& [key, value] : v) {
+            y << YAML::Key << key << YAML::Value;
+            emit_yaml(y, value);
+          }
+          y << YAML::EndMap;
+        } else {
+          y << v;  // bool, integer, double, string
+        }
+      },
+      j.value());
+}
+
+std::string report_yaml(const app::Json& report) {
+  YAML::Emitter y;
+  emit_yaml(y, report);
   return std::string(y.c_str()) + "\n";
-}
-
-app::Json scalar_json(const std::string& s, bool quoted) {
-  if (quoted) return app::Json(s);
-  if (s == "true") return app::Json(true);
-  if (s == "false") return app::Json(false);
-  long long i = 0;
-  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), i);
-  if (ec == std::errc() && p == s.data() + s.size()) return app::Json(i);
-  double d = 0;
-  auto [q, ec2] = std::from_chars(s.data(), s.data() + s.size(), d);
-  if (ec2 == std::errc() && q == s.data() + s.size() && std::isfinite(d)) return app::Json(d);
-  return app::Json(s);
-}
-
-app::Json to_json(const YAML::Node& node) {
-  if (node.IsMap()) {
-    auto j = app::Json::object();
-    for (const auto& kv : node) j.set(kv.first.as<std::string>(), to_json(kv.second));
-    return j;
-  }
-  if (node.IsSequence()) {
-    auto j = app::Json::array();
-    for (const auto& item : node) j.push(to_json(item));
-    return j;
-  }
-  if (node.IsScalar()) return scalar_json(node.Scalar(), node.Tag() == "!");
-  return app::Json();
 }
 
 void print_text(const ops::CommissionReport& r) {
@@ -202,11 +210,11 @@ void run_commission_command(Context& ctx, Args& a) {
         "commission not confirmed; the motor was not driven (pass --yes in scripts)");
   const auto report = ops::run_commission(
       session, plan, a.o, [](const std::string& phase) { std::cerr << "i20 commission: " << phase << "\n"; });
-  const std::string yaml = report_yaml(report);
+  const auto tree = report_json(report);
   if (ctx.options.json)
-    ctx.print_json(to_json(YAML::Load(yaml)));
+    ctx.print_json(tree);
   else if (a.yaml)
-    std::cout << yaml;
+    std::cout << report_yaml(tree);
   else
     print_text(report);
   ctx.record(report.outcome());

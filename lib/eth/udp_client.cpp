@@ -90,6 +90,10 @@ struct UdpClient::Impl {
   void send(const lbp::Bytes& packet) {
     boost::system::error_code ec;
     socket.send_to(asio::buffer(packet), card, 0, ec);
+    if (ec == boost::system::errc::operation_not_permitted)
+      throw link::LinkError("sending to " + name + " was refused by this host's firewall (" + ec.message() +
+                            "): on a host running LinuxCNC, hm2_eth lets only itself reach the card; "
+                            "run this from another computer on the card's network, or stop LinuxCNC");
     if (ec) throw link::LinkError("sending to " + name + " failed: " + ec.message());
   }
 };

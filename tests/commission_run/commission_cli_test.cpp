@@ -2,6 +2,7 @@
 // `i20 commission` end to end: against `i20sim --eth --card 7i92t-servo --motor`, and the
 // refusals that must come before anything is driven.
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <csignal>
@@ -146,6 +147,17 @@ TEST_F(CommissionCliSim, JsonReportAndTheHalFragment) {
   EXPECT_EQ(c.exit_code, 0) << c.out << c.err;
   EXPECT_NE(c.out.find("closed-loop check passed"), std::string::npos) << c.out;
   EXPECT_NE(c.out.find("Hall codes off the pattern's sector in 0 of"), std::string::npos) << c.out;
+
+  // --yaml writes the same typed report as --json: a YAML reader gets the check's verdict as
+  // a bool and the counts as numbers.
+  const auto y = commission_kept_time(target(),
+                                      {"--yes", "--check", hal.string(), "--turns-per-second", "4", "--yaml"});
+  ASSERT_EQ(y.exit_code, 0) << y.out << y.err;
+  const auto report = YAML::Load(y.out);
+  EXPECT_EQ(report["stop"].as<std::string>(), "completed") << y.out;
+  EXPECT_TRUE(report["check"]["passed"].as<bool>()) << y.out;
+  EXPECT_GT(report["samples"].as<long>(), 0) << y.out;
+  EXPECT_EQ(report["encoder"].as<int>(), 1) << y.out;
 
   // The same file with a wrong Hall pattern fails the check: bldc (cfg qhi) commutates from
   // the Halls until the index, and they disagree with pattern 17.
