@@ -78,6 +78,7 @@ for ((try = 1; ; try++)); do
   # again (the same motor file, so the same motor) as one would the machine.
   ((try == 1)) || { stop_sim && start_sim; }
   hal timeout 60 halrun -f "$work/run.hal" >"$work/hal.out" 2>&1
+  realtime_started "with the fragment" "$try" || continue
   [[ -n $(value watchdog) ]] || {
     cat "$work/hal.out"
     fail "halrun did not run the experiment with the fragment"
