@@ -13,30 +13,34 @@
 #include <chrono>
 #include <thread>
 
+#include "eventually.hpp"
+
 using namespace std::chrono_literals;
 
 namespace {
 
+// waitpid reported `state` (WIFSTOPPED with WUNTRACED, WIFCONTINUED with WCONTINUED) within
+// `limit`? Polled every 5 ms by the tests' one wait.
+template <class State>
+bool reports(pid_t child, int options, State state, std::chrono::milliseconds limit) {
+  return i20::test::eventually(
+      [&] {
+        int status = 0;
+        return ::waitpid(child, &status, options | WNOHANG) == child && state(status);
+      },
+      limit, 5ms);
+}
+
 // Stopped within `limit`?
 bool stops(pid_t child, std::chrono::milliseconds limit) {
-  const auto until = std::chrono::steady_clock::now() + limit;
-  int status = 0;
-  while (std::chrono::steady_clock::now() < until) {
-    if (::waitpid(child, &status, WUNTRACED | WNOHANG) == child && WIFSTOPPED(status)) return true;
-    std::this_thread::sleep_for(5ms);
-  }
-  return false;
+  return reports(
+      child, WUNTRACED, [](int status) { return WIFSTOPPED(status); }, limit);
 }
 
 // Continued (after SIGCONT) within `limit`?
 bool continues(pid_t child, std::chrono::milliseconds limit) {
-  const auto until = std::chrono::steady_clock::now() + limit;
-  int status = 0;
-  while (std::chrono::steady_clock::now() < until) {
-    if (::waitpid(child, &status, WCONTINUED | WNOHANG) == child && WIFCONTINUED(status)) return true;
-    std::this_thread::sleep_for(5ms);
-  }
-  return false;
+  return reports(
+      child, WCONTINUED, [](int status) { return WIFCONTINUED(status); }, limit);
 }
 
 void end(pid_t child) {
