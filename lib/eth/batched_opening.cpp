@@ -111,14 +111,11 @@ std::vector<Completion> run_sequence(SslbpPort& sslbp, std::span<const SslbpStep
           c.results.push_back(word(parts[at + 2 + i]));
         c.round_trips = trusted == 0 ? 1 : 0;
       }
-      if (idle_at_first_write && trusted + 1 == steps.size()) {
-        // The last step was accepted (the one before it had finished) and nothing followed
-        // it: its own result comes once COMMAND clears.
-        out[trusted] = sslbp.poll(steps[trusted].results, steps[trusted].command, trusted == 0 ? 1 : 0);
-        ++trusted;
-      } else if (trusted < steps.size()) {
+      if (trusted < steps.size()) {
         // What followed a busy step was ignored, or ran in a race and left its DATA: from
-        // the busy one on, the steps run again one at a time.
+        // the busy one on, the steps run again one at a time. So does a last step still
+        // busy at its read-back: a later packet's DATA is ours only if no other host's
+        // packet came between, which SslbpPort::run checks.
         sslbp.wait_idle();
       }
     } catch (const link::TimeoutError&) {

@@ -15,10 +15,6 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-lbp16::Command count_read() {
-  return lbp16::read(lbp16::space::kStatus, kRxUdpCountAddress, lbp16::Width::Bits16);
-}
-
 // Writes that change the card. WaituS (space 4) only delays the packet it is in.
 bool changes_state(std::span<const lbp16::Command> commands) {
   return std::any_of(commands.begin(), commands.end(), [](const lbp16::Command& c) {
@@ -53,7 +49,7 @@ std::vector<lbp::Bytes> FencedTransport::transact_counted(std::span<const lbp16:
 }
 
 std::vector<lbp::Bytes> FencedTransport::exchange(std::span<const lbp16::Command> commands, Resend resend) {
-  std::vector<lbp16::Command> packet{count_read()};
+  std::vector<lbp16::Command> packet{received_count_read()};
   packet.insert(packet.end(), commands.begin(), commands.end());
   const bool writes = changes_state(commands);
   const std::uint64_t before = inner_->stats().packets_sent;

@@ -439,8 +439,7 @@ PassthroughPort::mode_brackets(const std::vector<const Round*>& packet, const st
 PassthroughPort::PacketResult PassthroughPort::run_packet(std::vector<Round>& packet,
                                                           std::vector<Channel>& channels) {
   // First RXUDPCount: whether anyone else's packets reached the card since our last one.
-  std::vector<lbp16::Command> commands{
-      lbp16::read(lbp16::space::kStatus, kRxUdpCountAddress, lbp16::Width::Bits16)};
+  std::vector<lbp16::Command> commands{received_count_read()};
   std::vector<std::size_t> offsets;
   for (const Round& r : packet) {
     offsets.push_back(commands.size());

@@ -120,8 +120,4 @@ HostActivity require_no_running_host(Lbp16Transport& bus, std::span<const Sseria
 std::uint32_t foreign_packets_since(Lbp16Transport& bus, const HostActivity& since,
                                     const RunningHostCheck& check);
 
-// Space 6 counters.
-inline constexpr std::uint16_t kRxUdpCountAddress = 0x000A;
-inline constexpr std::uint16_t kTxUdpCountAddress = 0x0010;
-
 }  // namespace i20::eth

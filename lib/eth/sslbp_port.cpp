@@ -2,6 +2,7 @@
 #include "eth/sslbp_port.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <thread>
 
 #include "eth/errors.hpp"
@@ -46,7 +47,10 @@ SslbpPort::Reading SslbpPort::parse(const std::vector<lbp::Bytes>& parts, std::s
 Completion SslbpPort::run(std::span<const lbp16::Command> before, std::uint32_t command,
                           std::span<const std::uint16_t> results, bool repeatable,
                           std::chrono::microseconds settle) {
-  std::vector<lbp16::Command> packet(before.begin(), before.end());
+  // RXUDPCount first: a result read in a later packet is ours only if no other packet reached
+  // the card in between (poll_after).
+  std::vector<lbp16::Command> packet{received_count_read()};
+  packet.insert(packet.end(), before.begin(), before.end());
   // COMMAND as our write finds it, in the same packet (the card runs a packet's commands
   // back to back, so no other host's write falls between the two): SSLBP ignores a command
   // written while it is busy, and the busy one may finish before our read-back, leaving
@@ -65,14 +69,26 @@ Completion SslbpPort::run(std::span<const lbp16::Command> before, std::uint32_t 
 
   // A command displaced by another one is issued again once COMMAND is idle, for as long as
   // the command itself may take; past that the port is another host's, and what it finished
-  // is never taken for ours.
+  // is never taken for ours. So is a repeatable command whose result another host's packet
+  // may have replaced.
   const auto displaced_until = Clock::now() + options_.command_timeout;
   unsigned round_trips = 0;
   unsigned displaced = 0;
+  const auto ours_unless_disturbed = [&](const Completion& c) {
+    if (c.foreign_packets == 0) return true;
+    if (!repeatable || Clock::now() >= displaced_until)
+      throw ForeignHostError("another host sent " + std::to_string(c.foreign_packets) + " packet(s) to " +
+                             describe() + " while SSLBP command " + lbp::hex_value(command, 4) +
+                             " ran: what DATA held may be that host's result, so it was discarded " +
+                             "(LinuxCNC running?)");
+    round_trips = c.round_trips;
+    return false;
+  };
   for (unsigned attempt = 0;; ++attempt) {
     try {
       ++round_trips;
-      const auto parts = bus_.transact(packet, Resend::Never);
+      std::uint64_t sent = 0;
+      const auto parts = bus_.transact_counted(packet, Resend::Never, sent);
       const std::uint32_t busy_at_write = word(parts[at_write]) & 0xFFFF;
       const Reading r = parse(parts, first_read, results.size());
       if (busy_at_write == 0 && r.command == 0) {
@@ -92,13 +108,23 @@ Completion SslbpPort::run(std::span<const lbp16::Command> before, std::uint32_t 
         round_trips = poll({}, other, round_trips).round_trips;
         continue;
       }
-      return poll(results, command, round_trips);
+      const Completion c = poll_after(results, command, round_trips, arrivals_of(parts, sent));
+      if (ours_unless_disturbed(c)) return c;
     } catch (const link::TimeoutError&) {
       // The reply is lost, the packet maybe too. A read-only probe tells which: a busy
       // COMMAND means it arrived and is running.
       ++round_trips;
-      const Reading probe = parse(bus_.transact(read_back(results)), 0, results.size());
-      if (probe.command != 0) return poll(results, command, round_trips);
+      std::vector<lbp16::Command> probe_packet{received_count_read()};
+      const auto probe_reads = read_back(results);
+      probe_packet.insert(probe_packet.end(), probe_reads.begin(), probe_reads.end());
+      std::uint64_t sent = 0;
+      const auto parts = bus_.transact_counted(probe_packet, Resend::IfReadOnly, sent);
+      const Reading probe = parse(parts, 1, results.size());
+      if (probe.command != 0) {
+        const Completion c = poll_after(results, command, round_trips, arrivals_of(parts, sent));
+        if (ours_unless_disturbed(c)) return c;
+        continue;
+      }
       if (!repeatable || attempt >= options_.lost_reply_retries)
         throw link::TimeoutError("the reply to SSLBP command " + lbp::hex_value(command, 4) + " on " +
                                  describe() + " was lost and the command " +
@@ -109,17 +135,45 @@ Completion SslbpPort::run(std::span<const lbp16::Command> before, std::uint32_t 
   }
 }
 
+SslbpPort::Arrivals SslbpPort::arrivals_of(const std::vector<lbp::Bytes>& parts, std::uint64_t sent) {
+  return Arrivals{.received = static_cast<std::uint16_t>(word(parts.front())), .sent = sent};
+}
+
 Completion SslbpPort::poll(std::span<const std::uint16_t> results, std::uint32_t command,
                            unsigned round_trips) {
+  return poll_until_idle(results, command, round_trips, std::nullopt);
+}
+
+Completion SslbpPort::poll_after(std::span<const std::uint16_t> results, std::uint32_t command,
+                                 unsigned round_trips, Arrivals since) {
+  return poll_until_idle(results, command, round_trips, since);
+}
+
+Completion SslbpPort::poll_until_idle(std::span<const std::uint16_t> results, std::uint32_t command,
+                                      unsigned round_trips, std::optional<Arrivals> since) {
   const auto deadline = Clock::now() + options_.command_timeout;
-  const auto reads = read_back(results);
+  std::vector<lbp16::Command> reads;
+  if (since) reads.push_back(received_count_read());
+  const auto read_backs = read_back(results);
+  reads.insert(reads.end(), read_backs.begin(), read_backs.end());
+  const std::size_t first = since ? 1 : 0;
   for (unsigned polls = 0;; ++polls) {
     if (polls > 0) std::this_thread::sleep_for(options_.poll_pause);
     ++round_trips;
-    const Reading r = parse(bus_.transact(reads), 0, results.size());
+    std::uint64_t sent = 0;
+    const auto parts = bus_.transact_counted(reads, Resend::IfReadOnly, sent);
+    const Reading r = parse(parts, first, results.size());
     if (r.command == 0) {
       Completion c = r.completion;
       c.round_trips = round_trips;
+      if (since) {
+        // Packets the card received since `since`, beyond ours (resends included: a copy
+        // that never arrived can hide one of another host's, never invent one).
+        const std::uint32_t moved =
+            static_cast<std::uint16_t>(arrivals_of(parts, sent).received - since->received);
+        const std::uint64_t ours = sent - since->sent;
+        c.foreign_packets = moved > ours ? static_cast<std::uint32_t>(moved - ours) : 0;
+      }
       return c;
     }
     if (Clock::now() >= deadline)

@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -68,6 +69,10 @@ struct Completion {
   std::uint8_t data = 0;                 // DATA after COMMAND cleared
   std::vector<std::uint32_t> results{};  // the requested registers, same order
   unsigned round_trips = 0;
+  // Packets of another host's that reached the card between our command and the read that
+  // found it done (SslbpPort::run's own polls only): that host may have run a command of its
+  // own in between, whose DATA we read.
+  std::uint32_t foreign_packets = 0;
 };
 
 class SslbpPort {
@@ -80,7 +85,9 @@ class SslbpPort {
   // back until COMMAND is 0. `repeatable`: executing the operation twice is harmless, so
   // it may be resent when its reply is lost. Throws link::TimeoutError when COMMAND does
   // not clear in time or the card stops answering, and ForeignHostError when another
-  // command held COMMAND at every write for command_timeout (its DATA is never returned).
+  // command held COMMAND at every write for command_timeout (its DATA is never returned), or
+  // when another host's packet reached the card while ours ran and the command cannot be
+  // run again (a repeatable one is, within command_timeout).
   Completion run(std::span<const lbp::lbp16::Command> before, std::uint32_t command,
                  std::span<const std::uint16_t> results, bool repeatable,
                  std::chrono::microseconds settle = std::chrono::microseconds{0});
@@ -123,6 +130,19 @@ class SslbpPort {
     std::uint32_t command = 0;
     Completion completion;
   };
+  // The card's count of packets received (space 6 RXUDPCount) as one of our packets found it,
+  // and how many packets we had sent by then.
+  struct Arrivals {
+    std::uint16_t received = 0;
+    std::uint64_t sent = 0;
+  };
+  static Arrivals arrivals_of(const std::vector<lbp::Bytes>& parts, std::uint64_t sent);
+  // poll(), each poll reading RXUDPCount too: the completion counts the packets that reached
+  // the card after `since` and were not ours.
+  Completion poll_after(std::span<const std::uint16_t> results, std::uint32_t command, unsigned round_trips,
+                        Arrivals since);
+  Completion poll_until_idle(std::span<const std::uint16_t> results, std::uint32_t command,
+                             unsigned round_trips, std::optional<Arrivals> since);
   Reading parse(const std::vector<lbp::Bytes>& parts, std::size_t first, std::size_t results) const;
   std::vector<lbp::lbp16::Command> read_back(std::span<const std::uint16_t> results) const;
 

@@ -58,6 +58,17 @@ struct FenceReport {
 // (0..65535), so the reply comes that much later.
 inline constexpr std::uint16_t kWaitMicrosecondsAddress = 0x0002;
 
+// Space 6 counters (7I96S and 7I92T manuals, "SPACE 6 LBP STATUS/CONTROL AREA"): the UDP
+// packets the card received and sent, 16 bits each, wrapping.
+inline constexpr std::uint16_t kRxUdpCountAddress = 0x000A;
+inline constexpr std::uint16_t kTxUdpCountAddress = 0x0010;
+
+// The read of RXUDPCount alone, for a packet that must tell whether another packet reached
+// the card since an earlier one.
+inline lbp::lbp16::Command received_count_read() {
+  return lbp::lbp16::read(lbp::lbp16::space::kStatus, kRxUdpCountAddress, lbp::lbp16::Width::Bits16);
+}
+
 class Lbp16Transport {
  public:
   virtual ~Lbp16Transport() = default;

@@ -27,21 +27,23 @@ namespace sslbp = i20::lbp::hm2::sslbp;
 namespace {
 
 // Hands each packet to the virtual card. Before every packet of ours that writes COMMAND,
-// another host writes a DOIT to it (while `foreign_writes` lasts); 100 us pass between
-// packets.
+// another host writes a DOIT to it (while `foreign_writes` lasts), and before every other
+// packet of ours too while `foreign_writes_between` lasts; 100 us pass between packets.
 class AnotherHostWritesFirst final : public Lbp16Transport {
  public:
   AnotherHostWritesFirst(ethsim::VirtualBoard& card, ethsim::Clock::time_point& t) : card_(card), t_(t) {}
 
   unsigned foreign_writes = 0;
+  unsigned foreign_writes_between = 0;
 
   std::vector<lbp::Bytes> transact(std::span<const lbp16::Command> commands, Resend) override {
     const auto command = card_.sserial_registers(0).command;
     const bool writes_command = std::any_of(commands.begin(), commands.end(), [&](const lbp16::Command& c) {
       return c.word.write && c.address == command;
     });
-    if (writes_command && foreign_writes > 0) {
-      --foreign_writes;
+    unsigned& budget = writes_command ? foreign_writes : foreign_writes_between;
+    if (budget > 0) {
+      --budget;
       card_.handle(lbp16::encode_packet(std::vector{lbp16::write_hm2(command, sslbp::doit(0x01))}), t_);
     }
     ++stats_.packets_sent;
@@ -130,4 +132,31 @@ TEST_F(EthSslbpPort, TheBatchedOpeningBesideAnotherHostReadsTheTrueParameters) {
   EXPECT_EQ(p.version(), "0.40");
   EXPECT_EQ(p.clock_hz, 100'000'000u);
   EXPECT_EQ(bus.foreign_writes, 0u) << "the other host wrote first";
+}
+
+// Our local read finishes after its own packet (no WaituS in it); before the read that finds
+// COMMAND idle, another host's DOIT runs and leaves its DATA (0x01: the stopped channel
+// failed). The card's count of the packets it received shows the stranger, so the read is run
+// again and returns the parameter, not the DOIT's result ("SSLBP 0.0, 0 channels" in a scan
+// beside LinuxCNC).
+TEST_F(EthSslbpPort, AResultReadAfterAnotherHostsPacketIsNotTakenForOurs) {
+  auto sslbp = port(2000ms, 0us);
+  sslbp.stop_all();
+  bus.foreign_writes_between = 1;
+  EXPECT_EQ(sslbp.read_local(sslbp::param::kMinorVersion), 40u);
+  EXPECT_EQ(bus.foreign_writes_between, 0u) << "the other host's DOIT ran";
+}
+
+// A command that may not run twice (a start) cannot be tried again: another host's packet
+// while it ran is an error naming that host, not a result.
+TEST_F(EthSslbpPort, ACommandThatCannotRunTwiceDisturbedByAnotherHostIsAnError) {
+  auto sslbp = port(2000ms, 0us);
+  sslbp.stop_all();
+  bus.foreign_writes_between = 1;
+  try {
+    sslbp.run({}, sslbp::start_setup(0x01), {}, /*repeatable=*/false);
+    FAIL() << "a result taken after another host's packet";
+  } catch (const ForeignHostError& e) {
+    EXPECT_NE(std::string(e.what()).find("another host sent 1 packet(s)"), std::string::npos) << e.what();
+  }
 }

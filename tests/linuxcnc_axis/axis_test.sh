@@ -100,9 +100,10 @@ write_axis_hal() {
 }
 
 # One run: forward, back, stop. Sets moved_forward, moved_back (counts), encoder_turns,
-# sim_turns and the figures.
+# sim_turns and the figures. Returns 1 (run it again) when LinuxCNC's realtime did not start
+# on try TRY (rig.sh's realtime_started).
 run_axis_once() {
-  local label=$1 extra=$2
+  local label=$1 extra=$2 try=$3
   start_sim
   write_axis_hal "$extra"
   local t0
@@ -114,10 +115,16 @@ run_axis_once() {
     kill -0 "$hal_pid" 2>/dev/null || break
     sleep 0.1
   done
-  grep -q '^done=' "$work/hal.out" || {
+  if ! grep -q '^done=' "$work/hal.out"; then
+    if ! realtime_started "$label" "$try"; then
+      timeout 20 tail --pid="$hal_pid" -f /dev/null || fail "halrun did not exit"
+      hal_pid=""
+      stop_sim
+      return 1
+    fi
     cat "$work/hal.out"
     fail "$label: halrun did not run the experiment"
-  }
+  fi
   run_seconds=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
   sim_turns=$(sim_angle) # the rotor is at rest now
   echo >"$work/release"
@@ -143,7 +150,7 @@ run_axis_once() {
 run_axis() {
   local label=$1 extra=$2 judge=$3 try
   for ((try = 1; ; try++)); do
-    run_axis_once "$label" "$extra"
+    run_axis_once "$label" "$extra" "$try" || continue
     judged "$label" "$try" "$($judge)" && return
   done
 }
