@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "error/error.hpp"
+#include "linuxcnc/index_capture.hpp"
 #include "params/param_db.hpp"
 
 namespace i20::linuxcnc {
@@ -16,7 +17,15 @@ namespace {
 // LinuxCNC's logic component takes at most 16 inputs per gate (logic(9)).
 constexpr int kLogicMaxInputs = 16;
 // Personality bits of logic(9): the outputs a gate has.
-constexpr unsigned kLogicAnd = 0x100, kLogicOr = 0x200, kLogicNor = 0x1000;
+constexpr unsigned kLogicAnd = 0x100, kLogicOr = 0x200, kLogicNand = 0x800, kLogicNor = 0x1000;
+
+// The power-up (docs/linuxcnc-hal.md, "Power-up and fault reset"). The smart-serial port runs
+// this long after the machine is switched on: the 8I20's bus, switched on with the machine,
+// has risen by then (LinuxCNC's Smithy sample configurations wait about a second too).
+constexpr double kPortRunDelaySeconds = 1.0;
+// ... and its 8I20s' fault pins are judged this long after the port was started: hostmot2
+// has run the start and read each remote's fresh status by then.
+constexpr double kFaultWatchDelaySeconds = 0.5;
 
 std::string two_digits(int n) {
   std::string digits = n < 10 ? "0" : "";  // apart: GCC 12's -O3 -Wrestrict misfires on `"0" + std::string&&`
@@ -183,15 +192,34 @@ void header(std::ostream& out, const HalPlan& plan, const std::string& board) {
   out << "\n";
 }
 
+// One index capture per axis (index_capture.hpp), named after the axis's signals.
+std::vector<IndexCapture> captures(const HalPlan& plan) {
+  std::vector<IndexCapture> out;
+  for (int k = 0; k < plan.axes; ++k) {
+    std::string prefix = "j";  // append(): GCC 12's -O3 -Wrestrict misfires on operator+
+    prefix.append(std::to_string(k)).append("-");
+    out.push_back(index_capture(prefix, k));
+  }
+  return out;
+}
+
 void load_section(std::ostream& out, const HalPlan& plan, const std::string& board, const HalNames& names) {
   std::string cfgs, logic_names, personalities;
+  const auto gate = [&](const std::string& name, unsigned personality) {
+    logic_names.append(name).append(",");
+    personalities.append(hex(personality)).append(",");
+  };
   for (int k = 0; k < plan.axes; ++k) {
+    const std::string n = std::to_string(k);
     cfgs += (k ? "," : "") + plan.cfg;
-    logic_names += "i20-faults-" + std::to_string(k) + ",";
-    personalities += hex(kLogicOr | kLogicNor | static_cast<unsigned>(names.i20_fault_pins().size())) + ",";
+    gate("i20-faults-" + n, kLogicOr | static_cast<unsigned>(names.i20_fault_pins().size()));
+    gate("i20-ok-" + n, kLogicNand | 2u);
+    gate("i20-enable-" + n, kLogicAnd | 2u);
   }
-  logic_names += "i20-estop-ok";
-  personalities += hex(kLogicAnd | static_cast<unsigned>(plan.axes + 1));
+  gate("i20-link-ok", kLogicNor | 1u);
+  gate("i20-estop-ok", kLogicAnd | static_cast<unsigned>(plan.axes + 2));
+  logic_names.pop_back();
+  personalities.pop_back();
   out << "# ---- components\n"
          "loadrt [KINS]KINEMATICS\n"
          "loadrt [EMCMOT]EMCMOT servo_period_nsec=[EMCMOT]SERVO_PERIOD num_joints=[KINS]JOINTS\n"
@@ -199,28 +227,52 @@ void load_section(std::ostream& out, const HalPlan& plan, const std::string& boa
          "loadrt hm2_eth board_ip="
       << plan.board_ip << "\n"
       << "loadrt pid num_chan=" << plan.axes << "\n"
-      << "loadrt bldc cfg=" << cfgs << "\n"
-      << "# Per axis a gate over its 8I20's fault pins (or: any fault; nor: none), and one gate that\n"
-         "# lets the machine out of E-stop only while the E-stop loop is closed and no 8I20 has a fault.\n"
+      << "loadrt bldc cfg=" << cfgs << "\n";
+  if (has(plan.cfg, 'i')) out << index_capture_loads(captures(plan));
+  out << "# Per axis: any fault of its 8I20 (or), that fault while the port is watched (nand: ok), and\n"
+         "# the pid's enable while the port is watched (and); the link's failure (nor: ok); and one gate\n"
+         "# that lets the machine out of E-stop only while the E-stop loop is closed, no watched 8I20 has\n"
+         "# a fault and the link holds.\n"
          "loadrt logic names="
-      << logic_names << " personality=" << personalities << "\n\n"
+      << logic_names << " personality=" << personalities << "\n"
+      << "# The power-up: the port runs a while after machine-on, its faults are watched a while later.\n"
+         "loadrt timedelay names=i20-port-run,i20-watching\n\n"
       << "addf " << board << ".read servo-thread\n"
       << "addf motion-command-handler servo-thread\n"
          "addf motion-controller servo-thread\n";
+  out << "addf i20-port-run servo-thread\naddf i20-watching servo-thread\n";
+  for (int k = 0; k < plan.axes; ++k)
+    out << "addf i20-faults-" << k << " servo-thread\naddf i20-ok-" << k << " servo-thread\naddf i20-enable-"
+        << k << " servo-thread\n";
+  out << "addf i20-link-ok servo-thread\naddf i20-estop-ok servo-thread\n";
   for (int k = 0; k < plan.axes; ++k) out << "addf pid." << k << ".do-pid-calcs servo-thread\n";
+  if (has(plan.cfg, 'i'))
+    for (const auto& capture : captures(plan)) out << index_capture_functions(capture);
   for (int k = 0; k < plan.axes; ++k) out << "addf bldc." << k << " servo-thread\n";
-  for (int k = 0; k < plan.axes; ++k) out << "addf i20-faults-" << k << " servo-thread\n";
-  out << "addf i20-estop-ok servo-thread\n"
-      << "addf " << board << ".write servo-thread\n\n";
+  out << "addf " << board << ".write servo-thread\n\n";
 }
 
 void smart_serial_section(std::ostream& out, const std::string& board) {
-  out << "# ---- smart-serial port 0\n"
-         "# run stays true. Stopping the port stops the 8I20's DoIt and its 40 ms watchdog turns the drive\n"
-         "# off (fault.watchdog). hostmot2 stops the port itself when fault-count reaches fault-lim; to\n"
-         "# restart it, set run false and then true again (halcmd setp "
-      << board << ".sserial.port-0.run 0).\n"
-      << "setp " << board << ".sserial.port-0.run true\n\n";
+  out << "# ---- smart-serial port 0: power-up and fault reset\n"
+         "# The port runs only while the machine is on, from "
+      << kPortRunDelaySeconds
+      << " s after machine-on: the 8I20s' bus has risen by\n"
+         "# then, so a normal power-up latches no bus fault. Machine off stops the port (no DoIt: the\n"
+         "# 8I20's 40 ms watchdog turns its output off); the next machine-on starts it again, which is\n"
+         "# how hostmot2 clears a stopped port and its remotes' latched faults (sserial(9): run low, then\n"
+         "# high). The 8I20s' faults count "
+      << kFaultWatchDelaySeconds
+      << " s after the start, so the stopped port's stale ones never hold\n"
+         "# the machine in E-stop, and the pids are enabled only then.\n"
+      << "setp i20-port-run.on-delay " << kPortRunDelaySeconds << "\n"
+      << "setp i20-port-run.off-delay 0\n"
+      << "setp i20-watching.on-delay " << kFaultWatchDelaySeconds << "\n"
+      << "setp i20-watching.off-delay 0\n"
+      << "net i20-machine-on motion.motion-enabled => i20-port-run.in\n"
+      << "net i20-port-run i20-port-run.out => " << board << ".sserial.port-0.run i20-watching.in\n"
+      << "net i20-watching i20-watching.out\n"
+      << "# The link: hm2_eth's packet errors past their limit (io-error) stop the machine.\n"
+      << "net i20-link-failed " << board << ".packet-error-exceeded => i20-link-ok.in-00\n\n";
 }
 
 void axis_section(std::ostream& out, const HalPlan& plan, const Axis& a, const HalNames& names) {
@@ -231,7 +283,9 @@ void axis_section(std::ostream& out, const HalPlan& plan, const Axis& a, const H
       << "net " << a.sig << "pos-fb " << a.encoder << ".position => " << a.pid << ".feedback " << a.joint
       << ".motor-pos-fb\n"
       << "net " << a.sig << "pos-cmd " << a.joint << ".motor-pos-cmd => " << a.pid << ".command\n"
-      << "net " << a.sig << "enable " << a.joint << ".amp-enable-out => " << a.pid << ".enable\n\n"
+      << "net " << a.sig << "amp-enable " << a.joint << ".amp-enable-out => i20-enable-" << n << ".in-00\n"
+      << "net i20-watching => i20-enable-" << n << ".in-01\n"
+      << "net " << a.sig << "enable i20-enable-" << n << ".and => " << a.pid << ".enable\n\n"
       << "# Position loop; its output is the current command in amps.\n";
   for (const char* gain : {"P", "I", "D", "FF0", "FF1", "FF2", "BIAS", "DEADBAND"}) {
     const std::string param = std::string(gain) == "P"          ? "Pgain"
@@ -246,8 +300,9 @@ void axis_section(std::ostream& out, const HalPlan& plan, const Axis& a, const H
       << "net " << a.sig << "torque " << a.pid << ".output => " << a.bldc << ".value\n\n"
       << "# Commutation: bldc turns the command into the rotor angle and a signed current.\n";
   if (has(plan.cfg, 'q')) {
-    out << "net " << a.sig << "rawcounts " << a.encoder << ".rawcounts => " << a.bldc << ".rawcounts\n"
-        << "setp " << a.bldc << ".scale " << *plan.counts_per_rev << "\n"
+    if (!has(plan.cfg, 'i'))
+      out << "net " << a.sig << "rawcounts " << a.encoder << ".rawcounts => " << a.bldc << ".rawcounts\n";
+    out << "setp " << a.bldc << ".scale " << *plan.counts_per_rev << "\n"
         << "setp " << a.bldc << ".poles " << *plan.poles << "\n";
   }
   if (has(plan.cfg, 'i')) {
@@ -257,7 +312,8 @@ void axis_section(std::ostream& out, const HalPlan& plan, const Axis& a, const H
         << a.joint << ".index-enable.\n"
         << "net " << a.sig << "bldc-index " << a.encoder << ".index-enable <=> " << a.bldc
         << ".index-enable\n"
-        << "setp " << a.bldc << ".encoder-offset " << *plan.encoder_offset << "\n";
+        << "setp " << a.bldc << ".encoder-offset " << *plan.encoder_offset << "\n"
+        << index_capture_nets(index_capture(a.sig, a.k), a.encoder, a.bldc, a.sig, a.sig + "bldc-index");
   }
   if (has(plan.cfg, 'h')) {
     const auto pins = split_commas(plan.halls.at(static_cast<std::size_t>(a.k)));
@@ -276,8 +332,9 @@ void axis_section(std::ostream& out, const HalPlan& plan, const Axis& a, const H
     out << "net " << a.sig << "8i20-" << signal << " " << a.i20 << "." << fault << " => " << a.faults
         << ".in-" << two_digits(in++) << "\n";
   }
-  out << "net " << a.sig << "8i20-fault " << a.faults << ".or\n"
-      << "net " << a.sig << "8i20-ok " << a.faults << ".nor => i20-estop-ok.in-" << two_digits(a.k + 1)
+  out << "net " << a.sig << "8i20-fault " << a.faults << ".or => i20-ok-" << a.k << ".in-00\n"
+      << "net i20-watching => i20-ok-" << a.k << ".in-01\n"
+      << "net " << a.sig << "8i20-ok i20-ok-" << a.k << ".nand => i20-estop-ok.in-" << two_digits(a.k + 1)
       << "\n\n";
 }
 
@@ -289,9 +346,11 @@ void estop_section(std::ostream& out, const HalPlan& plan) {
            "net estop-ext => i20-estop-ok.in-00\n";
   else
     out << "net estop-ext " << plan.estop_in << " => i20-estop-ok.in-00\n";
-  out << "net estop-ok i20-estop-ok.and => iocontrol.0.emc-enable-in\n"
-         "# Whether the 8I20 keeps a fault latched until it is cleared is for the acceptance check on a\n"
-         "# real card to confirm: if it does, E-stop cannot be reset until the fault is cleared.\n\n"
+  out << "net i20-link-ok i20-link-ok.nor => i20-estop-ok.in-" << two_digits(plan.axes + 1) << "\n"
+      << "net estop-ok i20-estop-ok.and => iocontrol.0.emc-enable-in\n"
+         "# A latched 8I20 fault holds E-stop only while the port runs: in E-stop the machine is off and\n"
+         "# the port stopped, so E-stop can be reset; machine-on starts the port again, which clears the\n"
+         "# fault, or trips again while its cause remains.\n\n"
          "# ---- tool changes (no tool changer: confirm at once)\n"
          "net tool-change-loop iocontrol.0.tool-change => iocontrol.0.tool-changed\n"
          "net tool-prepare-loop iocontrol.0.tool-prepare => iocontrol.0.tool-prepared\n";

@@ -93,12 +93,15 @@ std::string cfg_of(const L::HalDesign& design, int instance) {
   return {};
 }
 
-// The hm2 encoder whose rawcounts feed bldc.N.rawcounts.
+// The hm2 encoder whose rawcounts feed bldc.N.rawcounts, or, where an index capture stands
+// between them (linuxcnc/index_capture.hpp), whose index-enable is bldc.N.index-enable.
 std::optional<unsigned> encoder_of(const L::HalDesign& design, int instance) {
-  static const std::regex kEncoder(R"(.*\.encoder\.([0-9]{1,2})\.rawcounts$)");
+  static const std::regex kEncoder(R"(.*\.encoder\.([0-9]{1,2})\.(rawcounts|index-enable)$)");
   std::smatch m;
-  for (const auto& pin : linked(design, "bldc." + std::to_string(instance) + ".rawcounts"))
-    if (std::regex_match(pin, m, kEncoder)) return static_cast<unsigned>(std::stoul(m[1].str()));
+  const std::string bldc = "bldc." + std::to_string(instance) + ".";
+  for (const char* input : {"rawcounts", "index-enable"})
+    for (const auto& pin : linked(design, bldc + input))
+      if (std::regex_match(pin, m, kEncoder)) return static_cast<unsigned>(std::stoul(m[1].str()));
   return std::nullopt;
 }
 

@@ -6,6 +6,7 @@
 
 #include "commission/format.hpp"
 #include "linuxcnc/hal_generate.hpp"
+#include "linuxcnc/index_capture.hpp"
 #include "ops/commission.hpp"
 
 namespace i20::ops {
@@ -61,13 +62,22 @@ std::string commission_hal_fragment(const CommissionReport& report) {
   for (std::size_t h = 0; h < 3; ++h)
     out << "net bldc0-hall" << h + 1 << " " << board << "." << report.hall_pins[h] << " => bldc.0.hall"
         << h + 1 << "\n";
-  out << "net bldc0-rawcounts " << encoder << ".rawcounts => bldc.0.rawcounts\n";
-  if (index) out << "net bldc0-index-enable " << encoder << ".index-enable <=> bldc.0.index-enable\n";
+  if (index) {
+    const auto capture = linuxcnc::index_capture("bldc0-", 0);
+    out << "# The index capture uses mux_generic: if your configuration loads it already, add ss2 to its\n"
+           "# config string and use that instance's number here instead of mux-gen.00.\n"
+        << linuxcnc::index_capture_loads({capture}) << "net bldc0-index-enable " << encoder
+        << ".index-enable <=> bldc.0.index-enable\n"
+        << linuxcnc::index_capture_nets(capture, encoder, "bldc.0", "bldc0-", "bldc0-index-enable");
+  } else {
+    out << "net bldc0-rawcounts " << encoder << ".rawcounts => bldc.0.rawcounts\n";
+  }
   out << "# rotor-angle, not phase-angle: the 8I20 adds its own lead\n"
       << "net bldc0-rotor-angle bldc.0.rotor-angle => " << amp << ".angle\n"
       << "# current in amps (hostmot2 scales it by the card's MAXCURRENT)\n"
-      << "net bldc0-current bldc.0.out => " << amp << ".current\n"
-      << "addf bldc.0 servo-thread\n";
+      << "net bldc0-current bldc.0.out => " << amp << ".current\n";
+  if (index) out << linuxcnc::index_capture_functions(linuxcnc::index_capture("bldc0-", 0));
+  out << "addf bldc.0 servo-thread\n";
   return out.str();
 }
 

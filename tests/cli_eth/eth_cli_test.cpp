@@ -3,6 +3,7 @@
 // passthrough, and one EEPROM image is one amplifier whichever way it is reached.
 #include <gtest/gtest.h>
 #include <poll.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -222,11 +223,24 @@ TEST(EthCli, ScanIsRefusedBesideARunningMachineAndTakeOverSaysWhatItDid) {
   EXPECT_NE(help.out.find("drops every axis"), std::string::npos) << help.out;
 }
 
+// LinuxCNC runs its servo thread realtime. A process standing in for it runs SCHED_FIFO too
+// where the test may (as root, as CI runs), so that a loaded host does not hold it back for
+// longer than the running-host window: a sanitizer-built watch beside a compiler once let a
+// scan find the card idle. Elsewhere it stays an ordinary process.
+namespace {
+void run_as_realtime_host(pid_t pid) {
+  sched_param priority{};
+  priority.sched_priority = 10;
+  (void)sched_setscheduler(pid, SCHED_FIFO, &priority);
+}
+}  // namespace
+
 TEST(EthCli, ScanIsRefusedBesideAWatch) {
   // The case: an `i20 --eth IP watch` in normal mode stands in for LinuxCNC.
   SimProcess card({}, Transport::Eth);
   const Child watch = start("i20", {"--no-user-params", "--eth", card.port(), "watch", "--plain",
                                     "--interval", "20", "--duration", "5"});
+  run_as_realtime_host(watch.pid);
   // Its first sample line: the watch runs the card in normal mode from now on.
   ASSERT_TRUE(prints(watch.out_fd, "  BUSV ")) << "the watch never sampled";
   const auto r = run_i20(eth(card), {"scan"});

@@ -135,7 +135,14 @@ TEST_F(CommissionCliSim, JsonReportAndTheHalFragment) {
                            "setp bldc.0.scale 10000\n",
                            "net bldc0-rotor-angle bldc.0.rotor-angle => hm2_7i92.0.8i20.0.1.angle\n",
                            "net bldc0-current bldc.0.out => hm2_7i92.0.8i20.0.1.current\n",
-                           "net bldc0-rawcounts hm2_7i92.0.encoder.01.rawcounts => bldc.0.rawcounts\n",
+                           // the index capture (linuxcnc/index_capture.hpp) between the encoder and bldc
+                           "net bldc0-rawcounts hm2_7i92.0.encoder.01.rawcounts => bldc0-index-count.in0 "
+                           "mux-gen.00.in-s32-00\n",
+                           "net bldc0-count hm2_7i92.0.encoder.01.count => bldc0-index-count.in1\n",
+                           "net bldc0-commutation-counts mux-gen.00.out-s32 => bldc.0.rawcounts\n",
+                           "net bldc0-index-enable => bldc0-index-seen.in\n",
+                           "addf bldc0-index-seen servo-thread\naddf bldc0-index-count servo-thread\n"
+                           "addf mux-gen.00 servo-thread\naddf bldc.0 servo-thread\n",
                            "net bldc0-hall1 hm2_7i92.0.gpio.013.in => bldc.0.hall1\n"})
     EXPECT_NE(text.find(line), std::string::npos) << line << "\n" << text;
   EXPECT_EQ(text.find("bldc.0.phase-angle"), std::string::npos);  // the 8I20 adds its own lead
@@ -150,8 +157,8 @@ TEST_F(CommissionCliSim, JsonReportAndTheHalFragment) {
 
   // --yaml writes the same typed report as --json: a YAML reader gets the check's verdict as
   // a bool and the counts as numbers.
-  const auto y = commission_kept_time(target(),
-                                      {"--yes", "--check", hal.string(), "--turns-per-second", "4", "--yaml"});
+  const auto y =
+      commission_kept_time(target(), {"--yes", "--check", hal.string(), "--turns-per-second", "4", "--yaml"});
   ASSERT_EQ(y.exit_code, 0) << y.out << y.err;
   const auto report = YAML::Load(y.out);
   EXPECT_EQ(report["stop"].as<std::string>(), "completed") << y.out;

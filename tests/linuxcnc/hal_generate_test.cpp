@@ -81,14 +81,15 @@ TEST(HalGenerate, RotorAngleFeedsTheEightI20AndTheCurrentIsLimitedToMaxcurrent) 
   }
   EXPECT_EQ(d.module("bldc")->args.at("cfg"), "qh,qh");
   EXPECT_EQ(d.module("hm2_eth")->args.at("board_ip"), "10.10.10.10");
-  EXPECT_EQ(d.setting("hm2_7i96s.0.sserial.port-0.run")->value, "true");
+  EXPECT_EQ(d.signal_of("hm2_7i96s.0.sserial.port-0.run"), d.signal_of("i20-port-run.out"));
 }
 
 TEST(HalGenerate, EveryFaultPinOfEveryEightI20ReachesTheEstopChain) {
   const HalDesign d(read_hal(generate_hal(hall_encoder_plan(2)), "gen.hal"));
   const auto& faults = HalNames::builtin().i20_fault_pins();
-  // logic personalities: per axis `or` and `nor` over 13 inputs; the chain: `and` of 3.
-  EXPECT_EQ(d.module("logic")->args.at("personality"), "0x120D,0x120D,0x103");
+  // logic personalities: per axis `or` over 13 inputs, `nand` of that and the watch, `and` of
+  // the enable and the watch; the link's `nor`; the chain: `and` of 4.
+  EXPECT_EQ(d.module("logic")->args.at("personality"), "0x20D,0x802,0x102,0x20D,0x802,0x102,0x1001,0x104");
   for (int k = 0; k < 2; ++k) {
     const std::string n = std::to_string(k);
     for (std::size_t i = 0; i < faults.size(); ++i) {
@@ -96,14 +97,43 @@ TEST(HalGenerate, EveryFaultPinOfEveryEightI20ReachesTheEstopChain) {
       ASSERT_NE(sig, nullptr) << faults[i];
       EXPECT_EQ(sig, d.signal_of("i20-faults-" + n + ".in-" + (i < 10 ? "0" : "") + std::to_string(i)));
     }
-    EXPECT_EQ(d.signal_of("i20-faults-" + n + ".nor"),
-              d.signal_of("i20-estop-ok.in-0" + std::to_string(k + 1)));
+    EXPECT_EQ(d.signal_of("i20-faults-" + n + ".or"), d.signal_of("i20-ok-" + n + ".in-00"));
+    EXPECT_EQ(d.signal_of("i20-ok-" + n + ".in-01"), d.signal_of("i20-watching.out"));
+    EXPECT_EQ(d.signal_of("i20-ok-" + n + ".nand"), d.signal_of("i20-estop-ok.in-0" + std::to_string(k + 1)));
   }
+  // The link's own failure: hm2_eth's packet errors past their limit.
+  EXPECT_EQ(d.signal_of("hm2_7i96s.0.packet-error-exceeded"), d.signal_of("i20-link-ok.in-00"));
+  EXPECT_EQ(d.signal_of("i20-link-ok.nor"), d.signal_of("i20-estop-ok.in-03"));
   EXPECT_EQ(d.signal_of("i20-estop-ok.and"), d.signal_of("iocontrol.0.emc-enable-in"));
   // No E-stop input given: the chain's first input is left for the user, so E-stop holds.
   const auto* ext = d.signal_of("i20-estop-ok.in-00");
   ASSERT_NE(ext, nullptr);
   EXPECT_EQ(ext->pins.size(), 1u);
+}
+
+// The power-up (docs/linuxcnc-hal.md, "Power-up and fault reset"): the port runs a second
+// after machine-on (the bus has risen; machine off then on restarts it, which clears latched
+// faults), its 8I20s' faults count and the pids are enabled half a second after that.
+// LinuxCNC runs it in tests/linuxcnc_axis/axis_test.sh.
+TEST(HalGenerate, ThePortRunsAfterMachineOnAndItsFaultsCountOnlyOnceItRuns) {
+  const auto text = generate_hal(hall_encoder_plan(2));
+  const HalDesign d(read_hal(text, "gen.hal"));
+  EXPECT_EQ(d.signal_of("motion.motion-enabled"), d.signal_of("i20-port-run.in"));
+  EXPECT_EQ(d.signal_of("i20-port-run.out"), d.signal_of("hm2_7i96s.0.sserial.port-0.run"));
+  EXPECT_EQ(d.signal_of("i20-port-run.out"), d.signal_of("i20-watching.in"));
+  EXPECT_EQ(d.setting("i20-port-run.on-delay")->value, "1");
+  EXPECT_EQ(d.setting("i20-port-run.off-delay")->value, "0");
+  EXPECT_EQ(d.setting("i20-watching.on-delay")->value, "0.5");
+  EXPECT_EQ(d.setting("hm2_7i96s.0.sserial.port-0.run"), nullptr) << "run follows the machine, not a setp";
+  for (int k = 0; k < 2; ++k) {
+    const std::string n = std::to_string(k);
+    EXPECT_EQ(d.signal_of("joint." + n + ".amp-enable-out"), d.signal_of("i20-enable-" + n + ".in-00"));
+    EXPECT_EQ(d.signal_of("i20-watching.out"), d.signal_of("i20-enable-" + n + ".in-01"));
+    EXPECT_EQ(d.signal_of("i20-enable-" + n + ".and"), d.signal_of("pid." + n + ".enable"));
+  }
+  // The timers and gates run after the board's read and before the pids.
+  EXPECT_LT(text.find("addf hm2_7i96s.0.read"), text.find("addf i20-port-run"));
+  EXPECT_LT(text.find("addf i20-estop-ok"), text.find("addf pid.0.do-pid-calcs"));
 }
 
 TEST(HalGenerate, QhiNetsTheIndexBetweenEncoderAndBldcOnly) {
@@ -116,6 +146,51 @@ TEST(HalGenerate, QhiNetsTheIndexBetweenEncoderAndBldcOnly) {
   EXPECT_EQ(index, d.signal_of("hm2_7i96s.0.encoder.00.index-enable"));
   EXPECT_EQ(d.signal_of("joint.0.index-enable"), nullptr);
   EXPECT_EQ(d.setting("bldc.0.encoder-offset")->value, "-250");
+}
+
+// bldc stores the index from its rawcounts input in the period it finds index-enable false, a
+// read after the card latched it: the file hands bldc rawcounts - count (hostmot2 resets
+// count at the latched index) in that one period and rawcounts in every other
+// (docs/linuxcnc-hal.md, "The index under bldc"). LinuxCNC runs it in
+// tests/linuxcnc_axis/commission_test.sh.
+TEST(HalGenerate, QhiHandsBldcTheLatchedIndexThroughTheCapture) {
+  auto p = hall_encoder_plan(2);
+  p.cfg = "qhi";
+  p.encoder_offset = 40;
+  const auto text = generate_hal(p);
+  const HalDesign d(read_hal(text, "gen.hal"));
+  for (int k = 0; k < 2; ++k) {
+    const std::string n = std::to_string(k), j = "j" + n + "-", mux = "mux-gen.0" + n;
+    const std::string encoder = "hm2_7i96s.0.encoder.0" + n;
+    SCOPED_TRACE("axis " + n);
+    ASSERT_NE(d.signal_of("bldc." + n + ".rawcounts"), nullptr);
+    EXPECT_EQ(d.signal_of("bldc." + n + ".rawcounts"), d.signal_of(mux + ".out-s32"));
+    EXPECT_EQ(d.signal_of(mux + ".in-s32-00"), d.signal_of(encoder + ".rawcounts"));
+    EXPECT_EQ(d.signal_of(mux + ".in-s32-01"), d.signal_of(j + "index-count.out-s"));
+    EXPECT_EQ(d.signal_of(j + "index-count.in0"), d.signal_of(encoder + ".rawcounts"));
+    EXPECT_EQ(d.signal_of(j + "index-count.in1"), d.signal_of(encoder + ".count"));
+    EXPECT_EQ(d.setting(j + "index-count.scale1")->value, "-1");
+    EXPECT_EQ(d.signal_of(mux + ".sel-bit-00"), d.signal_of(j + "index-seen.out"));
+    EXPECT_EQ(d.signal_of(j + "index-seen.in"), d.signal_of("bldc." + n + ".index-enable"));
+    EXPECT_EQ(d.setting(j + "index-seen.in-edge")->value, "true");
+    // After the board's read, before bldc.
+    const auto read = text.find("addf hm2_7i96s.0.read servo-thread");
+    const auto edge = text.find("addf " + j + "index-seen servo-thread");
+    const auto sum = text.find("addf " + j + "index-count servo-thread");
+    const auto select = text.find("addf " + mux + " servo-thread");
+    const auto bldc = text.find("addf bldc." + n + " servo-thread");
+    ASSERT_NE(bldc, std::string::npos);
+    EXPECT_LT(read, edge);
+    EXPECT_LT(edge, sum);
+    EXPECT_LT(sum, select);
+    EXPECT_LT(select, bldc);
+  }
+  EXPECT_NE(text.find("loadrt mux_generic config=\"ss2,ss2\"\n"), std::string::npos) << text;
+  // Without an index bldc reads rawcounts itself: no capture.
+  const auto qh = generate_hal(hall_encoder_plan(1));
+  EXPECT_EQ(qh.find("mux_generic"), std::string::npos);
+  EXPECT_NE(qh.find("net j0-rawcounts hm2_7i96s.0.encoder.00.rawcounts => bldc.0.rawcounts\n"),
+            std::string::npos);
 }
 
 TEST(HalGenerate, TheHeaderNamesTheIniValuesItReads) {

@@ -14,7 +14,9 @@
 #     motor does NOT follow: the check above can fail;
 #   - the HAL `i20 hal` writes for the card's axes loads against it (every name real), and,
 #     enabled (the test standing in for LinuxCNC's task and E-stop loop), its pid turns the
-#     motor both ways and the machine drops out of E-stop when the 8I20 latches a fault.
+#     motor both ways and the machine drops out of E-stop when the 8I20 latches a fault; its
+#     power-up trips nothing, machine off lets E-stop be reset (the port stops, its stale fault
+#     no longer counts) and machine on, the cause gone, clears the 8I20's latched fault.
 # The namespaces, the simulator and halrun come from rig.sh.
 #
 # usage: axis_test.sh I20SIM MOTOR_FILE [I20]     exit 0 pass, 1 fail, 77 skipped
@@ -220,17 +222,20 @@ check_generated_hal_once() {
     # The linuxcnc start script loads these before the HAL files (2.9: motmod needs them).
     printf 'loadrt homemod\nloadrt tpmod\nsource %s\n' "$work/loadable.hal"
     # No task runs here to take the machine out of E-stop and turn it on: the test stands in
-    # for it (the joint's amp-enable-out) and for a closed E-stop loop (the input pin).
-    printf 'unlinkp joint.%s.amp-enable-out\nunlinkp %s\n' "$CHANNEL" "$estop_pin"
+    # for it (motion-enabled, the joint's amp-enable-out) and for a closed E-stop loop (the
+    # input pin).
+    printf 'unlinkp motion.motion-enabled\nunlinkp joint.%s.amp-enable-out\nunlinkp %s\n' "$CHANNEL" "$estop_pin"
     # This host's servo thread is not realtime: tolerate its late DOITs and replies as the
     # experiment above does (a real machine's thread keeps time; the generated file leaves
     # fault-lim and packet-read-timeout be).
     printf 'setp %s.sserial.port-0.fault-lim 1000000\nsetp %s.packet-read-timeout 20000000\n' "$BOARD" "$BOARD"
-    printf 'sets estop-ext TRUE\nsets %senable TRUE\n' "$sig"
+    printf 'sets estop-ext TRUE\nsets i20-machine-on TRUE\nsets %samp-enable TRUE\n' "$sig"
     # The servo thread's longest period, for the stall check (rig.sh).
     printf 'loadrt timedelta count=1\naddf timedelta.0 servo-thread\n'
-    printf 'start\nloadusr -w sleep 1\n'
+    # The power-up: the port runs 1 s after machine-on, its faults count 0.5 s later.
+    printf 'start\nloadusr -w sleep 2.5\n'
     report ok_before i20-estop-ok.and # the estop-ok signal: its iocontrol end is left out
+    report_signal fault_before "${sig}8i20-fault"
     report watchdog "$AMP.fault.watchdog"
     report start "$rawcounts"
     # With the INI's gains at 0 the pid's output is its bias: a torque command in amps.
@@ -243,6 +248,16 @@ check_generated_hal_once() {
     printf 'loadusr -w %s fault_now\nloadusr -w echo\nloadusr -w %s\nloadusr -w sleep 0.5\n' "$work/label" "$work/hold"
     report_signal fault_after "${sig}8i20-fault"
     report ok_after i20-estop-ok.and
+    # E-stop turns the machine off: the port stops, and its stale fault no longer holds E-stop.
+    printf 'sets i20-machine-on FALSE\nsets %samp-enable FALSE\nloadusr -w sleep 0.3\n' "$sig"
+    report ok_off i20-estop-ok.and
+    report run_off "$BOARD.sserial.port-0.run"
+    report_signal fault_off "${sig}8i20-fault"
+    # The test clears the fault's cause in the simulator; machine-on starts the port again.
+    printf 'loadusr -w %s cause_cleared\nloadusr -w echo\nloadusr -w %s\n' "$work/label" "$work/hold"
+    printf 'sets i20-machine-on TRUE\nsets %samp-enable TRUE\nloadusr -w sleep 2.5\n' "$sig"
+    report_signal fault_reset "${sig}8i20-fault"
+    report ok_on i20-estop-ok.and
     report period_max timedelta.0.max
     printf 'loadusr -w %s done\n' "$work/label"
   } >"$work/load.hal"
@@ -264,6 +279,13 @@ check_generated_hal_once() {
   }
   [[ $(sim_ask "ch $CHANNEL fault overcurrent on") == ok ]] || fail "the simulator did not take the fault"
   echo >"$work/release"
+  for _ in $(seq 100); do
+    grep -q '^cause_cleared=' "$work/hal.out" && break
+    kill -0 "$hal_pid" 2>/dev/null || break
+    sleep 0.1
+  done
+  [[ $(sim_ask "ch $CHANNEL fault overcurrent off") == ok ]] || fail "the simulator did not clear the fault"
+  echo >"$work/release"
   timeout 30 tail --pid="$hal_pid" -f /dev/null || fail "halrun did not exit"
   hal_pid=""
   stop_sim
@@ -276,16 +298,22 @@ check_generated_hal_once() {
   note "i20 hal: the generated HAL ($CHANNELS axis/axes, motion) loaded and ran, less its $io_lines iocontrol lines;" \
     "enabled: i20-estop-ok.and $(value ok_before), fault.watchdog $(value watchdog); bias +/-$TORQUE_A A moved" \
     "$moved_forward / $moved_back counts; after an overcurrent: ${sig}8i20-fault $(value fault_after)," \
-    "i20-estop-ok.and $(value ok_after); servo period max $(value period_max) ns"
+    "i20-estop-ok.and $(value ok_after); machine off: i20-estop-ok.and $(value ok_off), run $(value run_off), ${sig}8i20-fault $(value fault_off);" \
+    "cause cleared, machine on: ${sig}8i20-fault $(value fault_reset), i20-estop-ok.and $(value ok_on);" \
+    "servo period max $(value period_max) ns"
   local why=""
-  if [[ $(value ok_before) != TRUE ]]; then
-    why="the generated configuration was not out of E-stop with no fault"
+  if [[ $(value ok_before) != TRUE || $(value fault_before) != FALSE ]]; then
+    why="the generated configuration's normal power-up tripped (estop-ok $(value ok_before), 8I20 fault $(value fault_before))"
   elif ! follows; then
     why="the generated configuration's torque command did not turn the motor (forward $moved_forward, back $moved_back counts)"
   elif [[ $(value fault_after) != TRUE ]]; then
     why="the 8I20's overcurrent did not reach ${sig}8i20-fault"
   elif [[ $(value ok_after) != FALSE ]]; then
     why="the machine did not drop out (estop-ok stayed TRUE) on the 8I20's fault"
+  elif [[ $(value ok_off) != TRUE || $(value run_off) != FALSE ]]; then
+    why="with the machine off the port kept running ($(value run_off)) or its stale fault held E-stop ($(value ok_off))"
+  elif [[ $(value fault_reset) != FALSE || $(value ok_on) != TRUE ]]; then
+    why="machine-on did not clear the 8I20's latched fault (fault $(value fault_reset), estop-ok $(value ok_on))"
   fi
   judged "i20 hal" "$try" "$why"
 }
