@@ -28,9 +28,11 @@ std::string SslbpPort::describe() const {
   return bus_.describe() + " SSERIAL port " + std::to_string(port_.index);
 }
 
-std::vector<lbp16::Command> SslbpPort::read_back(std::span<const std::uint16_t> results) const {
-  std::vector<lbp16::Command> reads{lbp16::read_hm2(port_.registers.command),
-                                    lbp16::read_hm2(port_.registers.data)};
+std::vector<lbp16::Command> SslbpPort::read_back(std::span<const std::uint16_t> results, bool counted) const {
+  std::vector<lbp16::Command> reads;
+  if (counted) reads.push_back(received_count_read());
+  reads.push_back(lbp16::read_hm2(port_.registers.command));
+  reads.push_back(lbp16::read_hm2(port_.registers.data));
   for (std::uint16_t address : results) reads.push_back(lbp16::read_hm2(address));
   return reads;
 }
@@ -48,7 +50,7 @@ Completion SslbpPort::run(std::span<const lbp16::Command> before, std::uint32_t 
                           std::span<const std::uint16_t> results, bool repeatable,
                           std::chrono::microseconds settle) {
   // RXUDPCount first: a result read in a later packet is ours only if no other packet reached
-  // the card in between (poll_after).
+  // the card in between (poll_until_idle).
   std::vector<lbp16::Command> packet{received_count_read()};
   packet.insert(packet.end(), before.begin(), before.end());
   // COMMAND as our write finds it, in the same packet (the card runs a packet's commands
@@ -108,20 +110,17 @@ Completion SslbpPort::run(std::span<const lbp16::Command> before, std::uint32_t 
         round_trips = poll({}, other, round_trips).round_trips;
         continue;
       }
-      const Completion c = poll_after(results, command, round_trips, arrivals_of(parts, sent));
+      const Completion c = poll_until_idle(results, command, round_trips, arrivals_of(parts, sent));
       if (ours_unless_disturbed(c)) return c;
     } catch (const link::TimeoutError&) {
       // The reply is lost, the packet maybe too. A read-only probe tells which: a busy
       // COMMAND means it arrived and is running.
       ++round_trips;
-      std::vector<lbp16::Command> probe_packet{received_count_read()};
-      const auto probe_reads = read_back(results);
-      probe_packet.insert(probe_packet.end(), probe_reads.begin(), probe_reads.end());
       std::uint64_t sent = 0;
-      const auto parts = bus_.transact_counted(probe_packet, Resend::IfReadOnly, sent);
+      const auto parts = bus_.transact_counted(read_back(results, true), Resend::IfReadOnly, sent);
       const Reading probe = parse(parts, 1, results.size());
       if (probe.command != 0) {
-        const Completion c = poll_after(results, command, round_trips, arrivals_of(parts, sent));
+        const Completion c = poll_until_idle(results, command, round_trips, arrivals_of(parts, sent));
         if (ours_unless_disturbed(c)) return c;
         continue;
       }
@@ -144,18 +143,10 @@ Completion SslbpPort::poll(std::span<const std::uint16_t> results, std::uint32_t
   return poll_until_idle(results, command, round_trips, std::nullopt);
 }
 
-Completion SslbpPort::poll_after(std::span<const std::uint16_t> results, std::uint32_t command,
-                                 unsigned round_trips, Arrivals since) {
-  return poll_until_idle(results, command, round_trips, since);
-}
-
 Completion SslbpPort::poll_until_idle(std::span<const std::uint16_t> results, std::uint32_t command,
                                       unsigned round_trips, std::optional<Arrivals> since) {
   const auto deadline = Clock::now() + options_.command_timeout;
-  std::vector<lbp16::Command> reads;
-  if (since) reads.push_back(received_count_read());
-  const auto read_backs = read_back(results);
-  reads.insert(reads.end(), read_backs.begin(), read_backs.end());
+  const auto reads = read_back(results, since.has_value());
   const std::size_t first = since ? 1 : 0;
   for (unsigned polls = 0;; ++polls) {
     if (polls > 0) std::this_thread::sleep_for(options_.poll_pause);

@@ -137,14 +137,14 @@ class SslbpPort {
     std::uint64_t sent = 0;
   };
   static Arrivals arrivals_of(const std::vector<lbp::Bytes>& parts, std::uint64_t sent);
-  // poll(), each poll reading RXUDPCount too: the completion counts the packets that reached
-  // the card after `since` and were not ours.
-  Completion poll_after(std::span<const std::uint16_t> results, std::uint32_t command, unsigned round_trips,
-                        Arrivals since);
+  // poll(); with `since`, each poll reads RXUDPCount too and the completion counts the packets
+  // that reached the card after `since` and were not ours.
   Completion poll_until_idle(std::span<const std::uint16_t> results, std::uint32_t command,
                              unsigned round_trips, std::optional<Arrivals> since);
   Reading parse(const std::vector<lbp::Bytes>& parts, std::size_t first, std::size_t results) const;
-  std::vector<lbp::lbp16::Command> read_back(std::span<const std::uint16_t> results) const;
+  // COMMAND, DATA and `results`; `counted`: RXUDPCount first.
+  std::vector<lbp::lbp16::Command> read_back(std::span<const std::uint16_t> results,
+                                             bool counted = false) const;
 
   Lbp16Transport& bus_;
   SserialPort port_;

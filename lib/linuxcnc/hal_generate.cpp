@@ -228,7 +228,8 @@ void load_section(std::ostream& out, const HalPlan& plan, const std::string& boa
       << plan.board_ip << "\n"
       << "loadrt pid num_chan=" << plan.axes << "\n"
       << "loadrt bldc cfg=" << cfgs << "\n";
-  if (has(plan.cfg, 'i')) out << index_capture_loads(captures(plan));
+  const auto index_captures = has(plan.cfg, 'i') ? captures(plan) : std::vector<IndexCapture>{};
+  out << index_capture_loads(index_captures);
   out << "# Per axis: any fault of its 8I20 (or), that fault while the port is watched (nand: ok), and\n"
          "# the pid's enable while the port is watched (and); the link's failure (nor: ok); and one gate\n"
          "# that lets the machine out of E-stop only while the E-stop loop is closed, no watched 8I20 has\n"
@@ -246,8 +247,7 @@ void load_section(std::ostream& out, const HalPlan& plan, const std::string& boa
         << k << " servo-thread\n";
   out << "addf i20-link-ok servo-thread\naddf i20-estop-ok servo-thread\n";
   for (int k = 0; k < plan.axes; ++k) out << "addf pid." << k << ".do-pid-calcs servo-thread\n";
-  if (has(plan.cfg, 'i'))
-    for (const auto& capture : captures(plan)) out << index_capture_functions(capture);
+  for (const auto& capture : index_captures) out << index_capture_functions(capture);
   for (int k = 0; k < plan.axes; ++k) out << "addf bldc." << k << " servo-thread\n";
   out << "addf " << board << ".write servo-thread\n\n";
 }

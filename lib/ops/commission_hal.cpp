@@ -62,8 +62,8 @@ std::string commission_hal_fragment(const CommissionReport& report) {
   for (std::size_t h = 0; h < 3; ++h)
     out << "net bldc0-hall" << h + 1 << " " << board << "." << report.hall_pins[h] << " => bldc.0.hall"
         << h + 1 << "\n";
+  const auto capture = linuxcnc::index_capture("bldc0-", 0);
   if (index) {
-    const auto capture = linuxcnc::index_capture("bldc0-", 0);
     out << "# The index capture uses mux_generic: if your configuration loads it already, add ss2 to its\n"
            "# config string and use that instance's number here instead of mux-gen.00.\n"
         << linuxcnc::index_capture_loads({capture}) << "net bldc0-index-enable " << encoder
@@ -76,7 +76,7 @@ std::string commission_hal_fragment(const CommissionReport& report) {
       << "net bldc0-rotor-angle bldc.0.rotor-angle => " << amp << ".angle\n"
       << "# current in amps (hostmot2 scales it by the card's MAXCURRENT)\n"
       << "net bldc0-current bldc.0.out => " << amp << ".current\n";
-  if (index) out << linuxcnc::index_capture_functions(linuxcnc::index_capture("bldc0-", 0));
+  if (index) out << linuxcnc::index_capture_functions(capture);
   out << "addf bldc.0 servo-thread\n";
   return out.str();
 }

@@ -101,6 +101,18 @@ write_axis_hal() {
   chmod 644 "$work/axis.hal"
 }
 
+# printed NAME TENTHS: true once halrun's output has the reading "NAME=", waiting up to TENTHS
+# tenths of a second while halrun runs.
+printed() {
+  local name=$1 tenths=$2
+  for _ in $(seq "$tenths"); do
+    grep -q "^$name=" "$work/hal.out" && return 0
+    kill -0 "$hal_pid" 2>/dev/null || break
+    sleep 0.1
+  done
+  grep -q "^$name=" "$work/hal.out"
+}
+
 # One run: forward, back, stop. Sets moved_forward, moved_back (counts), encoder_turns,
 # sim_turns and the figures. Returns 1 (run it again) when LinuxCNC's realtime did not start
 # on try TRY (rig.sh's realtime_started).
@@ -112,12 +124,7 @@ run_axis_once() {
   t0=$(date +%s.%N)
   hal halrun -f "$work/axis.hal" >"$work/hal.out" 2>&1 &
   hal_pid=$!
-  for _ in $(seq 300); do
-    grep -q '^done=' "$work/hal.out" && break
-    kill -0 "$hal_pid" 2>/dev/null || break
-    sleep 0.1
-  done
-  if ! grep -q '^done=' "$work/hal.out"; then
+  if ! printed done 300; then
     if ! realtime_started "$label" "$try"; then
       timeout 20 tail --pid="$hal_pid" -f /dev/null || fail "halrun did not exit"
       hal_pid=""
@@ -268,22 +275,16 @@ check_generated_hal_once() {
   hal env INI_FILE_NAME="$work/axis.ini" timeout 60 halrun -i "$work/axis.ini" -f "$work/load.hal" \
     >"$work/hal.out" 2>&1 &
   hal_pid=$!
-  for _ in $(seq 300); do
-    grep -q '^fault_now=' "$work/hal.out" && break
-    kill -0 "$hal_pid" 2>/dev/null || break
-    sleep 0.1
-  done
-  grep -q '^fault_now=' "$work/hal.out" || {
+  printed fault_now 300 || {
     grep -v "IO Pin" "$work/hal.out" | tail -20
     fail "the HAL i20 hal writes did not load against the virtual card"
   }
   [[ $(sim_ask "ch $CHANNEL fault overcurrent on") == ok ]] || fail "the simulator did not take the fault"
   echo >"$work/release"
-  for _ in $(seq 100); do
-    grep -q '^cause_cleared=' "$work/hal.out" && break
-    kill -0 "$hal_pid" 2>/dev/null || break
-    sleep 0.1
-  done
+  printed cause_cleared 100 || {
+    grep -v "IO Pin" "$work/hal.out" | tail -20
+    fail "halrun did not reach the machine-on after the fault"
+  }
   [[ $(sim_ask "ch $CHANNEL fault overcurrent off") == ok ]] || fail "the simulator did not clear the fault"
   echo >"$work/release"
   timeout 30 tail --pid="$hal_pid" -f /dev/null || fail "halrun did not exit"

@@ -52,7 +52,9 @@ printf '#!/bin/sh\nprintf "%%s=" "$1"\n' >"$work/label"
 chmod 755 "$work/label"
 reading() { printf 'loadusr -w %s %s\ngetp %s\n' "$work/label" "$1" "$2"; }
 counts=$BOARD.encoder.$ENC.rawcounts
-{
+# with_fragment REWIRE: the HAL lines that run the fragment as written (REWIRE after it)
+# against the virtual card in a 1 ms servo thread, up to `start`; torque-cmd into bldc.
+with_fragment() {
   printf '%s\n' \
     "loadrt hostmot2" \
     "loadrt hm2_eth board_ip=$CARD_IP" \
@@ -63,11 +65,15 @@ counts=$BOARD.encoder.$ENC.rawcounts
     "setp $BOARD.sserial.port-0.fault-lim 1000000" \
     "addf $BOARD.read servo-thread" \
     "source $work/axis.hal" \
+    "$1" \
     "addf $BOARD.write servo-thread" \
     "addf timedelta.0 servo-thread" \
     "net torque-cmd => bldc.0.value" \
-    "start" \
-    "loadusr -w sleep 0.5"
+    "start"
+}
+{
+  with_fragment ""
+  printf '%s\n' "loadusr -w sleep 0.5"
   reading start "$counts"
   printf 'sets torque-cmd %s\nloadusr -w sleep 0.6\n' "$TORQUE_A"
   reading forward "$counts"
@@ -128,20 +134,8 @@ sim_reading() { sim_ask "ch $CHANNEL motor" | sed -n "s/.* $1=\\([-0-9.]*\\).*/\
 write_first_move_hal() {
   local rewire=$1
   {
+    with_fragment "$rewire"
     printf '%s\n' \
-      "loadrt hostmot2" \
-      "loadrt hm2_eth board_ip=$CARD_IP" \
-      "loadrt threads name1=servo-thread period1=1000000" \
-      "loadrt timedelta count=1" \
-      "setp $BOARD.packet-read-timeout 20000000" \
-      "setp $BOARD.sserial.port-0.fault-lim 1000000" \
-      "addf $BOARD.read servo-thread" \
-      "source $work/axis.hal" \
-      "$rewire" \
-      "addf $BOARD.write servo-thread" \
-      "addf timedelta.0 servo-thread" \
-      "net torque-cmd => bldc.0.value" \
-      "start" \
       "loadusr -w sleep 0.3" \
       "loadusr -w $work/hold spin" \
       "sets torque-cmd $TEST_CURRENT_A" \
