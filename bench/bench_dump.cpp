@@ -16,6 +16,8 @@
 #include "build_paths.hpp"
 #include "device/amp.hpp"
 #include "link/serial_link.hpp"
+#include "ops/endpoint.hpp"
+#include "ops/retry.hpp"
 #include "ops/timing.hpp"
 #include "sim_process.hpp"
 

@@ -23,6 +23,8 @@
 #include "eth/target.hpp"
 #include "eth/udp_client.hpp"
 #include "lbp/local.hpp"
+#include "ops/endpoint.hpp"
+#include "ops/retry.hpp"
 #include "ops/timing.hpp"
 #include "sim_process.hpp"
 
@@ -261,9 +263,9 @@ Cost four_amps_one_by_one(const std::string& address, unsigned amps) {
 // UDP requests the card has received: space 6 RXUDPCount (7I96S manual, "SPACE 6 LBP
 // STATUS/CONTROL AREA"), 16 bits that wrap. The reading packet is counted on arrival, so
 // it is part of the value it reads.
-std::uint16_t requests_received(const eth::HostPort& card) {
+std::uint16_t requests_received(const eth::HostPort& host_port) {
   namespace lbp16 = lbp::lbp16;
-  eth::UdpClient client(card.ip, card.port, ops::timing::udp({}, {}));
+  eth::UdpClient client(host_port.ip, host_port.port, ops::timing::udp({}, {}));
   const auto read = lbp16::read(lbp16::space::kStatus, eth::kRxUdpCountAddress, lbp16::Width::Bits16);
   return lbp16::words16(client.transact(std::span(&read, 1)).front()).front();
 }
@@ -276,15 +278,15 @@ struct ProcessCost {
 // A whole program run against the card, `runs` times: its UDP requests as the card
 // counted them, and its wall time.
 ProcessCost per_process(const std::string& address, const std::vector<std::string>& command, int runs) {
-  const auto card = eth::parse_host_port(address);
+  const auto host_port = eth::parse_host_port(address);
   ProcessCost c;
   for (int i = 0; i < runs; ++i) {
-    const std::uint16_t before = requests_received(card);
+    const std::uint16_t before = requests_received(host_port);
     const auto t0 = Clock::now();
     if (bench::run_quiet(command) != 0)
       throw std::runtime_error(command.at(0) + " failed against " + address);
     c.ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    const std::uint16_t after = requests_received(card);
+    const std::uint16_t after = requests_received(host_port);
     c.requests += static_cast<std::uint16_t>(after - before - 1);  // less the second read itself
   }
   c.requests /= runs;

@@ -47,17 +47,17 @@ void run(fuzz::Input& in) {
   const std::uint8_t card_pick = in.byte();
   const std::uint8_t mode = in.byte();
   Clock::time_point now{};
-  ethsim::VirtualBoard card(options(card_pick, mode), now);
+  ethsim::VirtualBoard board(options(card_pick, mode), now);
   while (!in.empty()) {
     now += gap(in.byte());
     const lbp::Bytes payload = in.take(in.u16() % (lbp::lbp16::kMaxPayload + 64));
-    const auto reply = card.handle(payload, now);
+    const auto reply = board.handle(payload, now);
     const auto parsed = lbp::lbp16::parse_request(payload);
     const std::size_t reads = lbp::lbp16::reply_bytes(parsed.commands);
     fuzz::require(reply.has_value() == (reads > 0), "a packet gets a reply exactly when it holds reads");
     if (reply) fuzz::require(reply->size() == reads, "a reply holds exactly the data of the reads executed");
-    now = std::max(now, card.board_time());
-    card.advance(now);
+    now = std::max(now, board.board_time());
+    board.advance(now);
   }
 }
 

@@ -164,8 +164,8 @@ void lbp_seeds() {
 // An in-process "UDP" to a virtual card that keeps every request payload.
 class RecordingBus final : public eth::Lbp16Transport {
  public:
-  RecordingBus(ethsim::VirtualBoard& card, std::vector<lbp::Bytes>& packets)
-      : card_(card), packets_(packets) {}
+  RecordingBus(ethsim::VirtualBoard& board, std::vector<lbp::Bytes>& packets)
+      : card_(board), packets_(packets) {}
   std::vector<lbp::Bytes> transact(std::span<const lbp::lbp16::Command> commands, eth::Resend) override {
     const lbp::Bytes request = lbp::lbp16::encode_packet(commands);
     packets_.push_back(request);
@@ -204,10 +204,10 @@ lbp::Bytes packets_seed(std::uint8_t card, const std::vector<lbp::Bytes>& packet
 void eth_seeds() {
   for (const auto kind : {ethsim::BoardKind::I7i96s, ethsim::BoardKind::I7i92t}) {
     const std::string name(ethsim::board_kind_name(kind));
-    ethsim::VirtualBoard card(card_options(kind), ethsim::Clock::now());
+    ethsim::VirtualBoard board(card_options(kind), ethsim::Clock::now());
     std::vector<lbp::Bytes> packets;
     {
-      RecordingBus bus(card, packets);
+      RecordingBus bus(board, packets);
       (void)eth::identify(bus);
       (void)eth::read_hostmot2(bus);
     }
@@ -215,7 +215,7 @@ void eth_seeds() {
     lbp::Bytes tables;
     for (std::size_t i = 1; i < packets.size(); ++i) {
       const auto parsed = lbp::lbp16::parse_request(packets[i]);
-      const auto reply = card.handle(packets[i], ethsim::Clock::now());
+      const auto reply = board.handle(packets[i], ethsim::Clock::now());
       if (reply) tables.insert(tables.end(), reply->begin(), reply->end());
       (void)parsed;
     }
@@ -224,7 +224,7 @@ void eth_seeds() {
       write_seed("lbp16_packet", name + "-discovery-" + std::to_string(i), packets[i]);
 
     // A passthrough session: open the channel, read and write a parameter.
-    auto bus = std::make_unique<RecordingBus>(card, packets);
+    auto bus = std::make_unique<RecordingBus>(board, packets);
     // The passthrough as the programs open it, so the seeds are their traffic.
     eth::SslbpPassthroughLink link(std::move(bus), eth::EthTarget{}, ops::timing::passthrough({}, {}));
     auto db = params::ParamDb::builtin();

@@ -50,13 +50,13 @@ void run_single(const Scenario& s, std::size_t index, const params::ParamDb& db,
   const ops::Cancel cancel(stop, [](const std::string&) {});  // the apps print the acknowledgement
   const auto map = sim.with_card([](sim::Virtual8i20& c) { return c.amplifier().map(); });
   const auto profile = profile_of(s, db);
-  const auto job = job_for(profile, db, cancel, dir, s.path, 5);
+  const auto request = request_for(profile, db, cancel, dir, s.path, 5);
   auto link = std::make_unique<InjectingLink>(
       std::make_unique<link::PipelinedLink>(std::move(stream), link_options), stop);
   InjectingLink& signals = *link;
-  std::unique_ptr<ops::Amp> card;
+  std::unique_ptr<ops::Amp> amp;
   try {
-    card = ops::Amp::attach(std::move(link), ops::parse_endpoint("sim"), db, {}, cancel);
+    amp = ops::Amp::attach(std::move(link), ops::parse_endpoint("sim"), db, {}, cancel);
   } catch (const Error& e) {
     t.findings.push_back("#" + std::to_string(index) +
                          ": the card could not be opened without a fault: " + e.what());
@@ -77,8 +77,7 @@ void run_single(const Scenario& s, std::size_t index, const params::ParamDb& db,
     });
   ops::TargetRun run;
   try {
-    ops::precheck(profile, card->db(), job.write);
-    run = ops::run_apply_on(*card, job);
+    run = ops::run_apply_on(*amp, ops::make_apply_job(request));
   } catch (const Error& e) {
     run.outcome = ops::outcome_of(e.kind());
     run.error = e.what();
@@ -114,10 +113,10 @@ void run_fleet(const Scenario& s, std::size_t index, const params::ParamDb& db, 
   }
   ops::StopRequest stop;
   const auto profile = profile_of(s, db);
-  auto job = job_for(profile, db, ops::Cancel(stop, [](const std::string&) {}), dir, s.path, 5);
-  job.open.link.sim_control = {"busv " + std::to_string(s.busv)};
-  job.open.link.sim_control.insert(job.open.link.sim_control.end(), s.injection.control.begin(),
-                                   s.injection.control.end());
+  auto request = request_for(profile, db, ops::Cancel(stop, [](const std::string&) {}), dir, s.path, 5);
+  request.open.link.sim_control = {"busv " + std::to_string(s.busv)};
+  request.open.link.sim_control.insert(request.open.link.sim_control.end(), s.injection.control.begin(),
+                                       s.injection.control.end());
   // A signal after a while (the one scenario kind whose timing is not fixed by the seed).
   std::thread signals;
   if (s.injection.cancel_after)
@@ -128,7 +127,7 @@ void run_fleet(const Scenario& s, std::size_t index, const params::ParamDb& db, 
       std::this_thread::sleep_for(std::chrono::microseconds(500 * *i.again_after));
       stop.request(i.signal);
     });
-  const auto runs = ops::run_fleet(targets, job);
+  const auto runs = ops::run_fleet(targets, ops::make_apply_job(request));
   if (signals.joinable()) signals.join();
   for (std::size_t i = 0; i < runs.size(); ++i) {
     sim::GroundTruth after = before[i];

@@ -335,15 +335,12 @@ void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun
               << "\n";
 }
 
-ops::ApplyJob job_for(const profile::Profile& p, const params::ParamDb& db, const ops::Cancel& cancel,
-                      const std::filesystem::path& backups, Path path, unsigned timeout_ms) {
-  ops::ApplyJob job;
-  job.profile = &p;
-  job.db = &db;
-  job.transaction.cancel = cancel;
-  if (path == Path::Apply || path == Path::Fleet) job.transaction.backup_dir = backups;
-  job.open.link.timeout_ms = timeout_ms;
-  return job;
+ops::ApplyRequest request_for(const profile::Profile& p, const params::ParamDb& db, const ops::Cancel& cancel,
+                              const std::filesystem::path& backups, Path path, unsigned timeout_ms) {
+  ops::ApplyRequest request{.profile = &p, .db = &db, .cancel = cancel};
+  if (path == Path::Apply || path == Path::Fleet) request.backup_dir = backups;
+  request.open.link.timeout_ms = timeout_ms;
+  return request;
 }
 
 bool clean(const Tally& t) {

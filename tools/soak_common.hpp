@@ -167,8 +167,8 @@ Judged judge(const sim::RegisterMap& map, const sim::GroundTruth& before, const 
 
 profile::Profile profile_of(const Scenario& s, const params::ParamDb& db);
 Wanted cells_written(const Scenario& s, const params::ParamDb& db);
-ops::ApplyJob job_for(const profile::Profile& p, const params::ParamDb& db, const ops::Cancel& cancel,
-                      const std::filesystem::path& backups, Path path, unsigned timeout_ms);
+ops::ApplyRequest request_for(const profile::Profile& p, const params::ParamDb& db, const ops::Cancel& cancel,
+                              const std::filesystem::path& backups, Path path, unsigned timeout_ms);
 
 // Counts the run in the tally; `healed`: the link failed and healed within 2 s.
 void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun& run, const Judged& j,

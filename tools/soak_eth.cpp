@@ -238,15 +238,15 @@ void run_single(const EthScenario& e, std::size_t index, const params::ParamDb& 
   ops::StopRequest stop;
   const ops::Cancel cancel(stop, [](const std::string&) {});
   const auto profile = profile_of(s, db);
-  const auto job = job_for(profile, db, cancel, dir, s.path, kTimeoutMs);
+  const auto request = request_for(profile, db, cancel, dir, s.path, kTimeoutMs);
   const auto endpoint = ops::parse_endpoint(b.url(e, e.channel));
-  std::unique_ptr<ops::Amp> card;
+  std::unique_ptr<ops::Amp> amp;
   InjectingLink* link = nullptr;
   try {
-    auto inner = ops::open_link(endpoint, db, job.open.link, job.open.retry);
+    auto inner = ops::open_link(endpoint, db, request.open.link, request.open.retry);
     auto wrapped = std::make_unique<InjectingLink>(std::move(inner), stop);
     link = wrapped.get();
-    card = ops::Amp::attach(std::move(wrapped), endpoint, db, job.open.retry, cancel);
+    amp = ops::Amp::attach(std::move(wrapped), endpoint, db, request.open.retry, cancel);
   } catch (const Error& ex) {
     t.findings.push_back("#" + std::to_string(index) +
                          ": the card could not be opened without a fault: " + ex.what());
@@ -266,8 +266,7 @@ void run_single(const EthScenario& e, std::size_t index, const params::ParamDb& 
   if (i.cancel_after) link->arm_signal(i);
   ops::TargetRun run;
   try {
-    ops::precheck(profile, card->db(), job.write);
-    run = ops::run_apply_on(*card, job);
+    run = ops::run_apply_on(*amp, ops::make_apply_job(request));
   } catch (const Error& ex) {
     run.outcome = ops::outcome_of(ex.kind());
     run.error = ex.what();
@@ -277,7 +276,7 @@ void run_single(const EthScenario& e, std::size_t index, const params::ParamDb& 
   const bool failed = link->failed();
   const bool healed = link->healed_within(2s);
   const bool acted = link->acted();
-  card.reset();  // closes the link as the apps do when they exit
+  amp.reset();  // closes the link as the apps do when they exit
   quiesce(b, e);
   auto j = judge(map, before[e.channel], b.capture(e, e.channel), run, cells_written(s, db));
   judge_neighbours(b, e, map, before, e.channel, j);
@@ -299,8 +298,8 @@ void run_fleet(const EthScenario& e, std::size_t index, const params::ParamDb& d
   }
   ops::StopRequest stop;
   const auto profile = profile_of(s, db);
-  const auto job =
-      job_for(profile, db, ops::Cancel(stop, [](const std::string&) {}), dir, s.path, kTimeoutMs);
+  const auto request =
+      request_for(profile, db, ops::Cancel(stop, [](const std::string&) {}), dir, s.path, kTimeoutMs);
   const auto& i = s.injection;
   // The fleet opens its own links: the injections start with it, the timed ones (signals,
   // the card line) after 0.5 ms steps; no heal is measured here.
@@ -320,7 +319,7 @@ void run_fleet(const EthScenario& e, std::size_t index, const params::ParamDb& d
       std::this_thread::sleep_for(std::chrono::microseconds(500 * *i.again_after));
       stop.request(i.signal);
     });
-  const auto runs = ops::run_fleet(targets, job);
+  const auto runs = ops::run_fleet(targets, ops::make_apply_job(request));
   if (timed.joinable()) timed.join();
   quiesce(b, e);
   for (std::size_t ch = 0; ch < runs.size(); ++ch) {

@@ -14,6 +14,7 @@
 #include "console_api.hpp"
 #include "context.hpp"
 #include "ops/session.hpp"
+#include "ops/timing.hpp"
 #include "terminal.hpp"
 
 namespace i20::cli {
@@ -24,13 +25,13 @@ namespace fs = std::filesystem;
 struct ConsoleOptions {
   std::string address = "127.0.0.1";
   unsigned short port = 0;
-  unsigned interval_ms = 100;
+  unsigned interval_ms = static_cast<unsigned>(ops::timing::kConsoleLiveInterval.count());
   bool no_browser = false;
 };
 
 void run_console(Context& ctx, const ConsoleOptions& o) {
   auto& session = ctx.session();
-  auto& card = session.card();  // a card that does not answer is an error now, not a page later
+  auto& amp = session.amp();  // a card that does not answer is an error now, not a page later
   std::error_code ec;
   const auto static_dir = console::default_static_dir(fs::read_symlink("/proc/self/exe", ec));
   if (!fs::is_regular_file(static_dir / "index.html", ec)) {
@@ -58,7 +59,7 @@ void run_console(Context& ctx, const ConsoleOptions& o) {
   if (!boost::asio::ip::make_address(o.address).is_loopback())
     std::cerr << "i20: warning: the console is reachable from other hosts on " << o.address
               << " (plain HTTP): whoever learns the token can write to and reset this card\n";
-  std::cout << "i20 console for " << card.describe() << "\n"
+  std::cout << "i20 console for " << amp.describe() << "\n"
             << "  open " << server->url() << "\n"
             << "  (the token in this URL is the only way in; Ctrl-C stops the console and leaves the card "
                "settled)\n"

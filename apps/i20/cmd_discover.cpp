@@ -92,13 +92,13 @@ void run_discover(Context& ctx, const DiscoverOptions& o) {
             " (so working values equal NV values), then only reads. Go on?",
         "discover not confirmed; nothing was sent (pass --yes, or --no-reset right after a "
         "power-up)");
-  auto& card = ctx.card();
+  auto& amp = ctx.amp();
   if (isatty(STDERR_FILENO))
     options.scan.progress = [](std::size_t done, std::size_t total) {
       std::cerr << "\rscanning RAM: " << (100 * done / total) << "%" << (done == total ? "\n" : "")
                 << std::flush;
     };
-  const auto result = ops::discover(card, ctx.session().db(), options);
+  const auto result = ops::discover(amp, ctx.session().db(), options);
   const std::string file = result.written.string();
   if (ctx.options.json) {
     ctx.print_json(report_json(result.report, file));

@@ -137,13 +137,13 @@ struct CardState {
 CardState read_card(Context& ctx) {
   CardState c;
   c.asked = true;
-  const auto card = ops::ethernet_card(ctx.options.target);
-  if (!card)
+  const auto host_port = ops::ethernet_host_port(ctx.options.target);
+  if (!host_port)
     throw UsageError(
         "doctor --passive reads the card LinuxCNC is running through its Ethernet card: give the card's "
         "address, e.g. i20 --eth 192.168.1.121 doctor linuxcnc.log --passive");
   try {
-    ops::PassiveMonitor monitor(*card, {.read = ops::timing::passive(ctx.options.link)});
+    ops::PassiveMonitor monitor(*host_port, {.read = ops::timing::passive(ctx.options.link)});
     c.describe = monitor.describe();
     monitor.sample();  // the second sample knows whether a host is talking
     const auto s = monitor.sample();

@@ -155,10 +155,10 @@ void print_mask_state(std::uint16_t faultmask, std::uint16_t fault, const std::s
 }
 
 void run_mask_show(Context& ctx) {
-  const Readings r = ops::read_fault_registers(ctx.card());
+  const Readings r = ops::read_fault_registers(ctx.amp());
   if (!r.faultmask)
-    throw ops::SafetyError("FAULTMASK cannot be read as a fact on " + ctx.card().describe() + ": " +
-                           ctx.card().unconfirmed_reason(ctx.card().db().get("FAULTMASK")));
+    throw ops::SafetyError("FAULTMASK cannot be read as a fact on " + ctx.amp().describe() + ": " +
+                           ctx.amp().unconfirmed_reason(ctx.amp().db().get("FAULTMASK")));
   if (ctx.options.json) {
     auto j = app::Json::object();
     j.set("faultmask", *r.faultmask).set("hex", lbp::hex_value(*r.faultmask, 4));
@@ -195,16 +195,16 @@ void run_mask_set(Context& ctx, const MaskOptions& o) {
   const bool masked = o.state == "on";
   // Refuse before the link opens whatever the rules already know (address, range).
   ops::check_offline(ctx.session().db().get("FAULTMASK"), F::kNothingMasked, o.write);
-  auto& card = ctx.card();
+  auto& amp = ctx.amp();
   ops::MaskResult m;
-  with_fault_errors_mapped([&] { m = ops::set_fault_mask(card, o.key, masked, o.write); });
+  with_fault_errors_mapped([&] { m = ops::set_fault_mask(amp, o.key, masked, o.write); });
   ctx.record(m.run.outcome);
   if (!m.run.ok()) {
-    app::render::print_run(std::cout, m.run, card.db(), "command line");
+    app::render::print_run(std::cout, m.run, amp.db(), "command line");
     std::cerr << "i20: " << app::render::error_line(m.run) << "\n";
     return;
   }
-  const Readings after = ops::read_fault_registers(card);
+  const Readings after = ops::read_fault_registers(amp);
   if (ctx.options.json) {
     auto j = app::Json::object();
     j.set("bit", bit->bit).set("name", bit->name).set("slug", bit->slug).set("masked", masked);
@@ -271,11 +271,11 @@ app::Json clear_json(const ops::ClearResult& res, const F::Report& cleared, cons
 }
 
 void run_clear(Context& ctx, const ClearOptions& o) {
-  ops::check_offline(ctx.session().db().get("CLEARFAULT"), 1, o.write);  // refuse before the link opens
-  const auto res = ops::clear_faults(ctx.card(), o.write, std::chrono::milliseconds(o.wait_ms));
+  const auto job = ops::make_clear_job(ctx.session().db(), o.write, std::chrono::milliseconds(o.wait_ms));
+  const auto res = ops::clear_faults(ctx.amp(), job);
   const Readings& r = res.after;
-  const auto cleared = F::fault_report(static_cast<std::uint16_t>(res.fault_before & ~r.fault));
-  const auto remaining = F::fault_report(r.fault, r.faultmask);
+  const auto cleared = res.cleared();
+  const auto remaining = res.remaining();
   ctx.record(res.outcome());
   if (ctx.options.json) return ctx.print_json(clear_json(res, cleared, remaining, r, ctx.target_flags()));
   const std::string took = "CLEARFAULT acknowledged in " + std::to_string(res.took.count()) + " ms";

@@ -60,13 +60,13 @@ app::Json value_json(const ops::Reading& r) {
 
 // ------------------------------------------------------------------ info
 void run_info(Context& ctx) {
-  auto& card = ctx.card();
-  const auto& id = card.identity();
+  auto& amp = ctx.amp();
+  const auto& id = amp.identity();
   const auto& info = id.info;
-  const auto& db = card.db();
+  const auto& db = amp.db();
   if (ctx.options.json) {
     auto j = app::Json::object();
-    j.set("target", card.endpoint().text).set("card_name", info.card_name);
+    j.set("target", amp.endpoint().text).set("card_name", info.card_name);
     j.set("unit_number", *info.unit_number).set("swrevision", *info.swrevision);
     j.set("working_map_confirmed", info.working_map_confirmed).set("lbp_version", info.lbp_version);
     j.set("unit_id", info.unit_id).set("unit_address", info.unit_address).set("lbp_status", info.lbp_status);
@@ -82,14 +82,14 @@ void run_info(Context& ctx) {
   }
   // Only the --sim endpoint is known to be the simulator; a card behind a port that reports
   // the simulator's revision is named by that fact alone.
-  const bool sim_endpoint = card.endpoint().kind == ops::Endpoint::Kind::Sim;
+  const bool sim_endpoint = amp.endpoint().kind == ops::Endpoint::Kind::Sim;
   const bool sim_revision = db.simulator_swrevision() == info.swrevision;
   const char* firmware_note = sim_endpoint   ? ", the built-in simulator"
                               : sim_revision ? ", the revision the simulator reports"
                                              : "";
   std::string rpc_names;
   for (const auto& n : id.rpc_confirmed) rpc_names += (rpc_names.empty() ? "" : " ") + n;
-  std::cout << info.card_name << " on " << card.endpoint().text << "\n"
+  std::cout << info.card_name << " on " << amp.endpoint().text << "\n"
             << "  unit number    " << *info.unit_number << " (" << lbp::hex_value(*info.unit_number, 8)
             << ")\n"
             << "  firmware       SWREVISION " << lbp::hex_value(*info.swrevision, 4) << " ("
@@ -122,9 +122,9 @@ struct GetOptions {
 void run_get(Context& ctx, const GetOptions& o) {
   const auto& loaded = ctx.session().db();
   for (const auto& n : o.names) loaded.get(n);  // unknown names fail before the link opens
-  auto& card = ctx.card();
+  auto& amp = ctx.amp();
   const auto readings =
-      ops::read_values(card, o.names, o.allow_unverified ? ops::Unconfirmed::Read : ops::Unconfirmed::Skip);
+      ops::read_values(amp, o.names, o.allow_unverified ? ops::Unconfirmed::Read : ops::Unconfirmed::Skip);
   if (ctx.options.json) {
     auto arr = app::Json::array();
     for (const auto& r : readings) arr.push(value_json(r));
@@ -151,21 +151,20 @@ void run_set(Context& ctx, const SetOptions& o) {
   const auto& loaded = ctx.session().db();
   // Bad input and the rules that need no card refuse before the link is even opened.
   const auto profile = ops::profile_from_assignments(o.assignments, loaded, ops::ValueSyntax::Engineering);
-  ops::precheck(profile, loaded, o.write);
-  auto& card = ctx.card();
   const auto job = ops::make_apply_job({.profile = &profile,
-                                        .db = &card.db(),
+                                        .db = &loaded,
                                         .force = o.write.force,
                                         .allow_unverified = o.write.allow_unverified,
                                         .dry_run = o.dry_run,
-                                        .cancel = card.cancel()});
+                                        .cancel = ctx.session().cancel()});
+  auto& amp = ctx.amp();
   const bool show_progress = !ctx.options.json && profile.settings.size() > 1;
-  const auto run = ops::run_apply_on(card, job, [show_progress](const std::string& what) {
+  const auto run = ops::run_apply_on(amp, job, [show_progress](const std::string& what) {
     if (show_progress && what.rfind("writing", 0) == 0) std::cerr << "i20: " << what << "\n";
   });
   ctx.record(run.outcome);
   if (ctx.options.json) return ctx.print_json(app::render::run_json(run));
-  app::render::print_run(std::cout, run, card.db(), "command line");
+  app::render::print_run(std::cout, run, amp.db(), "command line");
   if (!run.ok()) std::cerr << "i20: " << app::render::error_line(run) << "\n";
 }
 
@@ -207,8 +206,8 @@ void print_dump_csv(const std::vector<ops::Reading>& values) {
 }
 
 void run_dump(Context& ctx, const std::string& format, bool allow_unverified) {
-  auto& card = ctx.card();
-  const auto values = ops::read_all(card, allow_unverified ? ops::Unconfirmed::Read : ops::Unconfirmed::Skip);
+  auto& amp = ctx.amp();
+  const auto values = ops::read_all(amp, allow_unverified ? ops::Unconfirmed::Read : ops::Unconfirmed::Skip);
   const std::string f = ctx.options.json ? "json" : format;
   if (f == "json") {
     auto arr = app::Json::array();
@@ -261,7 +260,7 @@ void run_reset(Context& ctx, bool yes, bool force) {
                              "reset not confirmed; nothing was sent (pass --yes in scripts)");
   // The judgement (what the reset would make live, by the write transaction's rules) is
   // lib/ops's; this only reports it.
-  const auto run = ops::reset_card(ctx.card(), force);
+  const auto run = ops::reset_amp(ctx.amp(), force);
   const auto& j = run.judgement;
   ctx.record(run.outcome());
   if (!run.done) {

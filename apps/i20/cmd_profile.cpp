@@ -57,8 +57,8 @@ std::vector<ops::Endpoint> targets_of(Context& ctx, const std::vector<std::strin
 }
 
 // The one card save reads (read-only: Ctrl-C may stop it anywhere).
-std::unique_ptr<ops::Amp> open_card(Context& ctx, const std::vector<std::string>& targets,
-                                    const params::ParamDb& db) {
+std::unique_ptr<ops::Amp> open_amp(Context& ctx, const std::vector<std::string>& targets,
+                                   const params::ParamDb& db) {
   const auto endpoints = targets_of(ctx, targets);
   if (endpoints.size() != 1) throw UsageError("this command reads one card: give a single --target");
   return ctx.session().open(endpoints.front(), db);
@@ -213,13 +213,14 @@ app::Json validate_on_cards(Context& ctx, const params::ParamDb& db,
   if (!loaded.profile) return validate_offline(ctx, db, file, o.force, outcome);  // reports the load error
   auto request = apply_request(ctx, *loaded.profile, db, o.force, o.allow_unverified);
   request.dry_run = true;
+  std::optional<ops::ApplyJob> job;
   try {
-    ops::precheck(*loaded.profile, db, request.write_options());
+    job = ops::make_apply_job(request);
   } catch (const Error& e) {
     outcome = ops::outcome_of(e.kind());
     return refused_offline(ctx, *loaded.profile, db, file, o.force, e);
   }
-  const auto runs = run_on_targets(targets, ops::make_apply_job(request));
+  const auto runs = run_on_targets(targets, *job);
   outcome = ops::fleet_outcome(runs);
   auto j = app::Json::object();
   j.set("file", file).set("valid", outcome == ops::Outcome::DryRun);
@@ -282,13 +283,13 @@ TargetDiff diff_one(const Profile& profile, const std::vector<std::string>& name
   TargetDiff d;
   d.target = target;
   try {
-    const auto card = open();
-    d.card = card->describe();
-    d.flags = card->endpoint().flags();
+    const auto amp = open();
+    d.card = amp->describe();
+    d.flags = amp->endpoint().flags();
     profile::RawValues values;
-    for (const auto& r : ops::read_values(*card, names))
+    for (const auto& r : ops::read_values(*amp, names))
       if (r.fact()) values[r.param->name] = *r.raw;
-    d.rows = profile::diff(profile, card->db(), values);
+    d.rows = profile::diff(profile, amp->db(), values);
   } catch (const Error& e) {
     d.error = app::with_advice(e.what(), e.advice());
     d.interrupted = e.kind() == ErrorKind::Cancelled;
@@ -433,19 +434,19 @@ void print_many(Context& ctx, const Profile& profile, const std::string& file,
 // `run` runs the job (on a target it opens, or on a card already open).
 using RunJob = std::function<ops::TargetRun(const ops::ApplyJob&, const ops::Activity&)>;
 
-void apply_single(Context& ctx, const Profile& profile, const std::string& file, ops::ApplyRequest request,
+void apply_single(Context& ctx, const Profile& profile, const std::string& file, ops::ApplyJob job,
                   const std::string& target, const RunJob& run_job) {
   const bool text = !ctx.options.json;
   if (text)
     std::cout << "Profile " << profile.name << " (" << file << ") -> " << target << "\n" << std::flush;
   bool plan_shown = false;
-  request.on_plan = [&](const profile::Plan& plan) {
+  job.transaction.on_plan = [&](const profile::Plan& plan) {
     if (!text || plan.empty()) return;
     render::print_plan(std::cout, plan);
     std::cout << std::flush;
     plan_shown = true;
   };
-  const auto run = run_job(ops::make_apply_job(request), [text](const std::string& what) {
+  const auto run = run_job(job, [text](const std::string& what) {
     if (text && (what.rfind("writing", 0) == 0 || what.rfind("restoring", 0) == 0 || what == "resetting"))
       std::cout << "  " << what << "\n" << std::flush;
   });
@@ -455,7 +456,7 @@ void apply_single(Context& ctx, const Profile& profile, const std::string& file,
     j.set("profile", profile.name).set("file", file);
     return ctx.print_json(j);
   }
-  render::print_run(std::cout, run, *request.db, file, plan_shown);
+  render::print_run(std::cout, run, *job.db, file, plan_shown);
   if (!run.ok()) std::cerr << "i20: " << render::error_line(run) << "\n";
 }
 
@@ -481,18 +482,18 @@ void run_apply_command(Context& ctx, const ApplyCliOptions& o) {
   }
   const auto targets = targets_of(ctx, o.targets);
   auto request = apply_request(ctx, *profile, db, o.force, o.allow_unverified);
-  // The rules that need no card: nothing is sent when they refuse.
-  ops::precheck(*profile, db, request.write_options());
-  require_reset_confirmed(ctx, o, targets);
   set_change_options(request, o);
+  // The rules that need no card: nothing is sent when they refuse.
+  const auto job = ops::make_apply_job(request);
+  require_reset_confirmed(ctx, o, targets);
   if (targets.size() == 1) {
     const auto& target = targets.front();
     return apply_single(
-        ctx, *profile, o.file, request, target.text,
+        ctx, *profile, o.file, job, target.text,
         [&](const ops::ApplyJob& j, const ops::Activity& a) { return ops::run_apply(target, j, a); });
   }
   FleetProgress progress(targets, !ctx.options.json && isatty(STDERR_FILENO));
-  const auto runs = ops::run_fleet(targets, ops::make_apply_job(request), progress.activity());
+  const auto runs = ops::run_fleet(targets, job, progress.activity());
   progress.stop();
   print_many(ctx, *profile, o.file, runs, db, {o.reset, o.dry_run});
   ctx.record(ops::fleet_outcome(runs));
@@ -521,28 +522,28 @@ void run_undo(Context& ctx, const UndoOptions& o) {
       o.apply.backup_dir.empty() ? profile::default_backup_dir() : std::filesystem::path(o.apply.backup_dir);
   if (!o.last && !load(ctx, db, o.apply.file)) return;  // a bad file is bad input before the link opens
   // The card names its unit; nothing but its identity is read before the backup is judged.
-  auto card = ctx.session().open(target, db);
+  auto amp = ctx.session().open(target, db);
   ops::BackupChoice choice;
   try {
-    choice = o.last ? ops::newest_valid_backup(dir, *card) : ops::backup_file(o.apply.file, db);
+    choice = o.last ? ops::newest_valid_backup(dir, *amp) : ops::backup_file(o.apply.file, db);
   } catch (const profile::ProfileError& e) {
     return report_invalid(ctx, o.apply.file, e);
   }
-  const auto forced = ops::check_backup_origin(choice, *card, o.apply.force);
+  const auto forced = ops::check_backup_origin(choice, *amp, o.apply.force);
   const std::string file = choice.file.string();
   auto backup = choice.backup;
   backup.name = "undo";  // names the backup this change takes in turn: "...-undo-unit00012345.yaml"
   auto request = apply_request(ctx, backup, db, o.apply.force, o.apply.allow_unverified);
-  ops::precheck(backup, db, request.write_options());
   set_change_options(request, o.apply);
+  const auto job = ops::make_apply_job(request);
   if (!ctx.options.json) {
     for (const auto& s : choice.skipped) std::cerr << "i20: note: passed over " << s << "\n";
     for (const auto& f : forced) std::cerr << "i20: warning: restoring anyway (--force): " << f << "\n";
     std::cout << "Undo: restoring the values saved in " << file << "\n";
   }
-  apply_single(ctx, backup, file, request, target.text, [&](const ops::ApplyJob& j, const ops::Activity& a) {
+  apply_single(ctx, backup, file, job, target.text, [&](const ops::ApplyJob& j, const ops::Activity& a) {
     if (a) a("connecting");
-    return ops::run_apply_on(*card, j, a);
+    return ops::run_apply_on(*amp, j, a);
   });
 }
 
@@ -569,13 +570,13 @@ void check_save_request(const SaveCliOptions& o, const params::ParamDb& db) {
 void run_save(Context& ctx, const SaveCliOptions& o) {
   const auto& db_base = ctx.session().db();
   check_save_request(o, db_base);
-  const auto card = open_card(ctx, o.targets, db_base);
+  const auto amp = open_amp(ctx, o.targets, db_base);
   profile::SaveOptions save;
   save.name = !o.name.empty() ? o.name
               : o.file == "-" ? "saved"
                               : std::filesystem::path(o.file).stem().string();
   save.notes = "Saved with `i20 profile save`. Apply this file to write these values back.";
-  const auto [saved, yaml] = ops::save_card(*card, o.names, save, o.file);
+  const auto [saved, yaml] = ops::save_card(*amp, o.names, save, o.file);
   if (o.file == "-") {
     std::cout << yaml;
     return;
@@ -583,11 +584,11 @@ void run_save(Context& ctx, const SaveCliOptions& o) {
   write_new_file(o.file, yaml, o.overwrite);
   if (ctx.options.json) {
     auto j = app::Json::object();
-    j.set("file", o.file).set("card", card->describe()).set("values", saved.settings.size());
+    j.set("file", o.file).set("card", amp->describe()).set("values", saved.settings.size());
     return ctx.print_json(j);
   }
-  const std::string flags = card->endpoint().flags();
-  std::cout << "Saved " << saved.settings.size() << " values of " << card->describe() << " to " << o.file
+  const std::string flags = amp->endpoint().flags();
+  std::cout << "Saved " << saved.settings.size() << " values of " << amp->describe() << " to " << o.file
             << "\nCompare a card with it: `i20 " << flags << " profile diff " << o.file
             << "`; write it back: `i20 " << flags << " profile apply " << o.file << "`\n";
 }

@@ -155,25 +155,25 @@ app::Json report_json(const ops::ServiceReport& r) {
 
 void run_report(Context& ctx, const ReportOptions& o) {
   check_output_file(o.out, o.overwrite);  // before the first byte
-  auto& card = ctx.card();
-  const auto report = ops::gather_report(card, std::chrono::system_clock::now());
+  auto& amp = ctx.amp();
+  const auto report = ops::gather_report(amp, std::chrono::system_clock::now());
   std::string text;
   if (ctx.options.json) {
     text = report_json(report).dump() + "\n";
   } else {
-    auto profile = ops::report_profile(report, card.db());
+    auto profile = ops::report_profile(report, amp.db());
     profile.comments.insert(profile.comments.begin(),
                             {"i20 report: a field-service snapshot of one 8I20, read-only.",
-                             "Its parameters section is a profile: `i20 " + card.endpoint().flags() +
+                             "Its parameters section is a profile: `i20 " + amp.endpoint().flags() +
                                  " profile apply THIS_FILE` writes this NV setup back."});
-    text = profile::to_yaml(profile, card.db()) + report_section(report);
+    text = profile::to_yaml(profile, amp.db()) + report_section(report);
   }
   if (o.out.empty()) {
     std::cout << text;
     return;
   }
   write_file_atomically(o.out, text, o.overwrite);
-  std::cerr << "i20: report of " << card.describe() << " written to " << o.out << "\n";
+  std::cerr << "i20: report of " << amp.describe() << " written to " << o.out << "\n";
 }
 
 }  // namespace

@@ -82,7 +82,7 @@ void run_scan(Context& ctx, bool deprecated_force) {
     throw UsageError("scan needs the Ethernet card's address: i20 scan --eth 192.168.1.121");
   auto link = ctx.options.link;
   link.take_over = link.take_over || deprecated_force;
-  const auto run = ops::scan_card(*ops::ethernet_card(ctx.options.target), link);
+  const auto run = ops::scan_host_port(*ops::ethernet_host_port(ctx.options.target), link);
   const auto& result = run.result;
   if (run.stopped_running_host)
     std::cerr << "i20: scan --take-over: " << result.host_activity.describe()

@@ -45,7 +45,7 @@ using ops::bit_names;
 using ops::output_on;
 
 struct WatchOptions {
-  unsigned interval_ms = 200;
+  unsigned interval_ms = static_cast<unsigned>(ops::timing::kWatchInterval.count());
   std::uint64_t count = 0;  // 0: no limit
   double duration_s = 0;    // 0: no limit
   bool plain = false;

@@ -26,8 +26,6 @@ namespace F = i20::faults;
 using console::http::status;
 using console::http::verb;
 
-// How long CLEARFAULT may stay set, as `i20 clear-faults` waits by default.
-constexpr std::chrono::milliseconds kClearWait{1000};
 // The request header an apply names its preview in.
 constexpr const char* kPreviewHeader = "I20-Preview";
 // How the page clears faults, for the "now:" lines that `i20 faults` words with its command.
@@ -179,8 +177,8 @@ app::Json status_words(const F::Report& report) {
 // latched and why, and the fault output now.
 app::Json clear_words(const ops::ClearResult& res, const std::string& flags) {
   const auto& r = res.after;
-  const auto cleared = F::fault_report(static_cast<std::uint16_t>(res.fault_before & ~r.fault));
-  const auto remaining = F::fault_report(r.fault, r.faultmask);
+  const auto cleared = res.cleared();
+  const auto remaining = res.remaining();
   const bool nothing = res.fault_before == 0 && r.fault == 0;
   auto left = app::Json::array();
   for (const auto& line : remaining.lines)
@@ -245,17 +243,17 @@ console::Response ConsoleApi::failure(const console::Request& request) {
 }
 
 console::Response ConsoleApi::overview(const console::Request& request) {
-  auto& card = session_.card();
-  const auto& id = card.identity();
+  auto& amp = session_.amp();
+  const auto& id = amp.identity();
   const auto& info = id.info;
   const auto r = live().read();
-  const auto values = ops::read_all(card);
+  const auto values = ops::read_all(amp);
   profile::RawValues facts;
   for (const auto& v : values)
     if (v.fact()) facts[v.param->name] = *v.raw;
   auto j = app::Json::object();
-  j.set("target", card.endpoint().text).set("simulator", card.endpoint().kind == ops::Endpoint::Kind::Sim);
-  j.set("card", card.describe()).set("card_name", info.card_name);
+  j.set("target", amp.endpoint().text).set("simulator", amp.endpoint().kind == ops::Endpoint::Kind::Sim);
+  j.set("card", amp.describe()).set("card_name", info.card_name);
   j.set("unit_number", lbp::hex_value(*info.unit_number, 8));
   j.set("swrevision", lbp::hex_value(*info.swrevision, 4));
   j.set("working_map_confirmed", info.working_map_confirmed).set("rpc_table", id.rpc_note);
@@ -263,17 +261,17 @@ console::Response ConsoleApi::overview(const console::Request& request) {
   j.set("readings", readings_json(r));
   j.set("fault", report_json(F::fault_report(r.fault, r.faultmask), &r));
   j.set("status", report_json(live_status_report(r)));
-  j.set("pending", strings(ops::pending_nv_values(card.db(), facts)));
+  j.set("pending", strings(ops::pending_nv_values(amp.db(), facts)));
   return json_response(status::ok, j, request);
 }
 
 console::Response ConsoleApi::params(const console::Request& request) {
-  auto& card = session_.card();
-  const auto values = ops::read_all(card);
+  auto& amp = session_.amp();
+  const auto values = ops::read_all(amp);
   profile::RawValues facts;
   for (const auto& v : values)
     if (v.fact()) facts[v.param->name] = *v.raw;
-  const auto pending = ops::pending_nv_values(card.db(), facts);
+  const auto pending = ops::pending_nv_values(amp.db(), facts);
   auto arr = app::Json::array();
   for (const auto& v : values) {
     const auto& p = *v.param;
@@ -300,11 +298,9 @@ ops::TargetRun ConsoleApi::run_change(const std::vector<std::string>& assignment
   const auto& loaded = session_.db();
   // Bad input and the rules that need no card refuse before anything is sent, as `i20 set`.
   const auto profile = ops::profile_from_assignments(assignments, loaded, ops::ValueSyntax::Engineering);
-  ops::precheck(profile, loaded, {});
-  auto& card = session_.card();
   const auto job = ops::make_apply_job(
-      {.profile = &profile, .db = &card.db(), .dry_run = dry_run, .cancel = card.cancel()});
-  return ops::run_apply_on(card, job);
+      {.profile = &profile, .db = &loaded, .dry_run = dry_run, .cancel = session_.cancel()});
+  return ops::run_apply_on(session_.amp(), job);
 }
 
 console::Response ConsoleApi::preview(const console::Request& request) {
@@ -345,20 +341,20 @@ console::Response ConsoleApi::apply(const console::Request& request) {
 }
 
 console::Response ConsoleApi::clear(const console::Request& request) {
-  preview_.reset();                                            // the card is not the one previewed any more
-  ops::check_offline(session_.db().get("CLEARFAULT"), 1, {});  // refused before anything is sent
-  const auto res = ops::clear_faults(session_.card(), {}, kClearWait);
+  preview_.reset();                                         // the card is not the one previewed any more
+  const auto job = ops::make_clear_job(session_.db(), {});  // refused before anything is sent
+  const auto res = ops::clear_faults(session_.amp(), job);
   const auto& r = res.after;
   auto j = app::Json::object();
   j.set("outcome", ops::to_string(res.outcome())).set("fault_before", lbp::hex_value(res.fault_before, 4));
-  j.set("fault", report_json(F::fault_report(r.fault, r.faultmask), &r)).set("readings", readings_json(r));
+  j.set("fault", report_json(res.remaining(), &r)).set("readings", readings_json(r));
   j.set("explained", clear_words(res, session_.endpoint().flags()));
   return json_response(status_of(res.outcome()), j, request);
 }
 
 console::Response ConsoleApi::reset(const console::Request& request) {
   preview_.reset();  // a reset makes other values live: preview again
-  const auto run = ops::reset_card(session_.card(), false);
+  const auto run = ops::reset_amp(session_.amp(), false);
   auto findings = app::Json::array();
   for (const auto& f : run.judgement.findings)
     findings.push(app::Json::object()

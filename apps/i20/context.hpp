@@ -22,7 +22,7 @@ struct Context {
 
   // Opened on first use, with COMPORT/BAUDRATE/PROTOCOL read like wpd and rpd do.
   ops::Session& session();
-  ops::Amp& card() { return session().card(); }
+  ops::Amp& amp() { return session().amp(); }
   // The options that name the target, for advice lines ("--port /dev/ttyUSB0").
   std::string target_flags() { return session().endpoint().flags(); }
 

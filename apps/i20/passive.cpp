@@ -36,15 +36,15 @@ std::string card_text(const Context& ctx) {
 
 // The card named by --eth (an address or an eth:// URL) or an eth:// --port. A passive
 // monitor always watches every channel of the card.
-ops::HostPort passive_card(const Context& ctx, const char* command) {
-  const auto card = ops::ethernet_card(ctx.options.target);
-  if (!card)
+ops::HostPort passive_host_port(const Context& ctx, const char* command) {
+  const auto host_port = ops::ethernet_host_port(ctx.options.target);
+  if (!host_port)
     throw UsageError(
         std::string(command) +
         " --passive reads what a running host leaves in an Ethernet card's SSERIAL registers: give "
         "the card's address, e.g. i20 --eth 192.168.1.121 " +
         command + " --passive");
-  return *card;
+  return *host_port;
 }
 
 ops::PassiveMonitorOptions monitor_options(const Context& ctx) {
@@ -225,7 +225,7 @@ std::string passive_hint(const Context& ctx) {
 }
 
 void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
-  const auto card = passive_card(ctx, "watch");
+  const auto host_port = passive_host_port(ctx, "watch");
   const auto spacing = 1000u / ops::kPassiveMaxRequestsPerSecond;
   if (o.interval_ms < spacing)
     throw UsageError("watch --passive --interval " + std::to_string(o.interval_ms) +
@@ -236,7 +236,7 @@ void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
   if (!o.log.empty()) log = std::make_unique<PassiveCsv>(o.log);
   auto options = monitor_options(ctx);
   options.busv_step_v = o.busv_step_v;
-  ops::PassiveMonitor monitor(card, options);
+  ops::PassiveMonitor monitor(host_port, options);
   const bool json = ctx.options.json;
   if (json) {
     emit_line(app::Json::object()
@@ -271,8 +271,8 @@ void run_passive_watch(Context& ctx, const PassiveWatchOptions& o) {
 }
 
 void run_passive_faults(Context& ctx) {
-  const auto card = passive_card(ctx, "faults");
-  ops::PassiveMonitor monitor(card, monitor_options(ctx));
+  const auto host_port = passive_host_port(ctx, "faults");
+  ops::PassiveMonitor monitor(host_port, monitor_options(ctx));
   const auto s = two_samples(monitor);
   if (ctx.options.json) {
     auto j = app::Json::object();
@@ -306,13 +306,13 @@ void run_passive_faults(Context& ctx) {
 }
 
 void run_passive_scan(Context& ctx) {
-  const auto card = passive_card(ctx, "scan");
-  ops::PassiveMonitor monitor(card, monitor_options(ctx));
+  const auto host_port = passive_host_port(ctx, "scan");
+  ops::PassiveMonitor monitor(host_port, monitor_options(ctx));
   const auto s = two_samples(monitor);
   const auto& reader = monitor.reader();
   if (ctx.options.json) {
     auto j = app::Json::object();
-    j.set("address", card.describe()).set("card", reader.identity().card_name);
+    j.set("address", host_port.describe()).set("card", reader.identity().card_name);
     j.set("board", reader.hostmot2().idrom.board_name).set("mode", "passive").set("host", host_text(s));
     auto ports = app::Json::array();
     for (const auto& p : reader.ports()) {

@@ -7,11 +7,12 @@
 #include <string>
 
 #include "context.hpp"
+#include "ops/timing.hpp"
 
 namespace i20::cli {
 
 struct PassiveWatchOptions {
-  unsigned interval_ms = 200;
+  unsigned interval_ms = static_cast<unsigned>(ops::timing::kWatchInterval.count());
   std::uint64_t count = 0;  // 0: no limit
   double duration_s = 0;    // 0: no limit
   double busv_step_v = 0.5;

@@ -49,9 +49,9 @@ static int run(int argc, char** argv) {
     ops::Session session(options, app::stop_acknowledgement("rpd"));
     try {
       const auto& param = session.db().get(name);  // unknown names fail before the link opens
-      auto& card = session.card();
+      auto& amp = session.amp();
       const auto policy = allow_unverified ? ops::Unconfirmed::Read : ops::Unconfirmed::Skip;
-      const auto reading = ops::read_values(card, std::vector<std::string>{param.name}, policy).front();
+      const auto reading = ops::read_values(amp, std::vector<std::string>{param.name}, policy).front();
       // An NV read the line cut short must not leave NV mode on unsaid.
       if (const auto settled = session.settle(); settled.outcome != ops::Outcome::Done)
         return ops::exit_code(settled.outcome);
@@ -59,7 +59,7 @@ static int run(int argc, char** argv) {
         app::print_line("rpd", *settled.note);
       if (!reading.raw) {
         std::cerr << "rpd: refused: " << reading.param->name << " is " << ops::unknown_text(reading)
-                  << "; run `i20 " << card.endpoint().flags() << " discover`, or pass --allow-unverified\n";
+                  << "; run `i20 " << amp.endpoint().flags() << " discover`, or pass --allow-unverified\n";
         return ops::exit_code(ops::reading_outcome(std::span(&reading, 1)));
       }
       if (!reading.confirmed)

@@ -26,7 +26,8 @@ using namespace i20;
 namespace {
 
 int clear_faults(ops::Session& session, const ops::WriteOptions& write) {
-  const auto result = ops::clear_faults(session.card(), write, ops::timing::kClearFaultWait);
+  const auto job = ops::make_clear_job(session.db(), write);  // judged before the link opens
+  const auto result = ops::clear_faults(session.amp(), job);
   std::cout << "FAULT cleared through CLEARFAULT: was " << lbp::hex_value(result.fault_before, 4) << ", now "
             << lbp::hex_value(result.after.fault, 4) << "\n";
   if (result.faults_remain())
@@ -125,14 +126,14 @@ static int run(int argc, char** argv) {
         return settled(session, code);
       }
       const auto profile = ops::profile_from_value(name, value_text, db, ops::ValueSyntax::Raw);
-      ops::precheck(profile, db, write);  // before the link is even opened
-      auto& card = session.card();
+      // Checked against every rule that needs no card before the link is even opened.
       const auto job = ops::make_apply_job({.profile = &profile,
-                                            .db = &card.db(),
+                                            .db = &db,
                                             .force = write.force,
                                             .allow_unverified = write.allow_unverified,
-                                            .cancel = card.cancel()});
-      return report(ops::run_apply_on(card, job), card.db());  // run_apply_on settles the card itself
+                                            .cancel = session.cancel()});
+      auto& amp = session.amp();
+      return report(ops::run_apply_on(amp, job), amp.db());  // run_apply_on settles the card itself
     } catch (...) {
       return app::print_failure("wpd", session.fail());  // the card settled too: a mode may be on
     }

@@ -86,7 +86,7 @@ std::chrono::microseconds DoitStats::worst() const {
 }
 
 std::unique_ptr<DriveLoop> DriveLoop::open(const EthTarget& target, NormalModeOptions options) {
-  auto bus = std::make_unique<UdpClient>(target.card.ip, target.card.port, options.udp);
+  auto bus = std::make_unique<UdpClient>(target.host_port.ip, target.host_port.port, options.udp);
   return std::make_unique<DriveLoop>(std::move(bus), target.sserial_port, target.channel, options);
 }
 

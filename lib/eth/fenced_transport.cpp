@@ -7,6 +7,7 @@
 #include "eth/errors.hpp"
 #include "eth/running_host.hpp"
 #include "lbp/bytes.hpp"
+#include "link/wait_bound.hpp"
 
 namespace i20::eth {
 
@@ -128,6 +129,9 @@ FenceReport FencedTransport::fence() {
   if (writers_at_risk_ == 0 && !unsettled_) return report;
   report.needed = true;
   ++late_.fences;
+  // The fence runs its own bounded course whatever is left of the operation: cut short, a
+  // lost packet with writes could still reach the card after the command ended.
+  const link::WaitBound unbounded{std::nullopt};
   const auto start = Clock::now();
   auto pause = options_.probe_pause;
   for (;;) {

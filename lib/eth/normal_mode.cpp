@@ -75,13 +75,13 @@ NormalStart start_normal_mode(Lbp16Transport& bus, unsigned sserial_port, std::u
 
 std::unique_ptr<NormalModeSession> NormalModeSession::open(const EthTarget& target,
                                                            NormalModeOptions options) {
-  return open(target.card, target.sserial_port, target.channel_mask(), options);
+  return open(target.host_port, target.sserial_port, target.channel_mask(), options);
 }
 
-std::unique_ptr<NormalModeSession> NormalModeSession::open(const HostPort& card, unsigned sserial_port,
+std::unique_ptr<NormalModeSession> NormalModeSession::open(const HostPort& host_port, unsigned sserial_port,
                                                            std::uint8_t channel_mask,
                                                            NormalModeOptions options) {
-  auto bus = std::make_unique<UdpClient>(card.ip, card.port, options.udp);
+  auto bus = std::make_unique<UdpClient>(host_port.ip, host_port.port, options.udp);
   return std::make_unique<NormalModeSession>(std::move(bus), sserial_port, channel_mask, options);
 }
 

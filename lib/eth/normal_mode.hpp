@@ -113,7 +113,7 @@ class NormalModeSession {
   // One channel, from the target.
   static std::unique_ptr<NormalModeSession> open(const EthTarget& target, NormalModeOptions options);
   // Several channels of one SSERIAL port.
-  static std::unique_ptr<NormalModeSession> open(const HostPort& card, unsigned sserial_port,
+  static std::unique_ptr<NormalModeSession> open(const HostPort& host_port, unsigned sserial_port,
                                                  std::uint8_t channel_mask, NormalModeOptions options);
   // Over any transport. Throws DiscoveryError when a channel does not start.
   NormalModeSession(std::unique_ptr<Lbp16Transport> bus, unsigned sserial_port, std::uint8_t channel_mask,

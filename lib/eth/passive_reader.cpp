@@ -6,8 +6,8 @@
 
 #include "eth/errors.hpp"
 #include "eth/running_host.hpp"
-#include "lbp/bytes.hpp"
 #include "hostmot2/hostmot2.hpp"
+#include "lbp/bytes.hpp"
 
 namespace i20::eth {
 
@@ -48,14 +48,14 @@ class ReadOnlyPacedTransport final : public Lbp16Transport {
   RequestPacer pacer_;
 };
 
-std::unique_ptr<Lbp16Transport> open_udp(const HostPort& card, const PassiveOptions& options) {
+std::unique_ptr<Lbp16Transport> open_udp(const HostPort& host_port, const PassiveOptions& options) {
   const UdpOptions udp{
       .timeout = options.timeout,
       .max_timeout = std::max(options.timeout.get(), options.max_timeout.get()),
       .retries = 0u,
       .sequence_tags = false,  // the tag is a write to space 6 Scratch
   };
-  return std::make_unique<UdpClient>(card.ip, card.port, udp);
+  return std::make_unique<UdpClient>(host_port.ip, host_port.port, udp);
 }
 
 std::uint32_t word32(const lbp::Bytes& bytes, std::size_t index) {
@@ -88,8 +88,8 @@ unsigned sserial_channels(const HostMot2Info& info, unsigned port) {
   return channels == 0 ? hm2::kMaxChannelsPerPort : channels;
 }
 
-PassiveReader::PassiveReader(const HostPort& card, PassiveOptions options)
-    : PassiveReader(open_udp(card, options), options) {}
+PassiveReader::PassiveReader(const HostPort& host_port, PassiveOptions options)
+    : PassiveReader(open_udp(host_port, options), options) {}
 
 PassiveReader::PassiveReader(std::unique_ptr<Lbp16Transport> bus, PassiveOptions options)
     : bus_(std::make_unique<ReadOnlyPacedTransport>(std::move(bus), options.max_requests_per_second)),

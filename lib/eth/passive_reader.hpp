@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "eth/batched_opening.hpp"
 #include "eth/anything_io.hpp"
+#include "eth/batched_opening.hpp"
 #include "eth/target.hpp"
 #include "eth/transport.hpp"
 #include "eth/udp_client.hpp"
@@ -97,7 +97,7 @@ class PassiveReader {
   // Opens a UDP socket without sequence tags (those write space 6 Scratch) and surveys the
   // card (identification and IDROM, read-only, one request where the IDROM is where
   // HostMot2 keeps it). Throws DiscoveryError for a card without SSERIAL.
-  PassiveReader(const HostPort& card, PassiveOptions options);
+  PassiveReader(const HostPort& host_port, PassiveOptions options);
   // Over any transport (tests); the caller made sure it writes nothing on its own.
   PassiveReader(std::unique_ptr<Lbp16Transport> bus, PassiveOptions options);
 

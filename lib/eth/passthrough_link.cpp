@@ -9,7 +9,7 @@ std::unique_ptr<SslbpPassthroughLink> SslbpPassthroughLink::open(const EthTarget
                                                                  PassthroughOptions options) {
   // Fenced: a request the network delivers late must not run between our later packets.
   auto bus = std::make_unique<FencedTransport>(
-      std::make_unique<UdpClient>(target.card.ip, target.card.port, options.udp), options.fence);
+      std::make_unique<UdpClient>(target.host_port.ip, target.host_port.port, options.udp), options.fence);
   return std::make_unique<SslbpPassthroughLink>(std::move(bus), target, std::move(options));
 }
 

@@ -26,7 +26,7 @@ namespace i20::eth {
 
 class SslbpPassthroughLink final : public link::Link {
  public:
-  // Opens UDP to target.card and sets the channel up. Throws RunningHostError,
+  // Opens UDP to target.host_port and sets the channel up. Throws RunningHostError,
   // DiscoveryError (not a HostMot2 card, no SSERIAL port, no 8I20 on the channel) or
   // link::LinkError.
   static std::unique_ptr<SslbpPassthroughLink> open(const EthTarget& target, PassthroughOptions options);
@@ -42,7 +42,7 @@ class SslbpPassthroughLink final : public link::Link {
   std::vector<std::string> notes() const override { return port_->notes(); }
 
   const RemoteInfo& remote() const { return port_->remote(target_.channel); }
-  const BoardIdentity& card() const { return port_->card(); }
+  const BoardIdentity& board() const { return port_->board(); }
   const SslbpParameters& sslbp_parameters() const { return port_->sslbp_parameters(); }
   PassthroughStats stats() const { return port_->stats(); }
   TransportStats transport_stats() const { return port_->transport_stats(); }

@@ -45,6 +45,8 @@ bool is_data_read(const PassthroughStep& step) {
 std::exception_ptr with_completed(const std::exception_ptr& error, std::size_t completed) {
   try {
     std::rethrow_exception(error);
+  } catch (const link::OutOfTime& e) {
+    return std::make_exception_ptr(link::OutOfTime(e.what(), completed));
   } catch (const link::TimeoutError& e) {
     return std::make_exception_ptr(link::TimeoutError(e.what(), completed));
   } catch (const link::CrcError& e) {

@@ -14,6 +14,7 @@
 #include "eth/running_host.hpp"
 #include "lbp/bytes.hpp"
 #include "lbp/local.hpp"
+#include "link/wait_bound.hpp"
 
 namespace i20::eth {
 
@@ -66,11 +67,11 @@ class ChannelLink final : public link::Link {
 
 // ---- opening and closing ------------------------------------------------------------------
 
-std::shared_ptr<PassthroughPort> PassthroughPort::open(const HostPort& card, unsigned sserial_port,
+std::shared_ptr<PassthroughPort> PassthroughPort::open(const HostPort& host_port, unsigned sserial_port,
                                                        std::uint8_t channel_mask,
                                                        PassthroughOptions options) {
-  auto bus = std::make_unique<FencedTransport>(std::make_unique<UdpClient>(card.ip, card.port, options.udp),
-                                               options.fence);
+  auto bus = std::make_unique<FencedTransport>(
+      std::make_unique<UdpClient>(host_port.ip, host_port.port, options.udp), options.fence);
   return std::make_shared<PassthroughPort>(std::move(bus), sserial_port, channel_mask, std::move(options));
 }
 
@@ -80,12 +81,12 @@ std::shared_ptr<PassthroughPort> PassthroughPort::open(std::shared_ptr<Lbp16Tran
   return std::make_shared<PassthroughPort>(std::move(card), sserial_port, channel_mask, std::move(options));
 }
 
-std::shared_ptr<Lbp16Transport> PassthroughPort::board_transport(const HostPort& card,
+std::shared_ptr<Lbp16Transport> PassthroughPort::board_transport(const HostPort& host_port,
                                                                  const UdpOptions& options,
                                                                  const FenceOptions& fence) {
   // The ledger of arrivals under the lock: it must see every port's packets as ours.
-  return std::make_shared<SharedTransport>(
-      std::make_unique<FencedTransport>(std::make_unique<UdpClient>(card.ip, card.port, options), fence));
+  return std::make_shared<SharedTransport>(std::make_unique<FencedTransport>(
+      std::make_unique<UdpClient>(host_port.ip, host_port.port, options), fence));
 }
 
 PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned sserial_port,
@@ -95,7 +96,7 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
   // Identification, the IDROM and the running-host watch's first counters: one request.
   const lbp16::Command counters = udp_counters_read();
   const BoardSurvey survey = survey_board(*bus_, std::span(&counters, 1));
-  card_ = survey.identity;
+  board_ = survey.identity;
   const HostMot2Info& info = survey.hostmot2;
   const CounterSample first{.reply = survey.extra_replies.front(),
                             .sent = survey.sent,
@@ -112,7 +113,7 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
   watch.command_samples = 1;
   board_name_ = info.idrom.board_name;
   const SserialPort port = find_sserial_port(info, sserial_port_);
-  sslbp_ = std::make_unique<SslbpPort>(*bus_, port, card_.has_timer_space(), options_.sslbp);
+  sslbp_ = std::make_unique<SslbpPort>(*bus_, port, board_.has_timer_space(), options_.sslbp);
   activity_ =
       require_no_running_host(*bus_, std::span(&port, 1), watch,
                               "stop SSERIAL port " + std::to_string(port.index) + " for setup mode", first);
@@ -134,14 +135,14 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
   }
   for (unsigned ch : channels_of(mask_)) {
     if (parameters_.channels > 0 && ch >= parameters_.channels)
-      throw DiscoveryError(card_.card_name + " SSERIAL port " + std::to_string(port.index) + " has " +
+      throw DiscoveryError(board_.card_name + " SSERIAL port " + std::to_string(port.index) + " has " +
                            std::to_string(parameters_.channels) + " channel(s), there is no channel " +
                            std::to_string(ch));
   }
   start_setup();
 
-  notes_.push_back("card " + card_.card_name + ", LBP16 version " + std::to_string(card_.lbp16_version) +
-                   ", firmware version " + std::to_string(card_.firmware_version) + ", HostMot2 " +
+  notes_.push_back("card " + board_.card_name + ", LBP16 version " + std::to_string(board_.lbp16_version) +
+                   ", firmware version " + std::to_string(board_.firmware_version) + ", HostMot2 " +
                    board_name_);
   notes_.push_back("SSLBP " + parameters_.version() + " on SSERIAL port " + std::to_string(port.index) +
                    " (COMMAND at " + lbp::hex_value(port.registers.command, 8) + "), " +
@@ -155,13 +156,14 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
                        (bauds_[ch] ? std::to_string(bauds_[ch]) : std::string("unknown"));
     notes_.push_back(note);
   }
-  notes_.push_back(card_.has_timer_space()
+  notes_.push_back(board_.has_timer_space()
                        ? "passthrough batches DOITs and waits inside the packet (LBP16 WaituS)"
                        : "no LBP16 timer space: one DOIT per packet, COMMAND polled");
   stats_ = PassthroughStats{};  // the figures describe execute() traffic, not the opening
 }
 
 PassthroughPort::~PassthroughPort() {
+  const link::WaitBound bounded(std::chrono::steady_clock::now() + options_.close_budget.get());
   try {
     if (another_host_runs_the_port()) return;  // its machine runs on that port: leave it be
     sslbp_->stop_all();

@@ -130,6 +130,9 @@ struct PassthroughOptions {
   // Late DOITs tolerated in one execute() before the link gives up: each costs a replay,
   // and a remote that is always slower than its estimate is better reported than chased.
   link::Given<unsigned> max_replays;
+  // How long closing the port may take to stop SSLBP (best effort: setup mode drives no
+  // motor), whatever is left of the command's time.
+  link::Given<std::chrono::milliseconds> close_budget;
 };
 
 // What answered on a channel at setup start.
@@ -158,7 +161,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   // Opens UDP to `card` and sets the channels of `channel_mask` up. Throws
   // RunningHostError, DiscoveryError (not a HostMot2 card, no such port or channel, no
   // 8I20) or link::LinkError.
-  static std::shared_ptr<PassthroughPort> open(const HostPort& card, unsigned sserial_port,
+  static std::shared_ptr<PassthroughPort> open(const HostPort& host_port, unsigned sserial_port,
                                                std::uint8_t channel_mask, PassthroughOptions options);
   // Several ports of one card at once (a fleet over a 7I92T's two ports): open them over
   // one board_transport(), or each one's check for another host sees the other's packets
@@ -166,7 +169,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   static std::shared_ptr<PassthroughPort> open(std::shared_ptr<Lbp16Transport> card, unsigned sserial_port,
                                                std::uint8_t channel_mask, PassthroughOptions options);
   // A SharedTransport over UDP to `card`, for the open() above.
-  static std::shared_ptr<Lbp16Transport> board_transport(const HostPort& card, const UdpOptions& options,
+  static std::shared_ptr<Lbp16Transport> board_transport(const HostPort& host_port, const UdpOptions& options,
                                                          const FenceOptions& fence);
   // The same over any transport (tests inject faults here).
   PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned sserial_port, std::uint8_t channel_mask,
@@ -187,7 +190,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
 
   std::uint8_t channel_mask() const { return mask_; }
   const RemoteInfo& remote(unsigned channel) const;
-  const BoardIdentity& card() const { return card_; }
+  const BoardIdentity& board() const { return board_; }
   const SserialPort& port() const { return sslbp_->port(); }
   const SslbpParameters& sslbp_parameters() const { return parameters_; }
   std::uint32_t baud(unsigned channel) const;  // SSLBP's rate towards the channel (0: unknown)
@@ -253,7 +256,7 @@ class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
   unsigned sserial_port_;
   std::uint8_t mask_;
   PassthroughOptions options_;
-  BoardIdentity card_{};
+  BoardIdentity board_{};
   std::string board_name_{};
   std::unique_ptr<SslbpPort> sslbp_;
   SslbpParameters parameters_{};

@@ -57,7 +57,8 @@ std::vector<EthTarget> ScanResult::targets() const {
   for (const auto& port : ports)
     for (const auto& ch : port.channels)
       if (ch.is_8i20())
-        out.push_back(EthTarget{.card = card_address, .sserial_port = port.index, .channel = ch.channel});
+        out.push_back(
+            EthTarget{.host_port = card_address, .sserial_port = port.index, .channel = ch.channel});
   return out;
 }
 
@@ -81,10 +82,10 @@ ScanResult scan(Lbp16Transport& bus, ScanOptions options) {
   return result;
 }
 
-ScanResult scan(const HostPort& card, ScanOptions options) {
-  UdpClient bus(card.ip, card.port, options.udp);
+ScanResult scan(const HostPort& host_port, ScanOptions options) {
+  UdpClient bus(host_port.ip, host_port.port, options.udp);
   ScanResult result = scan(bus, options);
-  result.card_address = card;
+  result.card_address = host_port;
   return result;
 }
 

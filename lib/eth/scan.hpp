@@ -75,7 +75,7 @@ struct ScanOptions {
 std::string linuxcnc_device_name(std::string_view card_name, unsigned board_index, unsigned sserial_port,
                                  unsigned channel, std::string_view remote = "8i20");
 
-ScanResult scan(const HostPort& card, ScanOptions options);
+ScanResult scan(const HostPort& host_port, ScanOptions options);
 ScanResult scan(const std::string& ip, ScanOptions options);
 // Over any transport.
 ScanResult scan(Lbp16Transport& bus, ScanOptions options);

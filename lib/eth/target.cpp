@@ -74,13 +74,13 @@ HostPort parse_host_port(std::string_view text, std::uint16_t default_port) {
 }
 
 std::string EthTarget::describe() const {
-  std::string s = "eth " + card.describe();
+  std::string s = "eth " + host_port.describe();
   if (sserial_port != 0) s += " port " + std::to_string(sserial_port);
   return s + " ch " + std::to_string(channel);
 }
 
 std::string EthTarget::url() const {
-  std::string s = std::string(kScheme) + card.describe();
+  std::string s = std::string(kScheme) + host_port.describe();
   if (sserial_port != 0) s += "/port" + std::to_string(sserial_port);
   return s + "/ch" + std::to_string(channel);
 }
@@ -93,7 +93,7 @@ EthTarget parse_target(std::string_view url) {
   if (!is_eth_url(url)) throw UsageError("'" + std::string(url) + "' is not an Ethernet target; " + kSyntax);
   std::string_view rest = url.substr(kScheme.size());
   const std::size_t slash = rest.find('/');
-  EthTarget target{.card = parse_host_port(rest.substr(0, slash))};
+  EthTarget target{.host_port = parse_host_port(rest.substr(0, slash))};
   bool seen_port = false, seen_channel = false;
   rest = slash == std::string_view::npos ? std::string_view{} : rest.substr(slash + 1);
   while (!rest.empty()) {
@@ -119,7 +119,7 @@ EthTarget parse_target(std::string_view url) {
 EthTarget make_target(std::string_view host_port, unsigned channel, unsigned sserial_port) {
   require_range(channel, kMaxChannels, "channel");
   require_range(sserial_port, kMaxSserialPorts, "SSERIAL port");
-  return EthTarget{.card = parse_host_port(host_port), .sserial_port = sserial_port, .channel = channel};
+  return EthTarget{.host_port = parse_host_port(host_port), .sserial_port = sserial_port, .channel = channel};
 }
 
 }  // namespace i20::eth

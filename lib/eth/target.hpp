@@ -42,7 +42,7 @@ HostPort parse_host_port(std::string_view text, std::uint16_t default_port = lbp
 void require_ipv4(std::string_view text);
 
 struct EthTarget {
-  HostPort card{};
+  HostPort host_port{};
   unsigned sserial_port = 0;
   unsigned channel = 0;
 

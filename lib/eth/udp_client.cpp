@@ -10,6 +10,7 @@
 
 #include "eth/errors.hpp"
 #include "eth/target.hpp"
+#include "link/wait_bound.hpp"
 
 namespace i20::eth {
 
@@ -208,6 +209,12 @@ std::vector<lbp::Bytes> UdpClient::transact(std::span<const lbp16::Command> comm
   const auto held_back = requested_waits(commands);
   std::chrono::microseconds waited{0};
   for (unsigned attempt = 0; attempt < attempts; ++attempt) {
+    // Past the operation's end nothing more is sent: not this packet, nor a resend of it.
+    if (link::WaitBound::expired()) {
+      if (attempt == 0)
+        throw link::OutOfTime("the command's time was up before a packet to " + impl_->name + " was sent");
+      break;
+    }
     if (attempt > 0) ++stats_.resends;
     // Late replies to earlier transactions go. Between attempts of this one, a tagged reply
     // to an earlier attempt is still the answer (the tag says so): keep it.
@@ -228,7 +235,10 @@ std::vector<lbp::Bytes> UdpClient::transact(std::span<const lbp16::Command> comm
     // A packet sent once waits as long as a resendable one over all its attempts.
     const auto wait =
         (may_resend ? reply_timeout_.current() : reply_timeout_.patience(1 + options_.retries)) + held_back;
-    const auto deadline = sent_at.back() + wait;
+    // Never past the operation's end: a packet sent once would otherwise wait out all its
+    // attempts however little of the command's time is left.
+    const auto waits = std::chrono::duration_cast<std::chrono::microseconds>(link::WaitBound::cap(wait));
+    const auto deadline = sent_at.back() + waits;
     while (auto datagram = impl_->receive(deadline)) {
       if (datagram->sender != impl_->card) {
         ++stats_.foreign_ignored;
@@ -264,7 +274,7 @@ std::vector<lbp::Bytes> UdpClient::transact(std::span<const lbp16::Command> comm
     }
     ++stats_.timeouts;
     reply_timeout_.timed_out();
-    waited += wait;
+    waited += waits;
   }
   std::string message = "no reply from " + impl_->name + " within " + milliseconds_text(waited) + " (" +
                         std::to_string(attempts) + (attempts == 1 ? " attempt" : " attempts") + ")";

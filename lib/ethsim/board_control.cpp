@@ -54,8 +54,8 @@ std::string on_amplifier(BoardServer& server, ChannelAddress where, std::string_
   if (line.empty())
     throw sim::ControlError("nothing to do for port " + std::to_string(where.port) + " ch " +
                             std::to_string(where.channel) + "; expected e.g. ch 2 busv 24");
-  return server.with_card([&](VirtualBoard& card) {
-    auto* amp = server.amplifier(card, where.port, where.channel);
+  return server.with_card([&](VirtualBoard& board) {
+    auto* amp = server.amplifier(board, where.port, where.channel);
     if (!amp)
       throw sim::ControlError("no 8I20 on SSERIAL port " + std::to_string(where.port) + " channel " +
                               std::to_string(where.channel) + " (see: amplifiers)");

@@ -212,8 +212,8 @@ struct FaultyNetwork::Impl {
   }
 };
 
-FaultyNetwork::FaultyNetwork(eth::HostPort card, NetworkFaults faults)
-    : impl_(std::make_unique<Impl>(std::move(card), faults)) {
+FaultyNetwork::FaultyNetwork(eth::HostPort host_port, NetworkFaults faults)
+    : impl_(std::make_unique<Impl>(std::move(host_port), faults)) {
   thread_ = std::thread([this] { impl_->loop(); });
 }
 

@@ -54,7 +54,7 @@ struct NetworkStats {
 
 class FaultyNetwork {
  public:
-  FaultyNetwork(eth::HostPort card, NetworkFaults faults);
+  FaultyNetwork(eth::HostPort host_port, NetworkFaults faults);
   ~FaultyNetwork();
   FaultyNetwork(const FaultyNetwork&) = delete;
   FaultyNetwork& operator=(const FaultyNetwork&) = delete;

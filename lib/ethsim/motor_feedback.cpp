@@ -68,11 +68,11 @@ ShaftSource sensor_shaft(const sim::Virtual8i20& amplifier, bool motor::SensorFa
 
 }  // namespace
 
-std::optional<unsigned> connect_motor_feedback(VirtualBoard& card, const sim::Virtual8i20& amplifier,
+std::optional<unsigned> connect_motor_feedback(VirtualBoard& board, const sim::Virtual8i20& amplifier,
                                                unsigned port, unsigned channel) {
   const motor::Motor* m = amplifier.motor();
   if (!m) return std::nullopt;
-  const auto& axes = card.config().axes;
+  const auto& axes = board.config().axes;
   for (unsigned axis = 0; axis < axes.size(); ++axis) {
     const AxisWiring& wiring = axes[axis];
     if (wiring.sserial_port != port || wiring.channel != channel) continue;
@@ -81,8 +81,8 @@ std::optional<unsigned> connect_motor_feedback(VirtualBoard& card, const sim::Vi
         sensor_shaft(amplifier, &motor::SensorFaults::encoder_lost, &motor::Motor::encoder_frozen_turns);
     const auto hall_shaft =
         sensor_shaft(amplifier, &motor::SensorFaults::hall_stuck, &motor::Motor::hall_frozen_turns);
-    if (p.encoder) card.feedback().connect_encoder(wiring.encoder, encoder_spec(*p.encoder), encoder_shaft);
-    if (p.halls) card.feedback().connect_halls(wiring.hall_pins, hall_spec(p), hall_shaft);
+    if (p.encoder) board.feedback().connect_encoder(wiring.encoder, encoder_spec(*p.encoder), encoder_shaft);
+    if (p.halls) board.feedback().connect_halls(wiring.hall_pins, hall_spec(p), hall_shaft);
     return axis;
   }
   return std::nullopt;

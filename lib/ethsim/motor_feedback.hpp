@@ -29,7 +29,7 @@ HallSpec hall_spec(const motor::MotorParams& motor);
 // outlive the card's use of them (it lives in the card).
 // Returns the axis number, or nullopt when the card has no axis for that 8I20 or the
 // amplifier no motor (nothing is connected then).
-std::optional<unsigned> connect_motor_feedback(VirtualBoard& card, const sim::Virtual8i20& amplifier,
+std::optional<unsigned> connect_motor_feedback(VirtualBoard& board, const sim::Virtual8i20& amplifier,
                                                unsigned port, unsigned channel);
 
 }  // namespace i20::ethsim

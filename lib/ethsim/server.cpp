@@ -79,7 +79,7 @@ BoardServer::BoardServer(ServerOptions options)
       throw UsageError("the virtual " + std::string(board_kind_name(options_.card)) +
                        " has no SSERIAL port " + std::to_string(a.port) + " channel " +
                        std::to_string(a.channel));
-  card_ = std::make_unique<VirtualBoard>(std::move(card), Clock::now());
+  board_ = std::make_unique<VirtualBoard>(std::move(card), Clock::now());
   attach_motors();
   if (options_.host) start_host(*options_.host);
 
@@ -97,13 +97,13 @@ BoardServer::BoardServer(ServerOptions options)
 void BoardServer::attach_motors() {
   const auto now = Clock::now();
   for (const auto& m : options_.motors) {
-    sim::Virtual8i20* amp = amplifier(*card_, 0, m.channel);
+    sim::Virtual8i20* amp = amplifier(*board_, 0, m.channel);
     if (!amp)
       throw UsageError("motor '" + m.name + "' sits on channel " + std::to_string(m.channel) +
                        ", which has no 8I20 on SSERIAL port 0");
     amp->amplifier().attach_motor(m, now);
     motor_axes_.push_back(
-        MotorAxis{.channel = m.channel, .axis = connect_motor_feedback(*card_, *amp, 0, m.channel)});
+        MotorAxis{.channel = m.channel, .axis = connect_motor_feedback(*board_, *amp, 0, m.channel)});
   }
 }
 
@@ -118,7 +118,7 @@ eth::HostPort BoardServer::address() const {
 
 std::string BoardServer::describe() const {
   const auto a = address();
-  return "virtual " + card_->config().card_name + " at " + a.ip + ":" + std::to_string(a.port);
+  return "virtual " + board_->config().card_name + " at " + a.ip + ":" + std::to_string(a.port);
 }
 
 void BoardServer::start() {
@@ -152,8 +152,8 @@ void BoardServer::serve_once(Clock::time_point until) {
     {
       std::lock_guard lock(mutex_);
       if (dark_until_) continue;  // a card without power hears nothing
-      reply = card_->handle(lbp::ByteView(socket_->buffer.data(), n), Clock::now());
-      ready = card_->board_time();
+      reply = board_->handle(lbp::ByteView(socket_->buffer.data(), n), Clock::now());
+      ready = board_->board_time();
     }
     if (!reply) continue;
     // A WaituS in the packet holds the reply back, as on the card.
@@ -163,14 +163,14 @@ void BoardServer::serve_once(Clock::time_point until) {
   std::lock_guard lock(mutex_);
   if (dark_until_ && Clock::now() >= *dark_until_) {
     dark_until_.reset();
-    for (unsigned p = 0; p < card_->sserial_ports(); ++p) card_->sslbp(p).power_on_reset(Clock::now());
+    for (unsigned p = 0; p < board_->sserial_ports(); ++p) board_->sslbp(p).power_on_reset(Clock::now());
     if (power_lost_)
       for (const auto& a : amplifiers())
-        if (auto* amp = amplifier(*card_, a.port, a.channel)) amp->power_cycle(Clock::now());
+        if (auto* amp = amplifier(*board_, a.port, a.channel)) amp->power_cycle(Clock::now());
   }
   if (dark_until_) return;
-  card_->advance(Clock::now());
-  if (host_) host_->run_until(*card_, Clock::now());
+  board_->advance(Clock::now());
+  if (host_) host_->run_until(*board_, Clock::now());
 }
 
 void BoardServer::go_dark(Clock::duration dark, bool power_loss) {
@@ -180,7 +180,7 @@ void BoardServer::go_dark(Clock::duration dark, bool power_loss) {
   host_.reset();  // the host's process sees the card go and stops driving it
   if (power_loss)
     for (const auto& a : amplifiers())
-      if (auto* amp = amplifier(*card_, a.port, a.channel)) amp->power_off();
+      if (auto* amp = amplifier(*board_, a.port, a.channel)) amp->power_off();
 }
 
 std::optional<HostStats> BoardServer::host_stats() {
@@ -196,20 +196,20 @@ bool BoardServer::host_running() {
 
 void BoardServer::start_host(HostOptions options) {
   std::lock_guard lock(mutex_);
-  if (options.port >= card_->sserial_ports())
-    throw UsageError("the virtual " + card_->config().card_name + " has no SSERIAL port " +
+  if (options.port >= board_->sserial_ports())
+    throw UsageError("the virtual " + board_->config().card_name + " has no SSERIAL port " +
                      std::to_string(options.port));
   if (options.mask == 0)
     for (const auto& a : amplifiers())
       if (a.port == options.port) options.mask |= static_cast<std::uint8_t>(1u << a.channel);
   if (options.mask == 0) options.mask = 0x01;
-  if (host_) host_->stop(*card_, Clock::now());
+  if (host_) host_->stop(*board_, Clock::now());
   host_.emplace(options);
 }
 
 void BoardServer::stop_host() {
   std::lock_guard lock(mutex_);
-  if (host_) host_->stop(*card_, Clock::now());
+  if (host_) host_->stop(*board_, Clock::now());
   host_.reset();
 }
 
@@ -219,9 +219,9 @@ std::optional<std::string> BoardServer::host_status() {
   return host_->describe();
 }
 
-sim::Virtual8i20* BoardServer::amplifier(VirtualBoard& card, unsigned port, unsigned channel) {
-  if (port >= card.sserial_ports() || channel >= card.config().channels_per_port) return nullptr;
-  auto* remote = dynamic_cast<Virtual8i20Remote*>(card.sslbp(port).remote(channel));
+sim::Virtual8i20* BoardServer::amplifier(VirtualBoard& board, unsigned port, unsigned channel) {
+  if (port >= board.sserial_ports() || channel >= board.config().channels_per_port) return nullptr;
+  auto* remote = dynamic_cast<Virtual8i20Remote*>(board.sslbp(port).remote(channel));
   return remote ? &remote->device() : nullptr;
 }
 

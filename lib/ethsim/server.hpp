@@ -98,12 +98,12 @@ class BoardServer {
   template <class F>
   auto with_card(F&& f) {
     std::lock_guard lock(mutex_);
-    return f(*card_);
+    return f(*board_);
   }
 
   // The virtual 8I20 on a channel, when the server built it (nullptr otherwise). Use it
   // inside with_card().
-  sim::Virtual8i20* amplifier(VirtualBoard& card, unsigned port, unsigned channel);
+  sim::Virtual8i20* amplifier(VirtualBoard& board, unsigned port, unsigned channel);
   // The channels the server put 8I20s on (empty when ServerOptions::remotes built them).
   std::vector<ChannelAddress> amplifiers() const {
     return options_.remotes ? std::vector<ChannelAddress>{} : options_.amplifiers;
@@ -134,7 +134,7 @@ class BoardServer {
   ServerOptions options_;
   std::unique_ptr<Socket> socket_;
   std::mutex mutex_;
-  std::unique_ptr<VirtualBoard> card_;
+  std::unique_ptr<VirtualBoard> board_;
   std::vector<MotorAxis> motor_axes_;
   std::optional<SimulatedHost> host_;            // under mutex_
   std::optional<Clock::time_point> dark_until_;  // under mutex_

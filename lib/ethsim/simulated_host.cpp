@@ -23,34 +23,34 @@ SimulatedHost::SimulatedHost(HostOptions options) : options_(options) {
   if (options_.mask == 0) options_.mask = 0x01;
 }
 
-std::vector<lbp::Bytes> SimulatedHost::send(VirtualBoard& card, const std::vector<lbp16::Command>& packet,
+std::vector<lbp::Bytes> SimulatedHost::send(VirtualBoard& board, const std::vector<lbp16::Command>& packet,
                                             Clock::time_point now) {
   ++stats_.packets;
-  const auto reply = card.handle(lbp16::encode_packet(packet), now);
+  const auto reply = board.handle(lbp16::encode_packet(packet), now);
   if (!reply) return std::vector<lbp::Bytes>(packet.size());
   return lbp16::split_reply(packet, *reply);
 }
 
-std::uint32_t SimulatedHost::command_register(VirtualBoard& card, Clock::time_point now) {
-  const std::uint16_t address = card.sserial_registers(options_.port).command;
-  return word(send(card, {lbp16::read_hm2(address)}, now).front()) & 0xFFFF;
+std::uint32_t SimulatedHost::command_register(VirtualBoard& board, Clock::time_point now) {
+  const std::uint16_t address = board.sserial_registers(options_.port).command;
+  return word(send(board, {lbp16::read_hm2(address)}, now).front()) & 0xFFFF;
 }
 
-void SimulatedHost::run_until(VirtualBoard& card, Clock::time_point now) {
+void SimulatedHost::run_until(VirtualBoard& board, Clock::time_point now) {
   if (now < next_ || state_ == State::Stopped) return;
-  const auto regs = card.sserial_registers(options_.port);
+  const auto regs = board.sserial_registers(options_.port);
   switch (state_) {
     case State::Stopping:
-      send(card, {lbp16::write_hm2(regs.command, sslbp::stop()), lbp16::read_hm2(regs.command)}, now);
+      send(board, {lbp16::write_hm2(regs.command, sslbp::stop()), lbp16::read_hm2(regs.command)}, now);
       state_ = State::Starting;
       break;
     case State::Starting:
-      if (command_register(card, now) != 0) break;  // stop or start still running: poll
+      if (command_register(board, now) != 0) break;  // stop or start still running: poll
       if (start_issued_) {
         state_ = State::Running;
         break;
       }
-      send(card, {lbp16::write_hm2(regs.command, sslbp::start_normal(options_.mask))}, now);
+      send(board, {lbp16::write_hm2(regs.command, sslbp::start_normal(options_.mask))}, now);
       start_issued_ = true;
       break;
     case State::Running: {
@@ -63,7 +63,7 @@ void SimulatedHost::run_until(VirtualBoard& card, Clock::time_point now) {
               lbp16::write_hm2(regs.interface0(ch), options_.interface0 ? options_.interface0(ch) : 0u));
         }
       cycle.push_back(lbp16::write_hm2(regs.command, sslbp::doit(options_.mask)));
-      const auto parts = send(card, cycle, now);
+      const auto parts = send(board, cycle, now);
       if ((word(parts[0]) & 0xFFFF) != 0) ++stats_.late_cycles;
       if ((word(parts[1]) & options_.mask) != 0 && stats_.cycles > 0) ++stats_.failed_cycles;
       ++stats_.cycles;
@@ -76,19 +76,19 @@ void SimulatedHost::run_until(VirtualBoard& card, Clock::time_point now) {
   next_ = now + (state_ == State::Running ? options_.period : std::chrono::microseconds(200));
 }
 
-void SimulatedHost::stop(VirtualBoard& card, Clock::time_point now) {
+void SimulatedHost::stop(VirtualBoard& board, Clock::time_point now) {
   if (state_ == State::Stopped) return;
-  const auto regs = card.sserial_registers(options_.port);
+  const auto regs = board.sserial_registers(options_.port);
   // SSLBP ignores a command written while it is busy (8I20 manual, "DOIT": COMMAND reads
   // non-zero until done), so the host waits out its last DOIT first, then its stop, as a
   // host that exits cleanly does. Bounded: a card held in reset never reads idle.
   const auto wait_idle = [&] {
     const auto limit = Clock::now() + std::chrono::milliseconds(200);
-    while (command_register(card, std::max(now, Clock::now())) != 0 && Clock::now() < limit)
+    while (command_register(board, std::max(now, Clock::now())) != 0 && Clock::now() < limit)
       std::this_thread::sleep_for(std::chrono::microseconds(100));
   };
   wait_idle();
-  send(card, {lbp16::write_hm2(regs.command, sslbp::stop()), lbp16::read_hm2(regs.command)},
+  send(board, {lbp16::write_hm2(regs.command, sslbp::stop()), lbp16::read_hm2(regs.command)},
        std::max(now, Clock::now()));
   wait_idle();
   state_ = State::Stopped;

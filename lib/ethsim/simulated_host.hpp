@@ -50,9 +50,9 @@ class SimulatedHost {
 
   // Sends what is due up to `now` (state changes, one cycle per elapsed period; a host that
   // fell behind does not burst to catch up).
-  void run_until(VirtualBoard& card, Clock::time_point now);
+  void run_until(VirtualBoard& board, Clock::time_point now);
   // The host's exit: a stop of its port.
-  void stop(VirtualBoard& card, Clock::time_point now);
+  void stop(VirtualBoard& board, Clock::time_point now);
 
   Clock::time_point next_due() const { return next_; }
   bool running() const { return state_ == State::Running; }
@@ -63,9 +63,9 @@ class SimulatedHost {
 
  private:
   enum class State { Stopping, Starting, Running, Stopped };
-  std::vector<lbp::Bytes> send(VirtualBoard& card, const std::vector<lbp::lbp16::Command>& packet,
+  std::vector<lbp::Bytes> send(VirtualBoard& board, const std::vector<lbp::lbp16::Command>& packet,
                                Clock::time_point now);
-  std::uint32_t command_register(VirtualBoard& card, Clock::time_point now);
+  std::uint32_t command_register(VirtualBoard& board, Clock::time_point now);
 
   HostOptions options_;
   State state_ = State::Stopping;

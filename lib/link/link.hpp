@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "lbp/command.hpp"
 #include "error/error.hpp"
+#include "lbp/command.hpp"
 
 namespace i20::link {
 
@@ -31,6 +31,14 @@ class LinkError : public Error {
 
 // No (complete) reply within the deadline.
 class TimeoutError : public LinkError {
+ public:
+  using LinkError::LinkError;
+};
+
+// The operation's time was up (link/wait_bound.hpp) before this exchange was sent: nothing
+// of it reached the card, so no layer probes for it as for a lost reply (not a
+// TimeoutError). `completed` counts the commands of the batch that were answered before.
+class OutOfTime : public LinkError {
  public:
   using LinkError::LinkError;
 };

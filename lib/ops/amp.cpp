@@ -50,25 +50,56 @@ std::string Cancel::cause() const {
   }
 }
 
-Amp::Amp(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retry, Cancel cancel)
+Amp::Amp(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retry, Cancel cancel,
+         std::chrono::steady_clock::time_point opened_at)
     : link_(std::move(link)),
       endpoint_(std::move(endpoint)),
       retry_(retry),
       cancel_(cancel),
-      deadline_(std::chrono::steady_clock::now() + retry.operation_deadline) {}
+      deadline_(opened_at + retry.operation_deadline) {}
 
+// The operation's deadline counts from here: opening the link (the port's setup over
+// Ethernet) and identifying the card spend the same time as the command's own work.
 std::unique_ptr<Amp> Amp::open(const Endpoint& endpoint, const params::ParamDb& loaded,
                                const OpenOptions& options, Cancel cancel) {
   cancel.check("connecting");
-  return attach(open_link(endpoint, loaded, options.link, options.retry), endpoint, loaded, options.retry,
-                cancel);
+  const auto opened_at = std::chrono::steady_clock::now();
+  std::unique_ptr<link::Link> link;
+  {
+    const link::WaitBound bounded(opened_at + options.retry.operation_deadline);
+    link = open_link(endpoint, loaded, options.link, options.retry);
+  }
+  std::unique_ptr<Amp> amp(new Amp(std::move(link), endpoint, options.retry, cancel, opened_at));
+  amp->identify(loaded);
+  return amp;
 }
 
 std::unique_ptr<Amp> Amp::attach(std::unique_ptr<link::Link> link, Endpoint endpoint,
                                  const params::ParamDb& loaded, RetryPolicy retry, Cancel cancel) {
-  std::unique_ptr<Amp> card(new Amp(std::move(link), std::move(endpoint), retry, cancel));
-  card->identify(loaded);
-  return card;
+  std::unique_ptr<Amp> amp(
+      new Amp(std::move(link), std::move(endpoint), retry, cancel, std::chrono::steady_clock::now()));
+  amp->identify(loaded);
+  return amp;
+}
+
+Amp::Settling::Settling(Amp& amp) : amp_(amp), was_settling_(std::exchange(amp.settling_, true)) {}
+
+Amp::Settling::~Settling() {
+  amp_.settling_ = was_settling_;
+}
+
+std::chrono::steady_clock::time_point Amp::bound() const {
+  if (!settling_) return deadline_;
+  const auto restore_bound = deadline_ + timing::kSettleBudget;
+  return leave_mode_bound_ ? std::max(restore_bound, *leave_mode_bound_) : restore_bound;
+}
+
+void Amp::require_time_left() const {
+  if (std::chrono::steady_clock::now() < bound()) return;
+  throw link::OutOfTime("the command's time was up (" +
+                        std::to_string(retry_.operation_deadline.count() / 1000) +
+                        " s from opening the card" + (settling_ ? ", and the time to settle it after" : "") +
+                        ") before the next exchange with " + endpoint_.text + "; it was not sent");
 }
 
 void Amp::identify(const params::ParamDb& loaded) {
@@ -83,6 +114,7 @@ void Amp::identify(const params::ParamDb& loaded) {
   if (info.nv_access != lbp::local::NvAccess::Ram || info.rpcmem) {
     // A stop request now must not leave the card in the mode an earlier session left on.
     uninterruptible_ = true;
+    const Settling way_back(*this);
     identity_.modes_left = with_retries([&] { return bootstrap.leave_modes(); });
     uninterruptible_ = false;
   }
@@ -96,14 +128,14 @@ void Amp::identify(const params::ParamDb& loaded) {
   identity_.info.working_map_confirmed = device::working_map_confirmed(*db_);
 }
 
-Amp::Uninterruptible::Uninterruptible(Amp& card) : card_(card) {
-  card_.uninterruptible_ = true;
-  card_.device().set_cancel(nullptr);
+Amp::Uninterruptible::Uninterruptible(Amp& amp) : amp_(amp) {
+  amp_.uninterruptible_ = true;
+  amp_.device().set_cancel(nullptr);
 }
 
 Amp::Uninterruptible::~Uninterruptible() {
-  card_.uninterruptible_ = false;
-  card_.device().set_cancel(card_.cancel_.flag());
+  amp_.uninterruptible_ = false;
+  amp_.device().set_cancel(amp_.cancel_.flag());
 }
 
 // The table is read a slice at a time until SSLBP's cycle RPC decodes, so a card whose
@@ -126,6 +158,8 @@ std::vector<params::ParamDb::Evidence> Amp::read_rpc_evidence(const params::Para
       table.insert(table.end(), slice.begin(), slice.end());
       decoded = device::decode_rpc_evidence(table);
     }
+  } catch (const link::OutOfTime&) {
+    throw;  // the command ends: nothing is left to confirm addresses for
   } catch (const link::LinkError& e) {
     identity_.rpc_note = std::string("the RPC table could not be read (") + e.what() + ")";
     return {};
@@ -149,7 +183,7 @@ bool Amp::wait_for_answer(const link::LinkError& e) {
     return false;
   using Clock = std::chrono::steady_clock;
   if (past_deadline()) return false;
-  const auto deadline = silent_since_.value_or(Clock::now()) + retry_.silence_window;
+  const auto deadline = std::min(silent_since_.value_or(Clock::now()) + retry_.silence_window, bound());
   if (Clock::now() >= deadline) return false;
   const auto until = std::min(deadline, Clock::now() + retry_.probe_interval);
   // In short slices, so that a stop request is obeyed at once where the card may be stopped.
@@ -167,15 +201,22 @@ std::string Amp::settle() {
   unsettled_said_ = false;
   if (mode.empty()) return {};
   // A stop request does not end this (it is the way out), so the card is uninterruptible
-  // meanwhile, silence window included.
+  // meanwhile, silence window included. It has a budget of its own from now, however much
+  // of the command's time the restores before it took.
   const bool was_uninterruptible = std::exchange(uninterruptible_, true);
+  const Settling way_back(*this);
+  leave_mode_bound_ = std::chrono::steady_clock::now() + timing::kLeaveModeBudget;
+  const link::WaitBound bounded(bound());
   for (unsigned attempt = 1;; ++attempt) {
     cancel_.acknowledge("leaving " + mode);
     try {
       amp_->leave_modes();
       answered();
       uninterruptible_ = was_uninterruptible;
+      leave_mode_bound_.reset();
       return mode;
+    } catch (const link::OutOfTime&) {
+      break;  // its own budget is spent: nothing more is sent
     } catch (const link::LinkError& e) {
       unanswered(e);
       ++retries_;
@@ -186,6 +227,7 @@ std::string Amp::settle() {
     }
   }
   uninterruptible_ = was_uninterruptible;
+  leave_mode_bound_.reset();
   unsettled_said_ = true;
   throw device::AmpStateError(
       "the 8I20 on " + endpoint_.text + " stopped answering while in " + mode +

@@ -17,6 +17,7 @@
 
 #include "device/amp.hpp"
 #include "link/link.hpp"
+#include "link/wait_bound.hpp"
 #include "ops/cancel.hpp"
 #include "ops/endpoint.hpp"
 #include "ops/retry.hpp"
@@ -68,29 +69,49 @@ class Amp {
   // sequence or a restore).
   class Uninterruptible {
    public:
-    explicit Uninterruptible(Amp& card);
+    explicit Uninterruptible(Amp& amp);
     ~Uninterruptible();
     Uninterruptible(const Uninterruptible&) = delete;
     Uninterruptible& operator=(const Uninterruptible&) = delete;
 
    private:
-    Amp& card_;
+    Amp& amp_;
+  };
+
+  // While one of these lives, the card is on its way back (restoring what a failed change
+  // wrote, leaving NV access or RPC memory mode): its exchanges run to the settle bound, past
+  // the operation's deadline (bound(), below).
+  class Settling {
+   public:
+    explicit Settling(Amp& amp);
+    ~Settling();
+    Settling(const Settling&) = delete;
+    Settling& operator=(const Settling&) = delete;
+
+   private:
+    Amp& amp_;
+    bool was_settling_;
   };
 
   // Runs `step` again on a link error, `retry().attempts` times in all: the one loop over
   // a lost exchange, since the links under an ops::Amp send each exchange once (retry.hpp). A
   // card still silent after that is asked again within the silence window (retry.hpp).
   // `step` must be harmless to run twice: reads, or the writes that switch a mode off.
+  // Every wait in `step` ends by bound(); past it nothing is sent (link::OutOfTime).
   // Past the operation's deadline (retry.hpp) an exchange is sent once, unless it is the
-  // way out of a mode (uninterruptible).
+  // way back (settling).
   template <class F>
   auto with_retries(F&& step) {
     for (unsigned attempt = 1;; ++attempt) {
       if (!uninterruptible_) cancel_.check("reading");
+      const link::WaitBound bounded(bound());
+      require_time_left();
       try {
         auto result = step();
         answered();
         return result;
+      } catch (const link::OutOfTime&) {
+        throw;  // nothing was sent, and nothing more may be
       } catch (const link::LinkError& e) {
         unanswered(e);
         if ((attempt >= retry_.attempts || past_deadline()) && !wait_for_answer(e)) throw;
@@ -98,9 +119,15 @@ class Amp {
       }
     }
   }
-  // True once the operation has run longer than RetryPolicy::operation_deadline; the way
-  // out of a mode (settle, leaving a mode found on) is never past it.
-  bool past_deadline() const { return !uninterruptible_ && std::chrono::steady_clock::now() >= deadline_; }
+  // True once the operation has run longer than RetryPolicy::operation_deadline, counted
+  // from the start of the card's opening; the way back (Settling) is never past it.
+  bool past_deadline() const { return !settling_ && std::chrono::steady_clock::now() >= deadline_; }
+  // The end of every wait now: the operation's deadline, or on the way back the settle
+  // bound after it (timing::kSettleBudget), or for leaving a mode its own budget from the
+  // moment it starts (timing::kLeaveModeBudget), whichever is later.
+  std::chrono::steady_clock::time_point bound() const;
+  // Throws link::OutOfTime (nothing sent) once bound() has passed.
+  void require_time_left() const;
   // A new operation on the same card (a watch's next sample): its deadline counts from now.
   void restart_deadline() { deadline_ = std::chrono::steady_clock::now() + retry_.operation_deadline; }
   std::size_t retries() const { return retries_; }
@@ -125,7 +152,8 @@ class Amp {
   void count_retry() { ++retries_; }
 
  private:
-  Amp(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retry, Cancel cancel);
+  Amp(std::unique_ptr<link::Link> link, Endpoint endpoint, RetryPolicy retry, Cancel cancel,
+      std::chrono::steady_clock::time_point opened_at);
   void identify(const params::ParamDb& loaded);
   // Sleeps until the next probe when the error is one a card recovers from and the silence
   // window is still open; false (at once) otherwise. A stop request ends the wait unless
@@ -146,8 +174,11 @@ class Amp {
   // When the card's first unanswered exchange of the current silence failed.
   std::optional<std::chrono::steady_clock::time_point> silent_since_;
   std::chrono::steady_clock::time_point deadline_;  // the operation's (retry.hpp)
+  // While settle() leaves a mode: the end of its own budget.
+  std::optional<std::chrono::steady_clock::time_point> leave_mode_bound_;
   bool unsettled_said_ = false;
   bool uninterruptible_ = false;
+  bool settling_ = false;
 };
 
 }  // namespace i20::ops

@@ -13,8 +13,8 @@ namespace i20::ops {
 // The transaction decides when Ctrl-C stops the work (before the first write, between
 // writes, never inside a rollback), so the card client under it must not throw Cancelled
 // in the middle of an EEPROM sequence or of a restore: its own polling is off meanwhile.
-AmpCellAccess::AmpCellAccess(Amp& card, device::WriteOptions write, Activity activity)
-    : card_(card), uninterruptible_(card), write_(write), activity_(std::move(activity)) {}
+AmpCellAccess::AmpCellAccess(Amp& amp, device::WriteOptions write, Activity activity)
+    : amp_(amp), uninterruptible_(amp), write_(write), activity_(std::move(activity)) {}
 
 void AmpCellAccess::note(const std::string& what) {
   if (activity_) activity_(what);
@@ -30,12 +30,12 @@ RawValues AmpCellAccess::read(const std::vector<std::string>& names) {
     try {
       // With --allow-unverified the user vouches for the addresses: their values count.
       const auto unconfirmed = write_.allow_unverified ? Unconfirmed::Read : Unconfirmed::Skip;
-      for (const auto& r : read_values(card_, names, unconfirmed))
+      for (const auto& r : read_values(amp_, names, unconfirmed))
         if (r.raw) out[r.param->name] = *r.raw;
       return out;
     } catch (const device::AmpStateError&) {
-      if (attempt >= card_.retry().attempts || card_.past_deadline()) throw;
-      card_.count_retry();
+      if (attempt >= amp_.retry().attempts || amp_.past_deadline()) throw;
+      amp_.count_retry();
     }
   }
 }
@@ -43,21 +43,29 @@ RawValues AmpCellAccess::read(const std::vector<std::string>& names) {
 void AmpCellAccess::check_write(const std::string& name, std::int64_t raw) {
   ++planned_;
   try {
-    card_.device().check_write(card_.db().get(name), raw, write_);
+    amp_.device().check_write(amp_.db().get(name), raw, write_);
   } catch (const device::SafetyError&) {
     refused_ = true;
     throw;
   }
 }
 
+void AmpCellAccess::way_back() {
+  if (!settling_) settling_.emplace(amp_);
+}
+
 void AmpCellAccess::write(const std::string& name, std::int64_t raw) {
   // After a stop request the transaction writes only to restore (it stops before the next write).
-  const bool restoring = failed_ || written_ >= planned_ || card_.cancel().requested();
+  const bool restoring = failed_ || written_ >= planned_ || amp_.cancel().requested();
+  // Every exchange of the write (NV access, the write, its read-back) ends by the bound; a
+  // write of the change itself is not begun once the operation's time is up.
+  const link::WaitBound bounded(amp_.bound());
   if (restoring)
     note("restoring " + name);
   else
     note("writing " + name + " (" + std::to_string(written_ + 1) + "/" + std::to_string(planned_) + ")");
   try {
+    amp_.require_time_left();
     write_once(name, raw);
   } catch (...) {
     failed_ = true;
@@ -73,31 +81,33 @@ void AmpCellAccess::write(const std::string& name, std::int64_t raw) {
 // error stands, nothing is written blindly. A read-back that disagrees with a completed
 // exchange (VerifyError) is an answer, not a line fault: it is not retried.
 void AmpCellAccess::write_once(const std::string& name, std::int64_t raw) {
-  const unsigned attempts = card_.retry().attempts;
+  const unsigned attempts = amp_.retry().attempts;
   for (unsigned attempt = 1;; ++attempt) {
     try {
-      const auto report = card_.device().write(name, raw, write_);
+      const auto report = amp_.device().write(name, raw, write_);
       if (!report.verified)
         throw device::VerifyError(name + " was written but the card cannot read it back to verify it");
       return;
+    } catch (const link::OutOfTime&) {
+      throw;  // not sent: nothing to read back
     } catch (const device::NvModeLost& lost) {
       recover_from_mode_loss(lost);
       const auto held = holds(name, raw);
       if (held == true) return;
-      if (!held || attempt >= attempts || card_.past_deadline()) throw;
+      if (!held || attempt >= attempts || amp_.past_deadline()) throw;
     } catch (const link::LinkError& e) {
-      card_.unanswered(e);
+      amp_.unanswered(e);
       const auto held = holds(name, raw);
       if (held == true) return;
-      if (!held || attempt >= attempts || card_.past_deadline()) throw;
+      if (!held || attempt >= attempts || amp_.past_deadline()) throw;
     } catch (const device::AmpStateError&) {
       // Leaving NV mode failed after the write. An NV read-back enters and leaves NV mode
       // again, so a successful one also proves the card is back in normal access mode.
       const auto held = holds(name, raw);
       if (held == true) return;
-      if (!held || attempt >= attempts || card_.past_deadline()) throw;
+      if (!held || attempt >= attempts || amp_.past_deadline()) throw;
     }
-    card_.count_retry();
+    amp_.count_retry();
   }
 }
 
@@ -110,7 +120,7 @@ void AmpCellAccess::recover_from_mode_loss(const device::NvModeLost& lost) {
                     " was being written: its working values were reloaded from the EEPROM as it was then");
   if (!lost.stray_ram_value()) return;
   note("resetting");
-  card_.device().reset(timing::kResetWait);
+  amp_.device().reset(timing::kResetWait);
   events_.push_back("working memory at " + lbp::hex_value(lost.address(), 4) + " held the value meant for " +
                     lost.cell() + "'s EEPROM cell: the tool reset the card to re-initialise it");
 }
@@ -122,20 +132,22 @@ std::optional<bool> AmpCellAccess::holds(const std::string& name, std::int64_t r
   for (unsigned attempt = 1;; ++attempt) {
     try {
       const auto unconfirmed = write_.allow_unverified ? Unconfirmed::Read : Unconfirmed::Skip;
-      const auto r = read_values(card_, std::vector<std::string>{name}, unconfirmed);
+      const auto r = read_values(amp_, std::vector<std::string>{name}, unconfirmed);
       return r.front().raw == raw;
     } catch (const link::LinkError&) {
       return std::nullopt;
     } catch (const device::AmpStateError&) {
-      if (attempt >= card_.retry().attempts || card_.past_deadline()) return std::nullopt;
-      card_.count_retry();
+      if (attempt >= amp_.retry().attempts || amp_.past_deadline()) return std::nullopt;
+      amp_.count_retry();
     }
   }
 }
 
 void AmpCellAccess::reset() {
+  const link::WaitBound bounded(amp_.bound());
+  amp_.require_time_left();
   note("resetting");
-  card_.device().reset(timing::kResetWait);
+  amp_.device().reset(timing::kResetWait);
 }
 
 }  // namespace i20::ops

@@ -25,13 +25,14 @@ class AmpCellAccess final : public CellAccess {
   // "writing NVBRAKEONV (2/5)", "restoring NVBRAKEONV", "resetting".
   using Activity = std::function<void(const std::string&)>;
 
-  AmpCellAccess(Amp& card, device::WriteOptions write, Activity activity = {});
+  AmpCellAccess(Amp& amp, device::WriteOptions write, Activity activity = {});
 
   RawValues read(const std::vector<std::string>& names) override;
   void check_write(const std::string& name, std::int64_t raw) override;
   void write(const std::string& name, std::int64_t raw) override;
   void reset() override;
-  std::string describe() override { return card_.describe(); }
+  void way_back() override;
+  std::string describe() override { return amp_.describe(); }
   std::vector<std::string> events() const override { return events_; }
 
   // Did check_write() refuse a value (the device layer's safety rules)?
@@ -45,8 +46,9 @@ class AmpCellAccess final : public CellAccess {
   std::optional<bool> holds(const std::string& name, std::int64_t raw);
   void note(const std::string& what);
 
-  Amp& card_;
+  Amp& amp_;
   Amp::Uninterruptible uninterruptible_;
+  std::optional<Amp::Settling> settling_;  // from way_back() on
   device::WriteOptions write_;
   Activity activity_;
   std::size_t planned_ = 0;  // check_write() calls: the transaction asks once per planned write

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <exception>
 
+#include "device/errors.hpp"
 #include "faults/bit_info.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/amp_cell_access.hpp"
@@ -15,6 +16,7 @@
 #include "ops/timing.hpp"
 #include "ops/undo.hpp"
 #include "profile/backup.hpp"
+#include "profile/validate.hpp"
 
 namespace i20::ops {
 namespace {
@@ -129,9 +131,9 @@ void check_live(Amp& c, const ApplyJob& job, TargetRun& run) {
 
 // A read after the change (the checks above) may have died with NV mode on: the outcome is
 // not "done" while the card may still be in it.
-void settle(Amp& card, TargetRun& run) {
+void settle(Amp& amp, TargetRun& run) {
   try {
-    if (const auto mode = card.settle(); !mode.empty())
+    if (const auto mode = amp.settle(); !mode.empty())
       run.result->events.push_back("the line failed while the card was in " + mode +
                                    "; it answered again and left it");
   } catch (const Error& e) {
@@ -141,9 +143,23 @@ void settle(Amp& card, TargetRun& run) {
   }
 }
 
+// The rules that need no card, for every cell of the profile: read-only, known address,
+// range, guard, the card's fixed limits.
+void precheck(const profile::Profile& profile, const params::ParamDb& db, const device::WriteOptions& write) {
+  for (const auto& s : profile.settings)
+    for (const auto& cell : profile::cells_of(profile, s, db))
+      device::check_offline(db.get(cell), s.raw, write);
+  for (const auto& f : profile::validate_values(profile, db, write.force))
+    if (f.severity == profile::Severity::Error)
+      throw device::SafetyError(
+          (f.key.empty() ? "" : f.key + ": ") + f.message + " [" + f.rule + "]; nothing was written",
+          f.advice);
+}
+
 }  // namespace
 
 ApplyJob make_apply_job(const ApplyRequest& request) {
+  precheck(*request.profile, *request.db, request.write_options());
   ApplyJob job;
   job.profile = request.profile;
   job.db = request.db;
@@ -158,33 +174,33 @@ ApplyJob make_apply_job(const ApplyRequest& request) {
   return job;
 }
 
-TargetRun run_apply_on(Amp& card, const ApplyJob& job, const Activity& activity) {
+TargetRun run_apply_on(Amp& amp, const ApplyJob& job, const Activity& activity) {
   TargetRun run;
-  run.target = card.endpoint();
+  run.target = amp.endpoint();
   const auto start = std::chrono::steady_clock::now();
-  const auto status_before = sticky_status(card);
-  const std::size_t silences_before = card.silences_ended();
+  const auto status_before = sticky_status(amp);
+  const std::size_t silences_before = amp.silences_ended();
   auto options = job.transaction;
   options.force = job.write.force;  // one --force: the guards and the rules it overrides
   if (options.backup_label.empty())
-    options.backup_label = profile::backup_label(job.profile->name, card.identity().info.unit_number);
-  options.backup_origin = origin_of(card);
+    options.backup_label = profile::backup_label(job.profile->name, amp.identity().info.unit_number);
+  options.backup_origin = origin_of(amp);
   {
-    AmpCellAccess access(card, job.write, activity);
-    run.result = run_transaction(*job.profile, card.db(), access, options);
+    AmpCellAccess access(amp, job.write, activity);
+    run.result = run_transaction(*job.profile, amp.db(), access, options);
     run.refused_by_card = access.refused();
   }
   run.outcome = run.result->outcome;
   if (run.outcome != Outcome::Refused && run.outcome != Outcome::DryRun && run.outcome != Outcome::BadInput &&
       run.outcome != Outcome::Failed) {
     if (activity) activity("checking");
-    check_live(card, job, run);
-    check_card_reset(card, status_before, run);  // last: a reset during the checks is seen too
-    check_silent_reset(card, job, silences_before, run);
-    if (!run.card_reset.empty() && run.outcome == Outcome::RolledBack) reload_restored_values(card, run);
+    check_live(amp, job, run);
+    check_card_reset(amp, status_before, run);  // last: a reset during the checks is seen too
+    check_silent_reset(amp, job, silences_before, run);
+    if (!run.card_reset.empty() && run.outcome == Outcome::RolledBack) reload_restored_values(amp, run);
   }
-  settle(card, run);
-  run.retries = card.retries();
+  settle(amp, run);
+  run.retries = amp.retries();
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return run;
 }
@@ -195,8 +211,8 @@ TargetRun run_apply_opened(const Endpoint& target, const ApplyJob& job, const Am
   TargetRun run;
   try {
     if (activity) activity("connecting");
-    const auto card = open();
-    run = run_apply_on(*card, job, activity);
+    const auto amp = open();
+    run = run_apply_on(*amp, job, activity);
   } catch (...) {
     // One meaning for every failure (ops/failure.hpp): a defect is uncertain here too.
     const auto failure = failure_of_current_exception();

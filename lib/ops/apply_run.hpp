@@ -40,7 +40,7 @@ struct ApplyRequest {
   OpenOptions open{};                                 // how links are opened (run_apply, fleets)
   std::function<void(const profile::Plan&)> on_plan{};  // told the plan before the first write
 
-  // The device layer's share of the request (also what precheck() judges).
+  // The device layer's share of the request (also what make_apply_job() judges).
   device::WriteOptions write_options() const { return {allow_unverified, force}; }
 };
 
@@ -52,7 +52,11 @@ struct ApplyJob {
   OpenOptions open;                     // how links are opened
 };
 
-// The job for a request: the only place a job's settings are assembled.
+// The job for a request: the only place a job's settings are assembled, and the only way to
+// a job. Every rule that needs no card is judged here, for every cell of the profile
+// (read-only, known address, range, guard, the card's fixed limits, the cross-parameter
+// rules): a front end makes the job before it opens a link, so a refusal (SafetyError,
+// exit 3, naming the first broken rule) comes with nothing sent.
 ApplyJob make_apply_job(const ApplyRequest& request);
 
 struct TargetRun {
@@ -89,7 +93,7 @@ TargetRun run_apply_over(std::unique_ptr<link::Link> link, const Endpoint& targe
 TargetRun run_apply_opened(const Endpoint& target, const ApplyJob& job, const AmpOpener& open,
                            const Activity& activity = {});
 // The same on a card that is already open (the single-target commands).
-TargetRun run_apply_on(Amp& card, const ApplyJob& job, const Activity& activity = {});
+TargetRun run_apply_on(Amp& amp, const ApplyJob& job, const Activity& activity = {});
 
 // The fleet's outcome: Done only if every run ended well, else the most serious one.
 Outcome fleet_outcome(const std::vector<TargetRun>& runs);

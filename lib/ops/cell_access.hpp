@@ -43,6 +43,9 @@ class CellAccess {
   // Resets the 8I20 so that NV values are loaded into the working parameters. Throws
   // i20::Error if the card does not come back.
   virtual void reset() = 0;
+  // From now on the transaction only restores what it wrote and reads it back: the way
+  // back, which the operation's deadline does not cut short (it has a bound of its own).
+  virtual void way_back() {}
 
   // One line saying which card this is, for reports and backup provenance, e.g.
   // "8I20 unit 0x00012345, SWREVISION 0xE120, on /dev/ttyUSB0".

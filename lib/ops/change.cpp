@@ -6,7 +6,6 @@
 #include "ops/undo.hpp"
 #include "params/value.hpp"
 #include "profile/loader.hpp"
-#include "profile/validate.hpp"
 #include "profile/writer.hpp"
 
 namespace i20::ops {
@@ -56,34 +55,23 @@ profile::Profile profile_from_value(const std::string& name, const std::string& 
   return profile;
 }
 
-void precheck(const profile::Profile& profile, const params::ParamDb& db, const device::WriteOptions& write) {
-  for (const auto& s : profile.settings)
-    for (const auto& cell : profile::cells_of(profile, s, db))
-      device::check_offline(db.get(cell), s.raw, write);
-  for (const auto& f : profile::validate_values(profile, db, write.force))
-    if (f.severity == profile::Severity::Error)
-      throw device::SafetyError(
-          (f.key.empty() ? "" : f.key + ": ") + f.message + " [" + f.rule + "]; nothing was written",
-          f.advice);
-}
-
-profile::Profile save_profile(Amp& card, const std::vector<std::string>& names,
+profile::Profile save_profile(Amp& amp, const std::vector<std::string>& names,
                               const profile::SaveOptions& options) {
   const auto wanted =
-      profile::canonical_save_names(names.empty() ? profile::save_candidates(card.db()) : names, card.db());
+      profile::canonical_save_names(names.empty() ? profile::save_candidates(amp.db()) : names, amp.db());
   profile::RawValues values;
-  for (const auto& r : read_values(card, wanted)) {
+  for (const auto& r : read_values(amp, wanted)) {
     if (!r.fact())
-      throw device::SafetyError(r.param->name + " is " + unknown_text(r) + " on " + card.describe() +
+      throw device::SafetyError(r.param->name + " is " + unknown_text(r) + " on " + amp.describe() +
                                 ": not saved as a guess");
     values[r.param->name] = *r.raw;
   }
   // Named ones are saved as asked; by default every NV value a restore needs (guarded ones
   // that differ from the default included).
-  const auto saved = names.empty() ? profile::names_to_save(card.db(), values) : wanted;
+  const auto saved = names.empty() ? profile::names_to_save(amp.db(), values) : wanted;
   auto with_origin = options;
-  with_origin.origin = origin_of(card);
-  return profile::profile_from_values(values, saved, card.db(), card.describe(), with_origin);
+  with_origin.origin = origin_of(amp);
+  return profile::profile_from_values(values, saved, amp.db(), amp.describe(), with_origin);
 }
 
 void check_save_names(const std::vector<std::string>& names, const params::ParamDb& db) {
@@ -92,11 +80,11 @@ void check_save_names(const std::vector<std::string>& names, const params::Param
       throw UsageError(n + " is read-only: a profile holds settings that can be written back");
 }
 
-SavedAmp save_card(Amp& card, const std::vector<std::string>& names, const profile::SaveOptions& options,
+SavedAmp save_card(Amp& amp, const std::vector<std::string>& names, const profile::SaveOptions& options,
                    const std::string& source) {
-  SavedAmp saved{save_profile(card, names, options), {}};
-  saved.yaml = profile::to_yaml(saved.profile, card.db());
-  const auto again = profile::load_profile_string(saved.yaml, source, card.db());
+  SavedAmp saved{save_profile(amp, names, options), {}};
+  saved.yaml = profile::to_yaml(saved.profile, amp.db());
+  const auto again = profile::load_profile_string(saved.yaml, source, amp.db());
   for (std::size_t i = 0; i < saved.profile.settings.size(); ++i)
     if (again.settings.at(i).raw != saved.profile.settings[i].raw)
       throw Error("the saved profile does not read back to the values read from the card");

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The single-target writes (`i20 set A=1 B=2`, `wpd NAME VALUE`, `faults mask`) as small
-// profiles for the one write transaction, and the checks that run before any link opens.
+// profiles for the one write transaction (lib/ops/apply_run.hpp checks them before any link opens).
 #pragma once
 
 #include <string>
@@ -27,15 +27,10 @@ profile::Profile profile_from_assignments(const std::vector<std::string>& assign
 profile::Profile profile_from_value(const std::string& name, const std::string& value,
                                     const params::ParamDb& db, ValueSyntax syntax);
 
-// The rules that need no card, for every cell of the profile: read-only, known address,
-// range, guard, the card's fixed limits. Throws SafetyError (exit 3) naming the first
-// broken rule; nothing has been sent when it does.
-void precheck(const profile::Profile& profile, const params::ParamDb& db, const device::WriteOptions& write);
-
 // Reads `names` (if empty: profile::save_candidates(), keeping profile::names_to_save()) into a profile
 // (`profile save`, `report`). Every value must be a fact on this card: a name whose address
 // is not confirmed for its firmware is refused (SafetyError), not saved as a guess.
-profile::Profile save_profile(Amp& card, const std::vector<std::string>& names,
+profile::Profile save_profile(Amp& amp, const std::vector<std::string>& names,
                               const profile::SaveOptions& options);
 
 // Refused before the link opens: a name that is read-only (a saved profile holds settings
@@ -48,7 +43,7 @@ struct SavedAmp {
   profile::Profile profile;
   std::string yaml;
 };
-SavedAmp save_card(Amp& card, const std::vector<std::string>& names, const profile::SaveOptions& options,
+SavedAmp save_card(Amp& amp, const std::vector<std::string>& names, const profile::SaveOptions& options,
                    const std::string& source);
 
 }  // namespace i20::ops

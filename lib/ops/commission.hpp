@@ -33,6 +33,7 @@
 #include "eth/target.hpp"
 #include "ops/outcome.hpp"
 #include "ops/session.hpp"
+#include "ops/timing.hpp"
 
 namespace i20::ops {
 
@@ -68,11 +69,11 @@ struct CommissionOptions {
   std::optional<double> current_amps;  // default: current_fraction x MAXCURRENT
   double current_fraction = 0.2;
   double check_current_fraction = 0.5;  // of the sweep current
-  double align_s = 0.8;
-  double ramp_s = 0.4;
-  double sweep_turns = 3.0;  // electrical turns each way
-  double turns_per_s = 1.5;  // electrical turns per second
-  double time_limit_s = 60;  // the whole run
+  double align_s = timing::kCommissionAlignS;
+  double ramp_s = timing::kCommissionRampS;
+  double sweep_turns = 3.0;                             // electrical turns each way
+  double turns_per_s = 1.5;                             // electrical turns per second
+  double time_limit_s = timing::kCommissionTimeLimitS;  // the whole run
   // Without --poles or --counts-per-rev: how far the sweep may go looking for a second
   // index pulse (electrical turns; a motor of up to this many pole pairs less one).
   double search_turns = 12;
@@ -82,7 +83,7 @@ struct CommissionOptions {
   double follow_tolerance_turns = 0.6;
   // The closed-loop check's hold: the encoder's angle within this of the commanded one.
   double check_bound_deg = 10.0;
-  std::chrono::milliseconds period{10};
+  std::chrono::milliseconds period = timing::kCommissionPeriod;
   std::optional<CheckFile> check_file;  // --check: only the closed-loop check, with this file
   // -o: a HAL fragment is wanted. Refused before anything moves where none could be written
   // (no Halls, or --check, whose setup is the file checked).

@@ -8,6 +8,7 @@
 #include "faults/decode.hpp"
 #include "hostmot2/hostmot2.hpp"
 #include "lbp/bytes.hpp"
+#include "ops/timing.hpp"
 
 namespace i20::ops::commission_detail {
 
@@ -16,13 +17,9 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-// Another host's packets tolerated in all (a stray mesaflash query); LinuxCNC sends one
-// every servo period.
-constexpr std::uint32_t kForeignPacketLimit = 2;
-// Cycles between two checks for another host (each costs one read-only packet).
-constexpr std::uint64_t kHostCheckEvery = 20;
-// Ticks over which the speed is measured (50 ms at 10 ms).
-constexpr std::size_t kSpeedWindow = 5;
+constexpr std::uint32_t kForeignPacketLimit = timing::kCommissionForeignPackets;
+constexpr std::uint64_t kHostCheckEvery = timing::kCommissionHostCheckEvery;
+constexpr std::size_t kSpeedWindow = timing::kCommissionSpeedWindow;
 
 std::uint16_t angle_word(double turns) {
   const double frac = turns - std::floor(turns);

@@ -65,9 +65,9 @@ Preflight read_preflight(Session& session) {
   Preflight p;
   p.target = eth::parse_target(endpoint.eth_url);
   {
-    Amp& card = session.card();  // the passthrough open refuses a running host
-    p.card = card.describe();
-    const auto readings = read_values(card, std::vector<std::string>{"FAULT", "BUSV", "MAXCURRENT"});
+    Amp& amp = session.amp();  // the passthrough open refuses a running host
+    p.card = amp.describe();
+    const auto readings = read_values(amp, std::vector<std::string>{"FAULT", "BUSV", "MAXCURRENT"});
     p.fault = static_cast<std::uint16_t>(reading_of(readings, 0, "FAULT"));
     p.bus_v = reading_of(readings, 1, "BUSV") / 100.0;                // 10 mV
     p.max_current_a = reading_of(readings, 2, "MAXCURRENT") / 100.0;  // 10 mA
@@ -100,7 +100,7 @@ Preflight read_preflight(Session& session) {
                 ErrorKind::Refused);
   if (!(p.max_current_a > 0))
     throw Error("MAXCURRENT is 0 A: the 8I20 would drive no current", ErrorKind::Refused);
-  eth::UdpClient bus(p.target.card.ip, p.target.card.port,
+  eth::UdpClient bus(p.target.host_port.ip, p.target.host_port.port,
                      timing::udp(session.options().link, RetryPolicy{}));
   p.board = eth::identify(bus).card_name;
   const auto info = eth::read_hostmot2(bus);

@@ -30,14 +30,14 @@ constexpr std::int64_t kStallCounts = 4;
 // Given figures within this share of the first turn's measure are trusted for the follow
 // check (the first turn measures within a few percent; a wrong figure is off by a pole pair).
 constexpr double kGivenScaleAgreement = 0.2;
-// The check: how long each direction may push, and how far it should get.
-constexpr double kCheckPushS = 1.5;
-constexpr double kCheckRampS = 1.0;  // the check current from 0 to full
+// The check: how far each push should get (its waits: timing.hpp).
 constexpr double kCheckEnoughTurns = 0.5;
 constexpr double kCheckMinTurns = 0.25;
-constexpr double kCheckRestS = 0.3;
-constexpr double kHoldRampS = 0.15;
-constexpr double kHoldS = 0.4;
+using timing::kCheckPushS;
+using timing::kCheckRampS;
+using timing::kCheckRestS;
+using timing::kHoldRampS;
+using timing::kHoldS;
 // Hall codes off the pattern's sector tolerated in the check (edges blur by hysteresis).
 constexpr double kHallMismatchLimit = 0.02;
 

@@ -21,17 +21,17 @@ void prove_loads(const params::ParamDb& loaded, const std::string& yaml, const s
 
 }  // namespace
 
-DiscoverResult discover(Amp& card, const params::ParamDb& loaded, const DiscoverOptions& options) {
+DiscoverResult discover(Amp& amp, const params::ParamDb& loaded, const DiscoverOptions& options) {
   DiscoverResult result;
   // The file is refused before the reset and the scan: they cost the card's working values
   // and a thousand reads, and a refusal needs neither.
   result.written = options.output.empty()
-                       ? std::filesystem::path("i20-map-" + lbp::hex_value(card.swrevision(), 4) + ".yaml")
+                       ? std::filesystem::path("i20-map-" + lbp::hex_value(amp.swrevision(), 4) + ".yaml")
                        : options.output;
   const std::string file = result.written.string();
   if (!options.overwrite && std::filesystem::exists(result.written))
     throw UsageError(file + " exists; pass --overwrite to replace it (or choose another name with -o)");
-  result.report = device::discover(card.device(), options.scan);
+  result.report = device::discover(amp.device(), options.scan);
   const std::string yaml = result.report.overlay_yaml(options.generated_at);
   prove_loads(loaded, yaml, file, result.report.swrevision);
   files::write_file(result.written, yaml,

@@ -35,6 +35,6 @@ struct DiscoverResult {
 // Throws Cancelled on Ctrl-C (between scan chunks), UsageError when the file exists
 // and `overwrite` is not set, ParamFileError when the overlay would not load (nothing is
 // written then).
-DiscoverResult discover(Amp& card, const params::ParamDb& loaded, const DiscoverOptions& options);
+DiscoverResult discover(Amp& amp, const params::ParamDb& loaded, const DiscoverOptions& options);
 
 }  // namespace i20::ops

@@ -49,7 +49,7 @@ Endpoint eth_endpoint(const eth::EthTarget& target, std::string text) {
   e.eth_url = target.url();
   e.eth = target;
   // The channels of one Ethernet card share its UDP port and its SSLBP engine: one line.
-  e.line_key = "eth:" + target.card.describe();
+  e.line_key = "eth:" + target.host_port.describe();
   return e;
 }
 

@@ -20,6 +20,7 @@
 #include "link/link.hpp"
 #include "link/ports.hpp"
 #include "ops/retry.hpp"
+#include "ops/timing.hpp"
 #include "params/param_db.hpp"
 
 namespace i20::ops {
@@ -71,9 +72,9 @@ std::vector<Endpoint> resolve_endpoints(const std::vector<std::string>& targets,
                                         const std::optional<Endpoint>& global);
 
 struct LinkSettings {
-  unsigned baud = 115200;    // setup mode is always 115200 (manual)
-  unsigned timeout_ms = 50;  // reply timeout on top of the wire time
-  bool take_over = false;    // Ethernet: stop a port another host (LinuxCNC) is driving
+  unsigned baud = timing::kSetupBaud;
+  unsigned timeout_ms = timing::kReplyTimeoutMs;  // reply timeout on top of the wire time
+  bool take_over = false;                         // Ethernet: stop a port another host (LinuxCNC) is driving
   // In-process simulator only: control lines (lib/sim/control.hpp, e.g. "busv 160") applied
   // before the first command, so --sim can stand in for a card on another supply.
   std::vector<std::string> sim_control;

@@ -3,9 +3,9 @@
 
 #include "device/errors.hpp"
 #include "faults/fault_mask.hpp"
+#include "lbp/bytes.hpp"
 #include "ops/change.hpp"
 #include "ops/read.hpp"
-#include "lbp/bytes.hpp"
 
 namespace i20::ops {
 namespace {
@@ -15,22 +15,22 @@ std::optional<double> scaled(const Reading& r) {
   return static_cast<double>(*r.raw) * r.param->scale;
 }
 
-const params::Param& fact_required(Amp& card, const char* name) {
-  const params::Param& p = card.db().get(name);
-  if (!p.address || !card.db().address_confirmed(p))
-    throw device::SafetyError(std::string(name) + " cannot be read as a fact on " + card.describe() + ": " +
-                              card.unconfirmed_reason(p) +
-                              ", and the card's RPC table did not name it; `i20 " + card.endpoint().flags() +
+const params::Param& fact_required(Amp& amp, const char* name) {
+  const params::Param& p = amp.db().get(name);
+  if (!p.address || !amp.db().address_confirmed(p))
+    throw device::SafetyError(std::string(name) + " cannot be read as a fact on " + amp.describe() + ": " +
+                              amp.unconfirmed_reason(p) +
+                              ", and the card's RPC table did not name it; `i20 " + amp.endpoint().flags() +
                               " discover` may find it");
   return p;
 }
 
 // CLEARFAULT was written but the clear did not finish: what the card says now decides
 // between "faults remain" (exit 5) and "uncertain" (exit 4). Always throws.
-[[noreturn]] void explain_unfinished_clear(Amp& card, const Error& e) {
+[[noreturn]] void explain_unfinished_clear(Amp& amp, const Error& e) {
   FaultReadings now;
   try {
-    now = read_fault_registers(card);
+    now = read_fault_registers(amp);
   } catch (const Error& again) {
     if (again.kind() == ErrorKind::Cancelled) throw;
     throw device::AmpStateError(std::string(e.what()) + "; FAULT could not be read after it (" +
@@ -47,13 +47,13 @@ const params::Param& fact_required(Amp& card, const char* name) {
 
 }  // namespace
 
-FaultReadings read_fault_registers(Amp& card) {
-  const auto& db = card.db();
-  std::vector<const params::Param*> list{&fact_required(card, "FAULT"), &fact_required(card, "STATUS")};
+FaultReadings read_fault_registers(Amp& amp) {
+  const auto& db = amp.db();
+  std::vector<const params::Param*> list{&fact_required(amp, "FAULT"), &fact_required(amp, "STATUS")};
   for (const char* name : {"FAULTMASK", "BUSV", "TEMPERATURE", "BUSUNDERV", "BUSOVERV", "BRAKEONV"})
     if (const auto* p = db.find(name)) list.push_back(p);
   FaultReadings r;
-  for (const auto& v : read_values(card, list)) {
+  for (const auto& v : read_values(amp, list)) {
     if (!v.fact()) {
       r.not_confirmed.push_back(v.param->name);
       continue;
@@ -72,44 +72,60 @@ FaultReadings read_fault_registers(Amp& card) {
   return r;
 }
 
-ClearResult clear_faults(Amp& card, const device::WriteOptions& write, std::chrono::milliseconds wait) {
-  card.device().check_write(card.db().get("CLEARFAULT"), 1, write);
-  fact_required(card, "FAULT");
+ClearJob make_clear_job(const params::ParamDb& db, const device::WriteOptions& write,
+                        std::chrono::milliseconds wait) {
+  device::check_offline(db.get("CLEARFAULT"), 1, write);
+  return {write, wait};
+}
+
+faults::Report ClearResult::cleared() const {
+  return faults::fault_report(static_cast<std::uint16_t>(fault_before & ~after.fault));
+}
+
+faults::Report ClearResult::remaining() const {
+  return faults::fault_report(after.fault, after.faultmask);
+}
+
+ClearResult clear_faults(Amp& amp, const ClearJob& job) {
+  const auto& write = job.write;
+  const auto wait = job.wait;
+  amp.device().check_write(amp.db().get("CLEARFAULT"), 1, write);
+  fact_required(amp, "FAULT");
   ClearResult result;
   device::ClearFaultsResult done;
   try {
-    done = card.device().clear_faults(write, wait);
+    done = amp.device().clear_faults(write, wait);
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::Uncertain) throw;
-    explain_unfinished_clear(card, e);
+    explain_unfinished_clear(amp, e);
   }
   result.fault_before = done.fault_before;
   result.took = done.took;
   // Again with the measurements, so every remaining bit can say why it is still there.
-  result.after = read_fault_registers(card);
+  result.after = read_fault_registers(amp);
   return result;
 }
 
-MaskResult set_fault_mask(Amp& card, const std::string& key, bool masked, const device::WriteOptions& write) {
+MaskResult set_fault_mask(Amp& amp, const std::string& key, bool masked, const device::WriteOptions& write) {
   faults::maskable_fault(key);  // unknown or unmaskable: refused before anything is read
-  const auto& param = card.db().get("FAULTMASK");
+  const auto& param = amp.db().get("FAULTMASK");
   device::check_offline(param, faults::kNothingMasked, write);
-  card.device().check_write(param, faults::kNothingMasked, write);
+  amp.device().check_write(param, faults::kNothingMasked, write);
   MaskResult result;
   const auto unconfirmed = write.allow_unverified ? Unconfirmed::Read : Unconfirmed::Skip;
-  const auto now = read_values(card, std::vector<const params::Param*>{&param}, unconfirmed);
+  const auto now = read_values(amp, std::vector<const params::Param*>{&param}, unconfirmed);
   if (!now.front().raw)
-    throw device::SafetyError("FAULTMASK cannot be read as a fact on " + card.describe() + ": " +
+    throw device::SafetyError("FAULTMASK cannot be read as a fact on " + amp.describe() + ": " +
                               now.front().reason);
   result.before = static_cast<std::uint16_t>(*now.front().raw);
   result.wanted = faults::set_fault_masked(result.before, key, masked);
   const auto profile =
-      profile_from_value("FAULTMASK", std::to_string(result.wanted), card.db(), ValueSyntax::Raw);
-  result.run = run_apply_on(card, make_apply_job({.profile = &profile,
-                                                  .db = &card.db(),
-                                                  .force = write.force,
-                                                  .allow_unverified = write.allow_unverified,
-                                                  .cancel = card.cancel()}));
+      profile_from_value("FAULTMASK", std::to_string(result.wanted), amp.db(), ValueSyntax::Raw);
+  result.run = run_apply_on(amp, make_apply_job({.profile = &profile,
+                                                 .db = &amp.db(),
+                                                 .force = write.force,
+                                                 .allow_unverified = write.allow_unverified,
+                                                 .cancel = amp.cancel()}));
   return result;
 }
 

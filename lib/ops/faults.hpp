@@ -11,8 +11,10 @@
 #include <vector>
 
 #include "device/amp.hpp"
+#include "faults/report.hpp"
 #include "ops/amp.hpp"
 #include "ops/apply_run.hpp"
+#include "ops/timing.hpp"
 
 namespace i20::ops {
 
@@ -35,7 +37,19 @@ struct FaultReadings {
 // FAULT and STATUS are required: throws SafetyError (nothing read, exit 3) when their
 // addresses are not confirmed for this card, since a guessed address would report "no
 // faults" from some other register. The rest are read where confirmed.
-FaultReadings read_fault_registers(Amp& card);
+FaultReadings read_fault_registers(Amp& amp);
+
+// A fault clear, judged by the rules that need no card when it is made: `i20 clear-faults`,
+// `wpd FAULT 0` and the console's button make it before they open (or use) a link, so a
+// refusal comes with nothing sent.
+struct ClearJob {
+  device::WriteOptions write;
+  std::chrono::milliseconds wait;  // how long CLEARFAULT may stay set
+};
+// Throws SafetyError when CLEARFAULT's address is not confirmed and `write.allow_unverified`
+// is not given.
+ClearJob make_clear_job(const params::ParamDb& db, const device::WriteOptions& write,
+                        std::chrono::milliseconds wait = timing::kClearFaultWait);
 
 struct ClearResult {
   std::uint16_t fault_before = 0;
@@ -43,12 +57,14 @@ struct ClearResult {
   std::chrono::milliseconds took{0};
   bool faults_remain() const { return after.fault != 0; }
   Outcome outcome() const { return faults_remain() ? Outcome::FaultsRemain : Outcome::Done; }
+  // The bits the clear took away, and those still latched (masked ones marked).
+  faults::Report cleared() const;
+  faults::Report remaining() const;
 };
 
-// Sets CLEARFAULT, waits until the card acts on it (bounded by `wait`), and reads the
-// registers again. Refused (before anything is sent) when CLEARFAULT's address is not
-// confirmed and `write.allow_unverified` is not given.
-ClearResult clear_faults(Amp& card, const device::WriteOptions& write, std::chrono::milliseconds wait);
+// Sets CLEARFAULT, waits until the card acts on it (bounded by the job's wait), and reads
+// the registers again. The card's own copy of the database judges the write again.
+ClearResult clear_faults(Amp& amp, const ClearJob& job);
 
 struct MaskResult {
   std::uint16_t before = 0;  // FAULTMASK as read
@@ -58,6 +74,6 @@ struct MaskResult {
 
 // Masks (or unmasks) the maskable FAULT bit named by `key`, keeping every other bit as
 // read. Throws faults::UnknownBit / NotMaskable (bad input / refused) before any write.
-MaskResult set_fault_mask(Amp& card, const std::string& key, bool masked, const device::WriteOptions& write);
+MaskResult set_fault_mask(Amp& amp, const std::string& key, bool masked, const device::WriteOptions& write);
 
 }  // namespace i20::ops

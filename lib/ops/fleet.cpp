@@ -14,7 +14,7 @@ namespace {
 // The channels of one SSERIAL port: one PassthroughPort serves them all, and their
 // commands share DOITs (SSLBP's channel mask), so they run side by side.
 struct EthPort {
-  eth::HostPort card;
+  eth::HostPort host_port;
   unsigned sserial_port = 0;
   std::uint8_t mask = 0;
   std::vector<std::size_t> targets;
@@ -30,10 +30,10 @@ std::vector<EthPort> by_port(const std::vector<Endpoint>& targets) {
     if (!targets[i].is_eth()) continue;
     const auto t = targets[i].eth_target();
     auto it = std::find_if(ports.begin(), ports.end(), [&](const EthPort& p) {
-      return p.card == t.card && p.sserial_port == t.sserial_port;
+      return p.host_port == t.host_port && p.sserial_port == t.sserial_port;
     });
     if (it == ports.end())
-      it = ports.insert(ports.end(), EthPort{t.card, t.sserial_port, 0, {}, nullptr, {}, {}});
+      it = ports.insert(ports.end(), EthPort{t.host_port, t.sserial_port, 0, {}, nullptr, {}, {}});
     it->mask = static_cast<std::uint8_t>(it->mask | t.channel_mask());
     it->targets.push_back(i);
   }
@@ -47,8 +47,9 @@ void open_ports(std::vector<EthPort>& ports, const OpenOptions& open) {
   for (auto& p : ports) {
     const eth::PassthroughOptions options = timing::passthrough(open.link, open.retry);
     try {
-      auto& transport = transports[p.card.describe()];
-      if (!transport) transport = eth::PassthroughPort::board_transport(p.card, options.udp, options.fence);
+      auto& transport = transports[p.host_port.describe()];
+      if (!transport)
+        transport = eth::PassthroughPort::board_transport(p.host_port, options.udp, options.fence);
       p.port = eth::PassthroughPort::open(transport, p.sserial_port, p.mask, options);
     } catch (const Error& e) {
       p.error = e.what();

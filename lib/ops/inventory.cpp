@@ -16,20 +16,20 @@ std::string linuxcnc_name_of(const Endpoint& target) {
   return "8i20." + std::to_string(t.sserial_port) + "." + std::to_string(t.channel);
 }
 
-void read_faults(Amp& card, InventoryRow& row) {
+void read_faults(Amp& amp, InventoryRow& row) {
   try {
-    row.faults = read_fault_registers(card);
+    row.faults = read_fault_registers(amp);
   } catch (
       const device::SafetyError& e) {  // FAULT/STATUS not confirmed for this firmware: unknown, not guessed
     row.faults_error = e.what();
   }
 }
 
-void read_row(Amp& card, const InventoryJob& job, InventoryRow& row) {
-  row.identity = card.identity();
-  row.card = card.describe();
-  read_faults(card, row);
-  if (job.profile) row.diff = diff_card(card, *job.profile);
+void read_row(Amp& amp, const InventoryJob& job, InventoryRow& row) {
+  row.identity = amp.identity();
+  row.card = amp.describe();
+  read_faults(amp, row);
+  if (job.profile) row.diff = diff_card(amp, *job.profile);
   row.outcome = Outcome::Done;
 }
 
@@ -38,13 +38,13 @@ InventoryRow read_one(const Endpoint& target, const InventoryJob& job) {
   row.target = target;
   row.linuxcnc_name = linuxcnc_name_of(target);
   try {
-    const auto card = Amp::open(target, *job.db, job.open, job.cancel);
+    const auto amp = Amp::open(target, *job.db, job.open, job.cancel);
     try {
-      read_row(*card, job, row);
-      card->settle();
+      read_row(*amp, job, row);
+      amp->settle();
     } catch (...) {
       try {
-        card->settle();  // never leave NV access mode on, whatever stopped the read
+        amp->settle();  // never leave NV access mode on, whatever stopped the read
       } catch (const Error&) {
         row.outcome = Outcome::Uncertain;
       }
@@ -80,13 +80,13 @@ std::optional<bool> profile_matches(const std::vector<profile::DiffRow>& rows) {
   return all;
 }
 
-std::vector<profile::DiffRow> diff_card(Amp& card, const profile::Profile& profile) {
+std::vector<profile::DiffRow> diff_card(Amp& amp, const profile::Profile& profile) {
   std::vector<std::string> names;
-  for (const auto& w : profile::cell_writes(profile, card.db())) names.push_back(w.cell);
+  for (const auto& w : profile::cell_writes(profile, amp.db())) names.push_back(w.cell);
   profile::RawValues values;
-  for (const auto& r : read_values(card, names))
+  for (const auto& r : read_values(amp, names))
     if (r.fact()) values[r.param->name] = *r.raw;
-  return profile::diff(profile, card.db(), values);
+  return profile::diff(profile, amp.db(), values);
 }
 
 std::vector<InventoryRow> read_inventory(const std::vector<Endpoint>& targets, const InventoryJob& job) {

@@ -50,7 +50,7 @@ std::optional<bool> profile_matches(const std::vector<profile::DiffRow>& rows);
 
 // Cells of `profile` against what `card` holds, read honestly (an unconfirmed address is
 // unknown): the comparison `i20 profile diff` prints.
-std::vector<profile::DiffRow> diff_card(Amp& card, const profile::Profile& profile);
+std::vector<profile::DiffRow> diff_card(Amp& amp, const profile::Profile& profile);
 
 // Reads every target, concurrently across lines (targets sharing a serial line, a simulator
 // image or an Ethernet card are read one after another). One row per target, in order. Never

@@ -14,9 +14,9 @@ class RegisterSource final : public LiveSource {
   // Each sample is an operation of its own: it gets the whole deadline (retry.hpp), however
   // long the watch has run.
   FaultReadings read() override {
-    auto& card = session_.card();
-    card.restart_deadline();
-    return read_fault_registers(card);
+    auto& amp = session_.amp();
+    amp.restart_deadline();
+    return read_fault_registers(amp);
   }
   std::string describe() override { return session_.endpoint().text; }
   void reconnect() override { session_.reconnect(); }

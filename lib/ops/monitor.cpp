@@ -21,8 +21,6 @@ namespace F = i20::faults;
 using Clock = std::chrono::steady_clock;
 using Kind = MonitorEvent::Kind;
 
-constexpr std::chrono::milliseconds kSleepSlice{20};  // how fast Ctrl-C is noticed
-
 std::string seconds_text(double s) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.1f s", s);
@@ -134,11 +132,7 @@ bool Monitor::done() const {
 
 // Sleeps in slices so Ctrl-C and --duration end the watch promptly. False: stop now.
 bool Monitor::sleep_until(Clock::time_point t) const {
-  while (Clock::now() < t) {
-    if (done()) return false;
-    std::this_thread::sleep_for(std::min<Clock::duration>(kSleepSlice, t - Clock::now()));
-  }
-  return !done();
+  return ops::sleep_until(t, [this] { return done(); });
 }
 
 std::vector<MonitorEvent> Monitor::restart_events(const FaultReadings& r) {
@@ -181,7 +175,8 @@ void Monitor::lose(const std::string& why) {
       WallClock::now(),
       Kind::Lost,
       "lost contact with the 8I20 on " + where_ + ": " + why + "; retrying every " +
-          seconds_text(std::chrono::duration<double>(std::max(o_.interval, kMonitorMinRetry)).count()) +
+          seconds_text(
+              std::chrono::duration<double>(std::max(o_.interval, timing::kMonitorMinRetry)).count()) +
           " (Ctrl-C stops)",
       {},
       {}};
@@ -252,7 +247,7 @@ Outcome Monitor::run() {
   while (!done()) {
     if (!sleep_until(next)) break;
     sample_once();
-    const auto step = lost_at_ ? std::max(o_.interval, kMonitorMinRetry) : o_.interval;
+    const auto step = lost_at_ ? std::max(o_.interval, timing::kMonitorMinRetry) : o_.interval;
     next += step;
     if (next < Clock::now()) next = Clock::now() + step;  // a slow read skips ticks, never bunches them
   }

@@ -16,6 +16,7 @@
 #include "ops/faults.hpp"
 #include "ops/outcome.hpp"
 #include "ops/session.hpp"
+#include "ops/timing.hpp"
 
 namespace i20::ops {
 
@@ -59,15 +60,11 @@ struct MonitorSummary {
 };
 
 struct MonitorOptions {
-  std::chrono::milliseconds interval{200};
+  std::chrono::milliseconds interval = timing::kWatchInterval;
   std::uint64_t count = 0;  // 0: no limit
   double duration_s = 0;    // 0: no limit
   bool registers = false;   // Ethernet: stay on register reads instead of SSLBP normal mode
 };
-
-// A lost card is retried at the sample interval, but not more often than this: opening a
-// vanished port or waiting out a timeout every 20 ms would only spin.
-inline constexpr std::chrono::milliseconds kMonitorMinRetry{500};
 
 class MonitorSink {
  public:

@@ -79,18 +79,21 @@ FaultReadings readings_of(const eth::ProcessData& data) {
   return r;
 }
 
-PassiveMonitor::PassiveMonitor(const eth::HostPort& card, PassiveMonitorOptions options)
-    : card_(card), options_(options), reader_(card, options.read), start_(std::chrono::steady_clock::now()) {}
+PassiveMonitor::PassiveMonitor(const eth::HostPort& host_port, PassiveMonitorOptions options)
+    : host_port_(host_port),
+      options_(options),
+      reader_(host_port, options.read),
+      start_(std::chrono::steady_clock::now()) {}
 
-PassiveMonitor::PassiveMonitor(const eth::HostPort& card, std::unique_ptr<eth::Lbp16Transport> bus,
+PassiveMonitor::PassiveMonitor(const eth::HostPort& host_port, std::unique_ptr<eth::Lbp16Transport> bus,
                                PassiveMonitorOptions options)
-    : card_(card),
+    : host_port_(host_port),
       options_(options),
       reader_(std::move(bus), options.read),
       start_(std::chrono::steady_clock::now()) {}
 
 std::string PassiveMonitor::describe() const {
-  return reader_.identity().card_name + " at " + card_.describe();
+  return reader_.identity().card_name + " at " + host_port_.describe();
 }
 
 PassiveAmplifier PassiveMonitor::amplifier(const eth::ProcessData& data) const {
@@ -99,7 +102,8 @@ PassiveAmplifier PassiveMonitor::amplifier(const eth::ProcessData& data) const {
   a.readings = readings_of(data);
   a.linuxcnc_name =
       eth::linuxcnc_device_name(reader_.identity().card_name, options_.board_index, data.port, data.channel);
-  a.target = eth::EthTarget{.card = card_, .sserial_port = data.port, .channel = data.channel}.url();
+  a.target =
+      eth::EthTarget{.host_port = host_port_, .sserial_port = data.port, .channel = data.channel}.url();
   a.link_status = data.status_register().describe();
   if (data.doit_failed) a.link_status += ", last DOIT failed";
   return a;

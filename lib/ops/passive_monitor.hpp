@@ -87,9 +87,9 @@ struct PassiveMonitorOptions {
 
 class PassiveMonitor {
  public:
-  PassiveMonitor(const eth::HostPort& card, PassiveMonitorOptions options);
+  PassiveMonitor(const eth::HostPort& host_port, PassiveMonitorOptions options);
   // Over any transport (tests).
-  PassiveMonitor(const eth::HostPort& card, std::unique_ptr<eth::Lbp16Transport> bus,
+  PassiveMonitor(const eth::HostPort& host_port, std::unique_ptr<eth::Lbp16Transport> bus,
                  PassiveMonitorOptions options);
 
   // One snapshot of every channel and what changed since the previous one. Throws
@@ -97,7 +97,7 @@ class PassiveMonitor {
   PassiveSample sample();
 
   const eth::PassiveReader& reader() const { return reader_; }
-  const eth::HostPort& card() const { return card_; }
+  const eth::HostPort& host_port() const { return host_port_; }
   // "7I96S at 127.0.0.1:40000 (HOSTMOT2 board MESA7I96)".
   std::string describe() const;
 
@@ -111,7 +111,7 @@ class PassiveMonitor {
   PassiveAmplifier amplifier(const eth::ProcessData& data) const;
   void compare(const eth::ProcessData& data, PassiveSample& out);
 
-  eth::HostPort card_;
+  eth::HostPort host_port_;
   PassiveMonitorOptions options_;
   eth::PassiveReader reader_;
   std::chrono::steady_clock::time_point start_{};

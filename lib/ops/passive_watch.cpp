@@ -13,17 +13,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr std::chrono::milliseconds kSleepSlice{20};  // how fast Ctrl-C is noticed
-
-// False when `done` turned true before `t`.
-bool sleep_until(Clock::time_point t, const std::function<bool()>& done) {
-  while (Clock::now() < t) {
-    if (done()) return false;
-    std::this_thread::sleep_for(std::min<Clock::duration>(kSleepSlice, t - Clock::now()));
-  }
-  return !done();
-}
-
 }  // namespace
 
 const char* to_string(PassiveLinkEvent::Kind kind) {

@@ -12,11 +12,12 @@
 
 #include "ops/outcome.hpp"
 #include "ops/passive_monitor.hpp"
+#include "ops/timing.hpp"
 
 namespace i20::ops {
 
 struct PassiveRunOptions {
-  std::chrono::milliseconds interval{200};
+  std::chrono::milliseconds interval = timing::kWatchInterval;
   std::uint64_t count = 0;  // 0: no limit
   double duration_s = 0;    // 0: no limit
 };

@@ -22,12 +22,12 @@ std::vector<std::string> pending_nv_values(const params::ParamDb& db, const prof
   return pending;
 }
 
-std::vector<std::string> pending_nv_values(Amp& card) {
-  const params::ParamDb& db = card.db();
+std::vector<std::string> pending_nv_values(Amp& amp) {
+  const params::ParamDb& db = amp.db();
   std::vector<const params::Param*> cells;
   for (const auto* p : nv_cells_with_twins(db)) cells.insert(cells.end(), {p, &db.get(p->twin)});
   profile::RawValues facts;
-  for (const auto& r : read_values(card, cells))
+  for (const auto& r : read_values(amp, cells))
     if (r.fact()) facts[r.param->name] = *r.raw;
   return pending_nv_values(db, facts);
 }

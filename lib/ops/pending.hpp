@@ -24,6 +24,6 @@ std::vector<std::string> pending_nv_values(const params::ParamDb& db, const prof
 // The same for the whole card: reads every NV cell that has a working twin, and the twins
 // (cells that are no fact on this firmware are left out, so never called pending). Throws
 // what the reads throw.
-std::vector<std::string> pending_nv_values(Amp& card);
+std::vector<std::string> pending_nv_values(Amp& amp);
 
 }  // namespace i20::ops

@@ -5,35 +5,35 @@
 
 namespace i20::ops {
 
-std::vector<Reading> read_values(Amp& card, std::span<const params::Param* const> params,
+std::vector<Reading> read_values(Amp& amp, std::span<const params::Param* const> params,
                                  Unconfirmed unconfirmed) {
   std::vector<Reading> out;
   std::vector<const params::Param*> wanted;
   for (const params::Param* p : params) {
-    Reading r{p, std::nullopt, card.db().address_confirmed(*p) && p->address.has_value(),
-              card.unconfirmed_reason(*p)};
+    Reading r{p, std::nullopt, amp.db().address_confirmed(*p) && p->address.has_value(),
+              amp.unconfirmed_reason(*p)};
     if (p->address && (r.confirmed || unconfirmed == Unconfirmed::Read)) wanted.push_back(p);
     out.push_back(std::move(r));
   }
   if (wanted.empty()) return out;
-  const auto values = card.with_retries([&] { return card.device().read(wanted); });
+  const auto values = amp.with_retries([&] { return amp.device().read(wanted); });
   std::size_t next = 0;
   for (auto& r : out)
     if (next < wanted.size() && r.param == wanted[next]) r.raw = values[next++].raw;
   return out;
 }
 
-std::vector<Reading> read_values(Amp& card, const std::vector<std::string>& names, Unconfirmed unconfirmed) {
+std::vector<Reading> read_values(Amp& amp, const std::vector<std::string>& names, Unconfirmed unconfirmed) {
   std::vector<const params::Param*> params;
-  for (const auto& name : names) params.push_back(&card.db().get(name));
-  return read_values(card, params, unconfirmed);
+  for (const auto& name : names) params.push_back(&amp.db().get(name));
+  return read_values(amp, params, unconfirmed);
 }
 
-std::vector<Reading> read_all(Amp& card, Unconfirmed unconfirmed) {
+std::vector<Reading> read_all(Amp& amp, Unconfirmed unconfirmed) {
   std::vector<const params::Param*> params;
-  for (const auto& p : card.db().all())
+  for (const auto& p : amp.db().all())
     if (p.address) params.push_back(&p);
-  return read_values(card, params, unconfirmed);
+  return read_values(amp, params, unconfirmed);
 }
 
 std::string unknown_text(const Reading& reading) {

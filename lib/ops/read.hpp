@@ -33,13 +33,13 @@ enum class Unconfirmed {
 
 // One exchange for all of them (NV values inside NV access mode), repeated per the card's
 // retry policy when the line garbles a reply. Parameters without any address are unknown.
-std::vector<Reading> read_values(Amp& card, std::span<const params::Param* const> params,
+std::vector<Reading> read_values(Amp& amp, std::span<const params::Param* const> params,
                                  Unconfirmed unconfirmed = Unconfirmed::Skip);
 // By name (database or alias spelling); UnknownParameter before anything is sent.
-std::vector<Reading> read_values(Amp& card, const std::vector<std::string>& names,
+std::vector<Reading> read_values(Amp& amp, const std::vector<std::string>& names,
                                  Unconfirmed unconfirmed = Unconfirmed::Skip);
 // Every parameter the database places: `i20 dump`, `profile save`, `report`.
-std::vector<Reading> read_all(Amp& card, Unconfirmed unconfirmed = Unconfirmed::Skip);
+std::vector<Reading> read_all(Amp& amp, Unconfirmed unconfirmed = Unconfirmed::Skip);
 
 // A read's outcome: Refused when any value could not be read as asked (its address is not
 // confirmed and --allow-unverified was not given, or it has none), Done otherwise.

@@ -10,29 +10,29 @@
 
 namespace i20::ops {
 
-ServiceReport gather_report(Amp& card, std::chrono::system_clock::time_point when) {
+ServiceReport gather_report(Amp& amp, std::chrono::system_clock::time_point when) {
   ServiceReport r;
   r.when = when;
-  r.target = card.endpoint().text;
-  r.identity = card.identity();
-  r.values = read_all(card);
+  r.target = amp.endpoint().text;
+  r.identity = amp.identity();
+  r.values = read_all(amp);
   profile::RawValues facts;
   for (const auto& v : r.values)
     if (v.fact()) facts[v.param->name] = *v.raw;
-  r.not_live = pending_nv_values(card.db(), facts);
+  r.not_live = pending_nv_values(amp.db(), facts);
   try {
-    r.faults = read_fault_registers(card);
+    r.faults = read_fault_registers(amp);
   } catch (const Error& e) {
     if (e.kind() == ErrorKind::Cancelled) throw;
     r.faults_error = e.what();
   }
-  if (const auto* pipelined = dynamic_cast<const link::PipelinedLink*>(&card.link())) {
+  if (const auto* pipelined = dynamic_cast<const link::PipelinedLink*>(&amp.link())) {
     const auto& s = pipelined->statistics();
-    r.link = LinkFigures{s.exchanges, s.commands, s.bytes_sent, s.bytes_received,
+    r.link = LinkFigures{s.exchanges, s.commands,   s.bytes_sent,     s.bytes_received,
                          s.timeouts,  s.crc_errors, s.framing_errors, s.resyncs};
   }
-  r.retries = card.retries();
-  r.link_notes = card.link().notes();
+  r.retries = amp.retries();
+  r.link_notes = amp.link().notes();
   return r;
 }
 

@@ -29,14 +29,14 @@ struct ServiceReport {
   std::vector<Reading> values;        // every parameter the database places
   std::vector<std::string> not_live;  // NV cells whose working twin holds something else
   std::optional<FaultReadings> faults;
-  std::string faults_error;            // why FAULT/STATUS could not be read as facts
-  std::optional<LinkFigures> link;     // the serial/simulator link's counters, when it has them
-  std::size_t retries = 0;             // reads repeated after lost or garbled replies
+  std::string faults_error;             // why FAULT/STATUS could not be read as facts
+  std::optional<LinkFigures> link;      // the serial/simulator link's counters, when it has them
+  std::size_t retries = 0;              // reads repeated after lost or garbled replies
   std::vector<std::string> link_notes;  // what the transport found out (adapter latency, ...)
 };
 
 // Reads only. Ctrl-C stops it (Cancelled).
-ServiceReport gather_report(Amp& card, std::chrono::system_clock::time_point when);
+ServiceReport gather_report(Amp& amp, std::chrono::system_clock::time_point when);
 
 // The report's NV setup as a profile (the writable EEPROM parameters whose values are facts),
 // so `i20 profile apply REPORT` writes a card back to what the report saw.

@@ -109,15 +109,15 @@ void add_reset_findings(std::vector<Finding>& findings, const params::ParamDb& d
   }
 }
 
-ResetRun reset_card(Amp& card, bool force) {
+ResetRun reset_amp(Amp& amp, bool force) {
   ResetRun run;
   {
-    AmpCellAccess access(card, device::WriteOptions{});
-    run.judgement = judge_reset(card.db(), access, force);
+    AmpCellAccess access(amp, device::WriteOptions{});
+    run.judgement = judge_reset(amp.db(), access, force);
   }
   if (run.judgement.refused()) return run;
   try {
-    card.device().reset(timing::kResetWait);
+    amp.device().reset(timing::kResetWait);
   } catch (const Error& e) {
     // The reset was sent: the card may be running from its NV values, or not be back.
     if (e.kind() != ErrorKind::Failure) throw;

@@ -75,6 +75,6 @@ struct ResetRun {
 
 // `i20 reset`: judges, then resets unless refused (refused: nothing but reads was sent).
 // Throws i20::Error when the card cannot be read or does not come back.
-ResetRun reset_card(Amp& card, bool force);
+ResetRun reset_amp(Amp& amp, bool force);
 
 }  // namespace i20::ops

@@ -34,23 +34,25 @@
 
 #include <chrono>
 
+#include "ops/timing.hpp"
+
 namespace i20::ops {
 
 struct RetryPolicy {
   // Sends of one logical exchange in all, the first included (at least 1).
-  unsigned attempts = 3;
+  unsigned attempts = timing::kAttempts;
   // How long a card that stopped answering is waited for, from its first unanswered
   // exchange; zero: an exchange gets its budget and no more.
-  std::chrono::milliseconds silence_window{2000};
+  std::chrono::milliseconds silence_window = timing::kSilenceWindow;
   // How often a silent card is asked again within that window.
-  std::chrono::milliseconds probe_interval{100};
+  std::chrono::milliseconds probe_interval = timing::kProbeInterval;
   // The operation's own deadline, from the moment its card is opened: after it no silence
   // window opens again and no exchange is sent more than once, so a network that keeps
   // almost answering (30% of datagrams reordered) cannot stretch a command without end.
   // What is left of a change then is finished on the shortest path (each cell's rollback
   // sent once, read back within the budget), and leaving NV access or RPC memory mode keeps
   // its silence window (Amp::settle): the card is never left in a mode to save time.
-  std::chrono::milliseconds operation_deadline{20000};
+  std::chrono::milliseconds operation_deadline = timing::kOperationDeadline;
   // Resends a layer that owns the loop may add to the first send.
   unsigned resends() const { return attempts > 0 ? attempts - 1 : 0; }
 };

@@ -6,16 +6,16 @@
 
 namespace i20::ops {
 
-std::optional<HostPort> ethernet_card(const TargetFlags& target) {
+std::optional<HostPort> ethernet_host_port(const TargetFlags& target) {
   const std::string text =
       !target.eth.empty() ? target.eth : (eth::is_eth_url(target.port) ? target.port : std::string());
   if (text.empty()) return std::nullopt;
-  return eth::is_eth_url(text) ? eth::parse_target(text).card : eth::parse_host_port(text);
+  return eth::is_eth_url(text) ? eth::parse_target(text).host_port : eth::parse_host_port(text);
 }
 
-ScanRun scan_card(const HostPort& card, const LinkSettings& link) {
+ScanRun scan_host_port(const HostPort& host_port, const LinkSettings& link) {
   const eth::ScanOptions options = timing::scan(link);
-  ScanRun run{eth::scan(card, options)};
+  ScanRun run{eth::scan(host_port, options)};
   run.stopped_running_host =
       link.take_over && eth::host_is_running(run.result.host_activity, options.running_host);
   return run;

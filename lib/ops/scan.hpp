@@ -19,7 +19,7 @@ using eth::ScanResult;
 
 // The Ethernet card the flags name: --eth IP[:UDPPORT] or an eth:// URL (in --eth or in
 // --port); nullopt when they name none. UsageError for an address that does not parse.
-std::optional<HostPort> ethernet_card(const TargetFlags& target);
+std::optional<HostPort> ethernet_host_port(const TargetFlags& target);
 
 struct ScanRun {
   ScanResult result;
@@ -30,6 +30,6 @@ struct ScanRun {
 
 // Scans the card. Refuses (RunningHostError) while another host runs it, unless
 // `link.take_over`. The reply timeout is the link's.
-ScanRun scan_card(const HostPort& card, const LinkSettings& link);
+ScanRun scan_host_port(const HostPort& host_port, const LinkSettings& link);
 
 }  // namespace i20::ops

@@ -108,9 +108,9 @@ OpenOptions Session::open_options() const {
   return open;
 }
 
-Amp& Session::card() {
-  if (!card_) card_ = open(endpoint(), db());
-  return *card_;
+Amp& Session::amp() {
+  if (!amp_) amp_ = open(endpoint(), db());
+  return *amp_;
 }
 
 std::unique_ptr<Amp> Session::open(const Endpoint& endpoint, const params::ParamDb& db) {
@@ -127,10 +127,10 @@ bool Session::stop_requested() const {
 
 Settled Session::settle() {
   Settled settled;
-  if (!card_) return settled;
-  const bool said = card_->unsettled_said();
+  if (!amp_) return settled;
+  const bool said = amp_->unsettled_said();
   try {
-    if (const auto mode = card_->settle(); !mode.empty())
+    if (const auto mode = amp_->settle(); !mode.empty())
       settled.note = MessageLine{
           "note", "the line failed while the card was in " + mode + "; it answered again and left it"};
   } catch (const device::AmpStateError&) {
@@ -148,7 +148,7 @@ FailureReport failure_report_of_current_exception() {
 FailureReport Session::fail() {
   FailureReport report = failure_report_of_current_exception();
   // A AmpStateError is the settle's own verdict (or a mode already named): not again.
-  if (!card_ || handling_card_state_error()) return report;
+  if (!amp_ || handling_card_state_error()) return report;
   try {
     const auto settled = settle();
     if (settled.note) report.lines.push_back(*settled.note);
@@ -161,13 +161,13 @@ FailureReport Session::fail() {
 }
 
 void Session::reconnect() {
-  card_.reset();
+  amp_.reset();
 }
 
 std::vector<std::string> Session::notes() const {
-  if (!card_) return {};
-  auto notes = card_->link().notes();
-  if (const auto* pipelined = dynamic_cast<const link::PipelinedLink*>(&card_->link())) {
+  if (!amp_) return {};
+  auto notes = amp_->link().notes();
+  if (const auto* pipelined = dynamic_cast<const link::PipelinedLink*>(&amp_->link())) {
     const auto& s = pipelined->statistics();
     notes.push_back("link: " + std::to_string(s.exchanges) + " exchanges, " + std::to_string(s.commands) +
                     " commands, " + std::to_string(s.bursts) + " bursts, " + std::to_string(s.bytes_sent) +

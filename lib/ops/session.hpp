@@ -85,8 +85,8 @@ class Session {
   // are given: resolve_endpoints), or the session's endpoint (COMPORT included).
   std::vector<Endpoint> targets(const std::vector<std::string>& named) const;
   // The card, opened and identified on first use.
-  Amp& card();
-  bool card_open() const { return card_ != nullptr; }
+  Amp& amp();
+  bool card_open() const { return amp_ != nullptr; }
   // Opens another endpoint with this session's link settings and stop signals (a command
   // given --target): the caller owns it, and settles it by dropping it.
   std::unique_ptr<Amp> open(const Endpoint& endpoint, const params::ParamDb& db);
@@ -118,7 +118,7 @@ class Session {
   Cancel::Acknowledge acknowledge_;
   std::unique_ptr<params::ParamDb> db_;
   std::unique_ptr<Endpoint> endpoint_;
-  std::unique_ptr<Amp> card_;
+  std::unique_ptr<Amp> amp_;
 };
 
 }  // namespace i20::ops

@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "ops/signals.hpp"
 
+#include <algorithm>
 #include <csignal>
+#include <thread>
 
 #include "device/suspend_hold.hpp"
+#include "ops/timing.hpp"
 
 namespace i20::ops {
 namespace {
@@ -36,6 +39,15 @@ StopRequest& install_stop_signals() {
 
 bool stop_requested() {
   return g_stop.requested();
+}
+
+bool sleep_until(std::chrono::steady_clock::time_point t, const std::function<bool()>& done) {
+  using Clock = std::chrono::steady_clock;
+  while (Clock::now() < t) {
+    if (done()) return false;
+    std::this_thread::sleep_for(std::min<Clock::duration>(timing::kStopPollSlice, t - Clock::now()));
+  }
+  return !done();
 }
 
 }  // namespace i20::ops

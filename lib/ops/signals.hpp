@@ -19,6 +19,9 @@
 // checks its output after each write and ends (exit 6) when the reader is gone.
 #pragma once
 
+#include <chrono>
+#include <functional>
+
 #include "ops/cancel.hpp"
 
 namespace i20::ops {
@@ -28,5 +31,10 @@ namespace i20::ops {
 StopRequest& install_stop_signals();
 // True once SIGINT, SIGTERM or SIGHUP arrived (false before the handlers are installed).
 bool stop_requested();
+
+// Sleeps until `t` in slices of timing::kStopPollSlice, so Ctrl-C (or whatever `done` says,
+// a watch's --duration) ends a wait between samples promptly. False when `done` turned true
+// before `t`.
+bool sleep_until(std::chrono::steady_clock::time_point t, const std::function<bool()>& done);
 
 }  // namespace i20::ops

@@ -10,6 +10,8 @@
 #include "eth/scan.hpp"
 #include "link/pipelined_link.hpp"
 #include "link/serial_stream.hpp"
+#include "ops/endpoint.hpp"
+#include "ops/retry.hpp"
 
 namespace i20::ops::timing {
 
@@ -80,7 +82,12 @@ eth::PassthroughOptions passthrough(const LinkSettings& settings, const RetryPol
       .max_slack = kPassthroughMaxSlack,
       .gather_window = kPassthroughGatherWindow,
       .max_replays = kMaxReplays,
+      .close_budget = kPortCloseBudget,
   };
+}
+
+eth::ScanOptions scan(const LinkSettings& settings) {
+  return scan(settings, RetryPolicy{});
 }
 
 eth::ScanOptions scan(const LinkSettings& settings, const RetryPolicy& retry) {

@@ -33,13 +33,16 @@
 #include <chrono>
 #include <optional>
 
-#include "ops/endpoint.hpp"
-#include "ops/retry.hpp"
+// Only declared here: retry.hpp and endpoint.hpp take their defaults from this file.
+namespace i20::ops {
+struct LinkSettings;
+struct RetryPolicy;
+}  // namespace i20::ops
 
 namespace i20::link {
 struct PipelinedLinkOptions;
 struct SerialOptions;
-}
+}  // namespace i20::link
 namespace i20::device {
 struct AmpTiming;
 }
@@ -55,6 +58,28 @@ struct NormalModeOptions;
 }  // namespace i20::eth
 
 namespace i20::ops::timing {
+
+// The retry budget's defaults (RetryPolicy, retry.hpp): sends of one exchange in all, how
+// long a card that stopped answering is waited for and how often it is asked again in that
+// time, and the operation's own deadline from the moment its card is opened.
+inline constexpr unsigned kAttempts = 3;
+inline constexpr std::chrono::milliseconds kSilenceWindow{2000};
+inline constexpr std::chrono::milliseconds kProbeInterval{100};
+inline constexpr std::chrono::milliseconds kOperationDeadline{20000};
+// After the operation's deadline, only the way back is sent: the restores of a change that
+// did not finish (each sent once and read back) within kSettleBudget, then leaving NV access
+// or RPC memory mode within kLeaveModeBudget from the moment it starts, however long the
+// restores took. With a fence after a lost write (kFenceBound) these bound a command:
+// README's "How long a command may take".
+inline constexpr std::chrono::milliseconds kSettleBudget{10000};
+inline constexpr std::chrono::milliseconds kLeaveModeBudget{5000};
+// Closing an Ethernet port after the command: its SSLBP stop, best effort (setup mode drives
+// no motor), within this however long the command took.
+inline constexpr std::chrono::milliseconds kPortCloseBudget{1000};
+// The serial link's reply timeout on top of the wire time (--timeout's default), and setup
+// mode's baud rate (always 115200, manual).
+inline constexpr unsigned kReplyTimeoutMs = 50;
+inline constexpr unsigned kSetupBaud = 115200;
 
 // The serial link's own bounds: how long draining a card that keeps talking may go on past
 // the quiet time (after a garbled reply), how long past its wire time a write may take
@@ -106,8 +131,36 @@ inline constexpr std::chrono::milliseconds kNormalModeReply{20};
 inline constexpr unsigned kNormalModeMissedCycles = 3;
 // Commissioning's drive loop: cycles of QSETPOINT 0 it sends before it stops the port.
 inline constexpr unsigned kZeroCyclesBeforeStop = 3;
+// The time between two samples of `i20 watch` (also --passive) and of the console's live
+// view, unless --interval says otherwise.
+inline constexpr std::chrono::milliseconds kWatchInterval{200};
+inline constexpr std::chrono::milliseconds kConsoleLiveInterval{100};
+// A lost card is retried at the sample interval, but not more often than this: opening a
+// vanished port or waiting out a timeout every 20 ms would only spin.
+inline constexpr std::chrono::milliseconds kMonitorMinRetry{500};
+// How fast a wait between samples notices Ctrl-C or its end (ops::sleep_until).
+inline constexpr std::chrono::milliseconds kStopPollSlice{20};
 // How long a reading waits for the normal-mode session's next sample (50 periods).
 inline constexpr std::chrono::milliseconds kNormalModeSample{500};
+// Commissioning (i20 commission): the drive loop's period, the sweep's align and ramp times
+// and the whole run's time limit (defaults the command line may change), then the closed-loop
+// check's own waits: how long each direction may push, the current's ramp to full, the rest
+// between the two, and the hold at standstill with its ramp.
+inline constexpr std::chrono::milliseconds kCommissionPeriod{10};
+inline constexpr double kCommissionAlignS = 0.8;
+inline constexpr double kCommissionRampS = 0.4;
+inline constexpr double kCommissionTimeLimitS = 60;
+inline constexpr double kCheckPushS = 1.5;
+inline constexpr double kCheckRampS = 1.0;
+inline constexpr double kCheckRestS = 0.3;
+inline constexpr double kHoldRampS = 0.15;
+inline constexpr double kHoldS = 0.4;
+// Another host's packets commissioning tolerates in all (a stray mesaflash query; LinuxCNC
+// sends one every servo period), the drive-loop cycles between two checks for one (each
+// costs a read-only packet), and the cycles over which the rotor's speed is measured.
+inline constexpr unsigned kCommissionForeignPackets = 2;
+inline constexpr unsigned kCommissionHostCheckEvery = 20;
+inline constexpr unsigned kCommissionSpeedWindow = 5;
 // How long an 8I20 may take to answer again after a reset, and to clear CLEARFAULT.
 inline constexpr std::chrono::milliseconds kResetWait{3000};
 inline constexpr std::chrono::milliseconds kClearFaultWait{1000};
@@ -132,7 +185,8 @@ eth::SslbpOptions sslbp(const RetryPolicy& retry);
 eth::RunningHostCheck running_host(const LinkSettings& settings);
 // The SSLBP setup-mode passthrough under an 8I20 command over Ethernet.
 eth::PassthroughOptions passthrough(const LinkSettings& settings, const RetryPolicy& retry);
-eth::ScanOptions scan(const LinkSettings& settings, const RetryPolicy& retry = {});
+eth::ScanOptions scan(const LinkSettings& settings);
+eth::ScanOptions scan(const LinkSettings& settings, const RetryPolicy& retry);
 eth::PassiveOptions passive(const LinkSettings& settings);
 // Normal mode at `period` (watch, the console, commissioning). The commissioning loop gives
 // `reply` (two periods), so that a lost reply never costs the 8I20's 40 ms watchdog.

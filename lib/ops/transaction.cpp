@@ -55,7 +55,7 @@ class Transaction {
     if (stop_requested() || !failure.empty()) return roll_back(touched, failure);
     finish(Outcome::Done);
     result_.reset_needed = result_.plan.reset_needed;
-    if (options_.reset && result_.plan.reset_needed) reset_card();
+    if (options_.reset && result_.plan.reset_needed) reset_amp();
     copy_events();
   }
 
@@ -241,7 +241,7 @@ class Transaction {
       if (const auto live = read_one(p.twin); live.value) values[p.twin] = *live.value;
     }
     result_.reset_needed = !pending_nv_values(db_, values).empty();
-    if (result_.reset_needed) reset_card();
+    if (result_.reset_needed) reset_amp();
     copy_events();
   }
 
@@ -330,6 +330,7 @@ class Transaction {
   // Undo in reverse order: the reverse of a safe path is a safe path. A cell that still
   // holds its original value is not written again (EEPROM wear). No stop request ends it.
   void roll_back(std::size_t touched, const std::string& failure) {
+    card_.way_back();
     result_.reason = result_.interrupted && failure.empty()
                          ? "interrupted (" + options_.cancel.cause() + ") after " + std::to_string(touched) +
                                " of " + std::to_string(result_.plan.steps.size()) + " writes"
@@ -360,7 +361,7 @@ class Transaction {
     copy_events();
   }
 
-  void reset_card() {
+  void reset_amp() {
     try {
       card_.reset();
       result_.reset_done = true;

@@ -9,8 +9,8 @@
 
 namespace i20::ops {
 
-profile::AmpOrigin origin_of(const Amp& card) {
-  const auto& info = card.identity().info;
+profile::AmpOrigin origin_of(const Amp& amp) {
+  const auto& info = amp.identity().info;
   return profile::AmpOrigin{
       .unit_number = info.unit_number, .firmware = info.swrevision, .card = info.card_name};
 }
@@ -19,14 +19,14 @@ BackupChoice backup_file(const std::filesystem::path& file, const params::ParamD
   return BackupChoice{.file = file, .backup = profile::load_profile_file(file, db), .skipped = {}};
 }
 
-BackupChoice newest_valid_backup(const std::filesystem::path& dir, const Amp& card) {
-  const auto unit = card.identity().info.unit_number;
+BackupChoice newest_valid_backup(const std::filesystem::path& dir, const Amp& amp) {
+  const auto unit = amp.identity().info.unit_number;
   if (!unit) throw UsageError("the card did not report its unit number: name the backup file to restore");
   std::string problem;
   std::vector<std::string> skipped;
   for (const auto& file : profile::backups_of_unit(dir, *unit, problem)) {
     try {
-      auto choice = backup_file(file, card.db());
+      auto choice = backup_file(file, amp.db());
       choice.skipped = std::move(skipped);
       return choice;
     } catch (const profile::ProfileError& e) {
@@ -41,8 +41,8 @@ BackupChoice newest_valid_backup(const std::filesystem::path& dir, const Amp& ca
   throw UsageError(message + ": name the backup file, or give --backup-dir");
 }
 
-std::vector<std::string> check_backup_origin(const BackupChoice& choice, const Amp& card, bool force) {
-  const auto& info = card.identity().info;
+std::vector<std::string> check_backup_origin(const BackupChoice& choice, const Amp& amp, bool force) {
+  const auto& info = amp.identity().info;
   const auto& origin = choice.backup.origin;
   const auto unit = origin.unit_number ? origin.unit_number : profile::unit_in_backup_name(choice.file);
   const std::string here = info.unit_number ? "unit " + lbp::hex_value(*info.unit_number, 8) : "this card";

@@ -14,7 +14,7 @@
 namespace i20::ops {
 
 // The 8I20 behind `card` as a profile's `origin:` records it.
-profile::AmpOrigin origin_of(const Amp& card);
+profile::AmpOrigin origin_of(const Amp& amp);
 
 struct BackupChoice {
   std::filesystem::path file;
@@ -26,7 +26,7 @@ struct BackupChoice {
 
 // The newest backup of the card's unit in `dir` that loads as a profile. Throws UsageError
 // when there is none (naming the folder, and what was passed over).
-BackupChoice newest_valid_backup(const std::filesystem::path& dir, const Amp& card);
+BackupChoice newest_valid_backup(const std::filesystem::path& dir, const Amp& amp);
 
 // Loads a named backup file (ProfileError on a bad one).
 BackupChoice backup_file(const std::filesystem::path& file, const params::ParamDb& db);
@@ -36,6 +36,6 @@ BackupChoice backup_file(const std::filesystem::path& file, const params::ParamD
 // other firmware or another card, or when it names no unit at all; `force` lets it through.
 // Returns the differences that `force` let through (empty when there were none), for the
 // report.
-std::vector<std::string> check_backup_origin(const BackupChoice& choice, const Amp& card, bool force);
+std::vector<std::string> check_backup_origin(const BackupChoice& choice, const Amp& amp, bool force);
 
 }  // namespace i20::ops

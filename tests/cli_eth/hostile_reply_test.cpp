@@ -30,8 +30,8 @@ enum class Spoil { WrongSender, Truncated, Oversized, Stale };
 // spoiled. Stale: the reply to the packet before `from` is sent again in place of the new one.
 class SpoilingProxy {
  public:
-  SpoilingProxy(eth::HostPort card, Spoil spoil, std::size_t from)
-      : card_(boost::asio::ip::make_address_v4(card.ip), card.port), spoil_(spoil), from_(from) {
+  SpoilingProxy(eth::HostPort host_port, Spoil spoil, std::size_t from)
+      : card_(boost::asio::ip::make_address_v4(host_port.ip), host_port.port), spoil_(spoil), from_(from) {
     for (udp::socket* s : {&front_, &back_, &impostor_}) {
       s->open(udp::v4());
       s->bind(udp::endpoint(boost::asio::ip::make_address_v4("127.0.0.1"), 0));

@@ -6,12 +6,14 @@
 // Judged by the virtual 8I20's memory after every held-back datagram was delivered.
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <iostream>
 #include <map>
 
 #include "ethsim/faulty_network.hpp"
 #include "fixtures.hpp"
 #include "harness.hpp"
+#include "ops/timing.hpp"
 #include "sim/ground_truth.hpp"
 
 using namespace i20;
@@ -140,12 +142,23 @@ TEST_F(LateDatagrams, NoFalseDoneAndNoModeLeftOnUnderRepeatedDatagrams) {
 
 namespace {
 
-// Issue 33 item 6: a network that reorders 30% of datagrams (odd seeds: overtaken by the
-// next datagram; even seeds: held 1-30 ms). Every run must end well within the operation's
-// deadline (RetryPolicy::operation_deadline, 20 s, plus the rollback and settle after it),
-// with a true exit code: judged on the virtual 8I20s' own memory once every held datagram
-// was delivered. A hang is the defect the issue saw (5 of 12 runs, over 60 s).
-TEST_F(LateDatagrams, ReorderingNetworkEndsWithinTheDeadlineWithATrueExitCode) {
+unsigned long runs_from(const char* variable, unsigned long otherwise) {
+  const char* set = std::getenv(variable);
+  return set ? std::stoul(set) : otherwise;
+}
+
+// What `wpd`, `i20 set` and a two-channel fleet did through a faulty network, judged on the
+// virtual 8I20s' own memory once every held datagram was delivered.
+struct Verdicts {
+  unsigned late = 0, false_results = 0, modes_left = 0;
+  double longest = 0;
+  std::map<int, unsigned> exits;
+};
+
+// Runs the commands in turn, `runs` times, through `faults(seed)` (seeds 1 to runs; a
+// command keeps its turn for `stride` seeds). A run over `bound_s` is late.
+Verdicts run_through(const std::function<ethsim::NetworkFaults(unsigned)>& faults, unsigned long runs,
+                     unsigned stride, double bound_s) {
   struct Command {
     std::string program;
     std::vector<std::string> args;  // {AT} stands for "eth://PROXY"
@@ -164,17 +177,13 @@ TEST_F(LateDatagrams, ReorderingNetworkEndsWithinTheDeadlineWithATrueExitCode) {
        {"--no-user-params", "profile", "apply", defaults, "--target", "{AT}/ch0", "--target", "{AT}/ch1"},
        {0, 1},
        {}}};
-  const auto runs = std::getenv("I20_REORDER_RUNS") ? std::stoul(std::getenv("I20_REORDER_RUNS")) : 12ul;
-  unsigned late = 0, false_results = 0, modes_left = 0;
-  double longest = 0;
-  std::map<int, unsigned> exits;
-  for (unsigned seed = 1; seed <= runs; ++seed) {
+  Verdicts v;
+  // I20_FIRST_SEED: where a long manual run split over several processes starts.
+  const auto first = static_cast<unsigned>(runs_from("I20_FIRST_SEED", 1));
+  for (unsigned seed = first; seed < first + runs; ++seed) {
     test::RunningBoard card(two_channel_7i92t());
-    const bool overtaken = seed % 2 == 1;
-    ethsim::NetworkFaults faults{.seed = seed, .min_delay = 1ms, .max_delay = overtaken ? 2000ms : 30ms};
-    (overtaken ? faults.reorder_share : faults.delay_share) = 0.30;
-    ethsim::FaultyNetwork network(card.address(), faults);
-    const Command& c = commands[(seed - 1) / 2 % commands.size()];
+    ethsim::FaultyNetwork network(card.address(), faults(seed));
+    const Command& c = commands[(seed - 1) / stride % commands.size()];
     std::vector<std::string> args;
     for (auto a : c.args) {
       if (const auto at = a.find("{AT}"); at != std::string::npos)
@@ -187,18 +196,19 @@ TEST_F(LateDatagrams, ReorderingNetworkEndsWithinTheDeadlineWithATrueExitCode) {
     std::map<unsigned, sim::GroundTruth> before;
     for (const unsigned ch : c.channels) before[ch] = capture(ch);
     const auto start = std::chrono::steady_clock::now();
-    const auto r = test::run(c.program, args, {}, 60);
+    const auto r = test::run(c.program, args, {}, 120);
     const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    network.release_held();
     EXPECT_TRUE(network.wait_idle(5s));
-    longest = std::max(longest, took);
-    late += took > 30;
-    ++exits[r.exit_code];
+    v.longest = std::max(v.longest, took);
+    v.late += took > bound_s;
+    ++v.exits[r.exit_code];
     std::string why;
     for (const unsigned ch : c.channels) {
       const auto map = card.with_amplifier(0, ch, [](sim::Virtual8i20& a) { return a.amplifier().map(); });
       const auto after = capture(ch);
       if (after.nv_access != lbp::local::NvAccess::Ram || after.rpcmem) {
-        ++modes_left;
+        ++v.modes_left;
         why += "ch" + std::to_string(ch) + " left in NV access or RPC memory mode; ";
       }
       if (r.exit_code == 0)
@@ -212,19 +222,71 @@ TEST_F(LateDatagrams, ReorderingNetworkEndsWithinTheDeadlineWithATrueExitCode) {
         why += "exit " + std::to_string(r.exit_code) + " but ch" + std::to_string(ch) + " changed " +
                sim::unexplained_changes(map, before[ch], after, {}).front() + "; ";
     }
-    false_results += !why.empty();
-    std::cout << "seed " << seed << " (" << (overtaken ? "overtaken" : "held 1-30 ms") << ", " << c.program
-              << " " << c.args[c.args.size() > 3 ? 3 : 0] << "): exit " << r.exit_code << " in " << took
-              << " s" << (why.empty() ? "" : ": " + why) << "\n"
-              << (why.empty() ? "" : r.out + r.err) << std::flush;
+    v.false_results += !why.empty();
+    std::cout << "seed " << seed << " (" << c.program << " " << c.args[c.args.size() > 3 ? 3 : 0]
+              << "): exit " << r.exit_code << " in " << took << " s" << (why.empty() ? "" : ": " + why)
+              << "\n"
+              << (why.empty() && !std::getenv("I20_LATE_VERBOSE") ? "" : r.out + r.err) << std::flush;
   }
-  std::cout << runs << " runs under 30% reordering: the longest took " << longest << " s; exits:";
-  for (const auto& [code, n] : exits) std::cout << " " << n << "x" << code;
-  std::cout << "; " << false_results << " false results, " << modes_left << " modes left on\n";
-  EXPECT_EQ(late, 0u) << "a run took longer than 30 s";
-  EXPECT_EQ(false_results, 0u);
-  EXPECT_EQ(modes_left, 0u);
-  EXPECT_GT(exits[0], 0u) << "no run got through: a tool that always gives up would pass";
+  std::cout << runs << " runs: the longest took " << v.longest << " s (bound " << bound_s << " s); exits:";
+  for (const auto& [code, n] : v.exits) std::cout << " " << n << "x" << code;
+  std::cout << "; " << v.false_results << " false results, " << v.modes_left << " modes left on\n";
+  return v;
+}
+
+// Issue 33 item 6: a network that reorders 30% of datagrams (odd seeds: overtaken by the
+// next datagram; even seeds: held 1-30 ms). Every run must end well within the operation's
+// deadline (RetryPolicy::operation_deadline, 20 s, plus the rollback and settle after it),
+// with a true exit code. A hang is the defect the issue saw (5 of 12 runs, over 60 s).
+TEST_F(LateDatagrams, ReorderingNetworkEndsWithinTheDeadlineWithATrueExitCode) {
+  const auto v = run_through(
+      [](unsigned seed) {
+        const bool overtaken = seed % 2 == 1;
+        ethsim::NetworkFaults faults{.seed = seed, .min_delay = 1ms, .max_delay = overtaken ? 2000ms : 30ms};
+        (overtaken ? faults.reorder_share : faults.delay_share) = 0.30;
+        return faults;
+      },
+      runs_from("I20_REORDER_RUNS", 12), 2, 30);
+  EXPECT_EQ(v.late, 0u) << "a run took longer than 30 s";
+  EXPECT_EQ(v.false_results, 0u);
+  EXPECT_EQ(v.modes_left, 0u);
+  EXPECT_GT(v.exits.count(0), 0u) << "no run got through: a tool that always gives up would pass";
+}
+
+// Issue 40: a proxy that holds 30% of datagrams, either way, until the next one has passed
+// (NetworkFaults::hold_share): every exchange then waits out its reply timeout, backed off to
+// the 1 s ceiling, and a packet with writes waits over all its attempts. Before the deadline
+// was one (counted from the card's opening, every reply wait cut at it, nothing sent after
+// it but the way back), `wpd` and `i20 set` ran up to 67.9 s. Each run must end within the
+// bound README's "How long a command may take" states, with a true exit code. CI runs 8
+// (I20_HOLD_RUNS sets more; the issue's 100 per command are a manual run).
+TEST_F(LateDatagrams, HoldingProxyEndsWithinTheStatedBoundWithATrueExitCode) {
+  const auto bound = ops::timing::kOperationDeadline + ops::timing::kSettleBudget +
+                     ops::timing::kLeaveModeBudget + ops::timing::kFenceBound +
+                     ops::timing::kPortCloseBudget + 2 * ops::timing::kUdpMaxTimeout;
+  const auto v =
+      run_through([](unsigned seed) { return ethsim::NetworkFaults{.seed = seed, .hold_share = 0.30}; },
+                  runs_from("I20_HOLD_RUNS", 8), 1, std::chrono::duration<double>(bound).count());
+  EXPECT_EQ(v.late, 0u) << "a run took longer than the stated bound";
+  EXPECT_EQ(v.false_results, 0u);
+  EXPECT_EQ(v.modes_left, 0u);
+}
+
+// Issue 40: mild faults (5% of datagrams lost, 20% repeated, 10% late, either way) are ridden
+// as before the deadline was one: at most 1 run in 10 ends without its change.
+TEST_F(LateDatagrams, MildFaultsRarelyEndWithoutTheChange) {
+  const auto runs = runs_from("I20_MILD_RUNS", 10);
+  const auto v = run_through(
+      [](unsigned seed) {
+        return ethsim::NetworkFaults{
+            .seed = seed, .delay_share = 0.10, .duplicate_share = 0.20, .drop_share = 0.05};
+      },
+      runs, 1, 30);
+  EXPECT_EQ(v.late, 0u);
+  EXPECT_EQ(v.false_results, 0u);
+  EXPECT_EQ(v.modes_left, 0u);
+  const unsigned changed = v.exits.count(0) ? v.exits.at(0) : 0u;
+  EXPECT_GE(changed * 10, runs * 9) << runs - changed << " of " << runs << " runs ended without their change";
 }
 
 }  // namespace

@@ -215,7 +215,7 @@ TEST(CommissionRun, AMotorBeyondTheSearchIsToldInThePlanAndTheReport) {
 // caller injects anyway, and the test's expectations say what went wrong) or after a minute.
 bool driving_for(VirtualAxis& axis, const std::atomic<bool>& ended, std::uint64_t cycles = 10) {
   const auto doits = [&] {
-    return axis.server().with_card([](ethsim::VirtualBoard& card) { return card.sslbp(0).stats().doits; });
+    return axis.server().with_card([](ethsim::VirtualBoard& board) { return board.sslbp(0).stats().doits; });
   };
   if (!eventually([&] { return ended || axis.qsetpoint() != 0.0; }, 60s, 5ms) || ended) return false;
   const auto from = doits();
@@ -259,8 +259,8 @@ TEST(CommissionRun, AFaultLatchedMidRunStopsIt) {
   std::atomic<bool> ended{false};
   std::thread fault([&] {
     EXPECT_TRUE(driving_for(axis, ended)) << "the run never drove, or ended first";
-    axis.server().with_card([&](ethsim::VirtualBoard& card) {
-      axis.server().amplifier(card, 0, 0)->amplifier().world().settings().forced_faults =
+    axis.server().with_card([&](ethsim::VirtualBoard& board) {
+      axis.server().amplifier(board, 0, 0)->amplifier().world().settings().forced_faults =
           sim::fault::kOverTemp;
     });
   });

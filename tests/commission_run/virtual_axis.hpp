@@ -90,9 +90,9 @@ class VirtualAxis {
   const motor::MotorParams& params() const { return params_; }
   // The q current the 8I20 drives now (amps, from its last QSETPOINT).
   double qsetpoint() {
-    return server_->with_card([&](ethsim::VirtualBoard& card) {
+    return server_->with_card([&](ethsim::VirtualBoard& board) {
       return static_cast<double>(
-          static_cast<std::int16_t>(server_->amplifier(card, 0, 0)->amplifier().value("QSETPOINT")));
+          static_cast<std::int16_t>(server_->amplifier(board, 0, 0)->amplifier().value("QSETPOINT")));
     });
   }
 

@@ -48,13 +48,13 @@ int main(int argc, char** argv) {
       options.amplifiers = {{0, 0}, {0, 3}, {1, 7}};
     ethsim::BoardServer server(options);
     if (spin != 0)
-      server.with_card([spin](ethsim::VirtualBoard& card) {
-        const auto start = card.board_time();
-        card.feedback().connect_axis(0, ethsim::EncoderSpec{.counts_per_turn = 2000},
-                                     ethsim::HallSpec{.pole_pairs = 4},
-                                     [spin, start](ethsim::Clock::time_point t) {
-                                       return spin * std::chrono::duration<double>(t - start).count();
-                                     });
+      server.with_card([spin](ethsim::VirtualBoard& board) {
+        const auto start = board.board_time();
+        board.feedback().connect_axis(0, ethsim::EncoderSpec{.counts_per_turn = 2000},
+                                      ethsim::HallSpec{.pole_pairs = 4},
+                                      [spin, start](ethsim::Clock::time_point t) {
+                                        return spin * std::chrono::duration<double>(t - start).count();
+                                      });
       });
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);

@@ -31,14 +31,14 @@ class RunningBoard {
   }
   eth::HostPort address() const { return server_.address(); }
   eth::EthTarget target(unsigned channel = 0, unsigned sserial_port = 0) const {
-    return eth::EthTarget{.card = address(), .sserial_port = sserial_port, .channel = channel};
+    return eth::EthTarget{.host_port = address(), .sserial_port = sserial_port, .channel = channel};
   }
   ethsim::BoardServer& server() { return server_; }
   // The virtual 8I20 on a channel, inside the server's lock.
   template <class F>
   auto with_amplifier(unsigned port, unsigned channel, F&& f) {
     return server_.with_card(
-        [&](ethsim::VirtualBoard& card) { return f(*server_.amplifier(card, port, channel)); });
+        [&](ethsim::VirtualBoard& board) { return f(*server_.amplifier(board, port, channel)); });
   }
 
  private:

@@ -66,12 +66,13 @@ class LoggingTransport final : public Lbp16Transport {
   Log& log_;
 };
 
-std::unique_ptr<Lbp16Transport> logged(const HostPort& card, Log& log) {
+std::unique_ptr<Lbp16Transport> logged(const HostPort& host_port, Log& log) {
   auto udp = programs_timing::udp();
   udp.sequence_tags = false;
   udp.retries = 0;
   udp.timeout = 500ms;
-  return std::make_unique<LoggingTransport>(std::make_unique<UdpClient>(card.ip, card.port, udp), log);
+  return std::make_unique<LoggingTransport>(std::make_unique<UdpClient>(host_port.ip, host_port.port, udp),
+                                            log);
 }
 
 // A card that stops answering on demand: the next `unanswered` requests time out.

@@ -33,7 +33,7 @@ TEST(EthPassthrough, OpensTheChannelAndFindsThe8i20) {
   const auto link = SslbpPassthroughLink::open(card.target(0), programs_timing::passthrough());
   EXPECT_EQ(link->remote().name, "8I20");
   EXPECT_EQ(link->remote().unit_number, 0x00012345u);
-  EXPECT_EQ(link->card().card_name, "7I96S");
+  EXPECT_EQ(link->board().card_name, "7I96S");
   EXPECT_EQ(link->describe(), "eth " + card.address().describe() + " ch 0");
   EXPECT_FALSE(link->notes().empty());
   card.server().with_card(

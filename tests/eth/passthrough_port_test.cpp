@@ -86,8 +86,8 @@ PassthroughOptions resending() {
 // executed the packet.
 class LosingTransport final : public Lbp16Transport {
  public:
-  LosingTransport(const HostPort& card, std::uint64_t lose)
-      : inner_(card.ip, card.port, programs_timing::udp()), lose_(lose) {}
+  LosingTransport(const HostPort& host_port, std::uint64_t lose)
+      : inner_(host_port.ip, host_port.port, programs_timing::udp()), lose_(lose) {}
   std::vector<lbp::Bytes> transact(std::span<const lbp::lbp16::Command> commands, Resend resend) override {
     auto reply = inner_.transact(commands, resend);
     if (++count_ == lose_) throw link::TimeoutError("reply lost (test)");

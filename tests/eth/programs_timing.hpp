@@ -8,6 +8,8 @@
 #include "eth/passive_reader.hpp"
 #include "eth/passthrough_port.hpp"
 #include "eth/scan.hpp"
+#include "ops/endpoint.hpp"
+#include "ops/retry.hpp"
 #include "ops/timing.hpp"
 
 namespace i20::programs_timing {

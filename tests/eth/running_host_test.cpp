@@ -328,12 +328,13 @@ TEST(EthRunningHost, AHostThatStartsDuringTheSessionOwnsThePortFromThen) {
 // every millisecond after them (as LinuxCNC's servo loop would) until the end of the test.
 class AnotherClientAfter final : public Lbp16Transport {
  public:
-  AnotherClientAfter(const HostPort& card, std::uint64_t after, unsigned exchanges, bool keep_talking)
-      : card_(card),
+  AnotherClientAfter(const HostPort& host_port, std::uint64_t after, unsigned exchanges, bool keep_talking)
+      : card_(host_port),
         after_(after),
         exchanges_(exchanges),
         keep_talking_(keep_talking),
-        inner_(PassthroughPort::board_transport(card, programs_timing::udp(), programs_timing::fence())) {}
+        inner_(
+            PassthroughPort::board_transport(host_port, programs_timing::udp(), programs_timing::fence())) {}
   ~AnotherClientAfter() override {
     stop_ = true;
     if (talker_.joinable()) talker_.join();

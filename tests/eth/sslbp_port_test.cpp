@@ -31,7 +31,7 @@ namespace {
 // packet of ours too while `foreign_writes_between` lasts; 100 us pass between packets.
 class AnotherHostWritesFirst final : public Lbp16Transport {
  public:
-  AnotherHostWritesFirst(ethsim::VirtualBoard& card, ethsim::Clock::time_point& t) : card_(card), t_(t) {}
+  AnotherHostWritesFirst(ethsim::VirtualBoard& board, ethsim::Clock::time_point& t) : card_(board), t_(t) {}
 
   unsigned foreign_writes = 0;
   unsigned foreign_writes_between = 0;

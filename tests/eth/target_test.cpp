@@ -11,8 +11,8 @@ using namespace i20::eth;
 
 TEST(EthTarget, UrlFormWithDefaults) {
   const EthTarget t = parse_target("eth://192.168.1.121/ch0");
-  EXPECT_EQ(t.card.ip, "192.168.1.121");
-  EXPECT_EQ(t.card.port, 27181);
+  EXPECT_EQ(t.host_port.ip, "192.168.1.121");
+  EXPECT_EQ(t.host_port.port, 27181);
   EXPECT_EQ(t.sserial_port, 0u);
   EXPECT_EQ(t.channel, 0u);
   EXPECT_EQ(parse_target("eth://192.168.1.121"), t);
@@ -22,7 +22,7 @@ TEST(EthTarget, UrlFormWithDefaults) {
 
 TEST(EthTarget, UrlFormWithUdpPortSserialPortAndChannel) {
   const EthTarget t = parse_target("eth://10.10.10.10:40000/port1/ch5");
-  EXPECT_EQ(t.card.port, 40000);
+  EXPECT_EQ(t.host_port.port, 40000);
   EXPECT_EQ(t.sserial_port, 1u);
   EXPECT_EQ(t.channel, 5u);
   EXPECT_EQ(t.channel_mask(), 0x20);

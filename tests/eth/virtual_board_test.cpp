@@ -15,10 +15,10 @@ namespace {
 class EthVirtualBoard : public ::testing::Test {
  protected:
   Clock::time_point t0 = Clock::time_point{} + 1h;
-  VirtualBoard card{VirtualBoardOptions{}, t0};
+  VirtualBoard board{VirtualBoardOptions{}, t0};
 
   std::optional<lbp::Bytes> send(const std::vector<lbp16::Command>& commands, Clock::duration at = 0s) {
-    return card.handle(lbp16::encode_packet(commands), t0 + at);
+    return board.handle(lbp16::encode_packet(commands), t0 + at);
   }
   std::vector<lbp::Bytes> transact(const std::vector<lbp16::Command>& commands) {
     const auto reply = send(commands);
@@ -32,7 +32,7 @@ class EthVirtualBoard : public ::testing::Test {
 }  // namespace
 
 TEST_F(EthVirtualBoard, AnswersTheElbpcomCookieRead) {
-  EXPECT_EQ(card.handle(lbp::from_hex("01420001"), t0), lbp::from_hex("fecaaa55"));
+  EXPECT_EQ(board.handle(lbp::from_hex("01420001"), t0), lbp::from_hex("fecaaa55"));
 }
 
 TEST_F(EthVirtualBoard, IdentAreaAndIdromAreWhereHostMot2PutsThem) {
@@ -62,7 +62,7 @@ TEST_F(EthVirtualBoard, EveryImplementedSpaceHasItsInfoArea) {
   lbp16::Command wide = lbp16::read(0, 0, Width::Bits32, 1);
   wide.word.info_area = true;
   transact({wide});
-  EXPECT_TRUE(card.status_register(status_reg::kErrors) & status_reg::kMemErrorBit);
+  EXPECT_TRUE(board.status_register(status_reg::kErrors) & status_reg::kMemErrorBit);
 }
 
 TEST_F(EthVirtualBoard, Space7CarriesNameAndVersions) {
@@ -72,7 +72,7 @@ TEST_F(EthVirtualBoard, Space7CarriesNameAndVersions) {
   EXPECT_GT(info.firmware_version, 0);
   send({lbp16::write(7, 0, Width::Bits16, lbp::Bytes{'X', 'X'})});
   EXPECT_EQ(lbp16::BoardInfo::parse(transact({lbp16::read_board_info()})[0]).card_name, "7I96S");
-  EXPECT_TRUE(card.status_register(status_reg::kErrors) & status_reg::kWriteErrorBit);
+  EXPECT_TRUE(board.status_register(status_reg::kErrors) & status_reg::kWriteErrorBit);
 }
 
 TEST_F(EthVirtualBoard, EepromWritesNeedTheEnableInTheSamePacket) {
@@ -80,20 +80,20 @@ TEST_F(EthVirtualBoard, EepromWritesNeedTheEnableInTheSamePacket) {
   const auto write_ip = lbp16::write(lbp16::space::kEthernetEeprom, 0x20, Width::Bits16, ip);
   // Without the enable: refused.
   send({write_ip});
-  EXPECT_EQ(card.eeprom_word(0x22), 0xC0A8);  // still 192.168.1.121
-  EXPECT_EQ(card.eeprom_word(0x20), 0x0179);
-  EXPECT_TRUE(card.status_register(status_reg::kErrors) & status_reg::kWriteErrorBit);
+  EXPECT_EQ(board.eeprom_word(0x22), 0xC0A8);  // still 192.168.1.121
+  EXPECT_EQ(board.eeprom_word(0x20), 0x0179);
+  EXPECT_TRUE(board.status_register(status_reg::kErrors) & status_reg::kWriteErrorBit);
   // The manual's packet: 01D91A00025A 82C920002000A8C0.
-  EXPECT_FALSE(card.handle(lbp::from_hex("01D91A00025A82C920002000A8C0"), t0));  // writes only: no reply
-  EXPECT_EQ(card.eeprom_word(0x20), 0x0020);
-  EXPECT_EQ(card.eeprom_word(0x22), 0xC0A8);
+  EXPECT_FALSE(board.handle(lbp::from_hex("01D91A00025A82C920002000A8C0"), t0));  // writes only: no reply
+  EXPECT_EQ(board.eeprom_word(0x20), 0x0020);
+  EXPECT_EQ(board.eeprom_word(0x22), 0xC0A8);
   // The enable is gone at the end of the packet.
-  EXPECT_EQ(card.status_register(status_reg::kEepromWriteEnable), 0);
+  EXPECT_EQ(board.status_register(status_reg::kEepromWriteEnable), 0);
   send({lbp16::write(lbp16::space::kEthernetEeprom, 0x20, Width::Bits16, lbp::to_le(0x1111, 2))});
-  EXPECT_EQ(card.eeprom_word(0x20), 0x0020);
+  EXPECT_EQ(board.eeprom_word(0x20), 0x0020);
   // The first 0x20 bytes are read only even with the enable.
   send({lbp16::enable_writes(2), lbp16::write(2, 0x10, Width::Bits16, lbp::to_le(0x4141, 2))});
-  EXPECT_EQ(card.eeprom_word(0x10), 'I' << 8 | '7');
+  EXPECT_EQ(board.eeprom_word(0x10), 'I' << 8 | '7');
 }
 
 TEST_F(EthVirtualBoard, FlashIdReadWriteAndErase) {
@@ -118,39 +118,39 @@ TEST_F(EthVirtualBoard, FlashIdReadWriteAndErase) {
 }
 
 TEST_F(EthVirtualBoard, WaitMicrosecondsDelaysTheRestOfThePacket) {
-  const Clock::time_point before = card.board_time();
+  const Clock::time_point before = board.board_time();
   const auto parts = transact({lbp16::read(4, 0, Width::Bits16, 1, false),
                                lbp16::write(4, 2, Width::Bits16, lbp::to_le(500, 2), false),
                                lbp16::read(4, 0, Width::Bits16, 1, false)});
-  EXPECT_EQ(card.board_time() - before, 500us);
+  EXPECT_EQ(board.board_time() - before, 500us);
   EXPECT_EQ(lbp::read_le(parts[2]) - lbp::read_le(parts[0]), 500u);
 }
 
 TEST_F(EthVirtualBoard, CountersAndScratch) {
   send({lbp16::write(6, 0x18, Width::Bits16, lbp::to_le(0xBEEF, 2))});
   EXPECT_EQ(read16(6, 0x18), 0xBEEF);
-  EXPECT_EQ(card.status_register(status_reg::kRxUdp), 2);
-  EXPECT_EQ(card.status_register(status_reg::kTxUdp), 1);  // the write-only packet got no reply
+  EXPECT_EQ(board.status_register(status_reg::kRxUdp), 2);
+  EXPECT_EQ(board.status_register(status_reg::kTxUdp), 1);  // the write-only packet got no reply
 }
 
 TEST_F(EthVirtualBoard, WrongWidthsAndMissingSpacesAreMemErrorsWithZeros) {
   const auto parts = transact({lbp16::read(0, 0x100, Width::Bits16, 2), lbp16::read(5, 0, Width::Bits16, 1)});
   EXPECT_EQ(parts[0], lbp::Bytes(4, 0));
   EXPECT_EQ(parts[1], lbp::Bytes(2, 0));
-  EXPECT_TRUE(card.status_register(status_reg::kErrors) & status_reg::kMemErrorBit);
-  EXPECT_EQ(card.stats().mem_errors, 2u);
+  EXPECT_TRUE(board.status_register(status_reg::kErrors) & status_reg::kMemErrorBit);
+  EXPECT_EQ(board.stats().mem_errors, 2u);
 }
 
 TEST_F(EthVirtualBoard, TruncatedPacketIsAParseErrorAfterTheGoodCommands) {
   lbp::Bytes packet = lbp16::encode_packet(std::vector{lbp16::read_hm2(0x100)});
   packet.push_back(0x01);  // half a command word
-  EXPECT_EQ(card.handle(packet, t0), lbp::from_hex("fecaaa55"));
-  EXPECT_TRUE(card.status_register(status_reg::kErrors) & status_reg::kParseErrorBit);
-  EXPECT_EQ(card.status_register(status_reg::kParseErrors), 1);
+  EXPECT_EQ(board.handle(packet, t0), lbp::from_hex("fecaaa55"));
+  EXPECT_TRUE(board.status_register(status_reg::kErrors) & status_reg::kParseErrorBit);
+  EXPECT_EQ(board.status_register(status_reg::kParseErrors), 1);
 }
 
 TEST_F(EthVirtualBoard, IdromIsReadOnlyOtherRegistersAreNot) {
   send({lbp16::write_hm2(0x0400, 0u), lbp16::write_hm2(0x1100, 0x7u)});
-  EXPECT_EQ(card.hm2_register(0x0400), 3u);  // IDROM type
-  EXPECT_EQ(card.hm2_register(0x1100), 7u);  // IOPORT DDR
+  EXPECT_EQ(board.hm2_register(0x0400), 3u);  // IDROM type
+  EXPECT_EQ(board.hm2_register(0x1100), 7u);  // IOPORT DDR
 }

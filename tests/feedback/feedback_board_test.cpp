@@ -24,7 +24,7 @@ constexpr std::uint32_t kArmIndex = hm2::encoder_bit::kLatchOnIndex | hm2::encod
 // A host that knows the card only by what its IDROM says, like hostmot2.
 class Host {
  public:
-  Host(VirtualBoard& card, Clock::time_point t0) : card_(card), t0_(t0) {
+  Host(VirtualBoard& board, Clock::time_point t0) : card_(board), t0_(t0) {
     const auto ident = hm2::IdentArea::parse(read_bytes(hm2::kCookieAddress, 4));
     idrom_address_ = static_cast<std::uint16_t>(ident.idrom_address);
     idrom = hm2::Idrom::parse(read_bytes(idrom_address_, 16));
@@ -95,8 +95,8 @@ class FeedbackBoard : public ::testing::Test {
 }  // namespace
 
 TEST_F(FeedbackBoard, The7i96sIdromHasTheFeedbackHostmot2NeedsWhere7i96sDPutsIt) {
-  VirtualBoard card(VirtualBoardOptions{}, t0);
-  Host host(card, t0);
+  VirtualBoard board(VirtualBoardOptions{}, t0);
+  Host host(board, t0);
   EXPECT_EQ(host.module(hm2::gtag::kEncoder).instances, 1);
   EXPECT_EQ(host.module(hm2::gtag::kInm).instances, 1);
   EXPECT_EQ(host.module(hm2::gtag::kIoPort).instances, 3);
@@ -112,10 +112,10 @@ TEST_F(FeedbackBoard, The7i96sIdromHasTheFeedbackHostmot2NeedsWhere7i96sDPutsIt)
 }
 
 TEST_F(FeedbackBoard, Hostmot2sPeriodicReadSeesCountsTimestampsAndTheIndex) {
-  VirtualBoard card(VirtualBoardOptions{}, t0);
-  card.feedback().connect_axis(0, EncoderSpec{.counts_per_turn = 2000, .index_turns = 0.1}, HallSpec{},
-                               turning);
-  Host host(card, t0);
+  VirtualBoard board(VirtualBoardOptions{}, t0);
+  board.feedback().connect_axis(0, EncoderSpec{.counts_per_turn = 2000, .index_turns = 0.1}, HallSpec{},
+                                turning);
+  Host host(board, t0);
   namespace r = hm2::encoder_reg;
   host.write(host.address(hm2::gtag::kEncoder, r::kTimestampDivider), 48);  // 2 MHz
   host.write(host.address(hm2::gtag::kEncoder, r::kLatchControl), kArmIndex | hm2::encoder_bit::kFilter);
@@ -145,11 +145,11 @@ TEST_F(FeedbackBoard, Hostmot2sPeriodicReadSeesCountsTimestampsAndTheIndex) {
 }
 
 TEST_F(FeedbackBoard, HallsOnThe7i96sIsolatedInputsReadThroughInm) {
-  VirtualBoard card(VirtualBoardOptions{}, t0);
+  VirtualBoard board(VirtualBoardOptions{}, t0);
   double angle = 0.0;
-  const unsigned group = card.feedback().connect_axis(0, EncoderSpec{}, HallSpec{.pole_pairs = 4},
-                                                      [&angle](Clock::time_point) { return angle; });
-  Host host(card, t0);
+  const unsigned group = board.feedback().connect_axis(0, EncoderSpec{}, HallSpec{.pole_pairs = 4},
+                                                       [&angle](Clock::time_point) { return angle; });
+  Host host(board, t0);
   namespace r = hm2::inm_reg;
   // hostmot2 sets the global invert bit (inm.c: "matches all existing hardware").
   host.write(host.address(hm2::gtag::kInm, r::kControl), r::kGlobalInvert | 24u << 6 | 5u << 16 | 500u << 22);
@@ -162,8 +162,8 @@ TEST_F(FeedbackBoard, HallsOnThe7i96sIsolatedInputsReadThroughInm) {
     EXPECT_EQ(data & ~0x7u, 0u) << "inputs with nothing connected are inactive";
   }
   // A missing sensor drives no current: inactive, 0. A stuck-high one reads 1 everywhere.
-  card.feedback().halls(group).set_fault(0, HallFault::Missing);
-  card.feedback().halls(group).set_fault(1, HallFault::StuckHigh);
+  board.feedback().halls(group).set_fault(0, HallFault::Missing);
+  board.feedback().halls(group).set_fault(1, HallFault::StuckHigh);
   for (int i = 0; i < 12; ++i) {
     angle = i / 12.0;
     const auto data = host.read(host.address(hm2::gtag::kInm, r::kRawData));
@@ -172,16 +172,16 @@ TEST_F(FeedbackBoard, HallsOnThe7i96sIsolatedInputsReadThroughInm) {
 }
 
 TEST_F(FeedbackBoard, The7i92tServoConfigurationHasAnEncoderAndHallsPerAxis) {
-  VirtualBoard card(VirtualBoardOptions{.config = BoardConfig::preset_7i92t_servo()}, t0);
-  ASSERT_EQ(card.config().axes.size(), 4u);
+  VirtualBoard board(VirtualBoardOptions{.config = BoardConfig::preset_7i92t_servo()}, t0);
+  ASSERT_EQ(board.config().axes.size(), 4u);
   double angle = 0.0;
   const auto scripted = [&angle](Clock::time_point) { return angle; };
-  const unsigned group = card.feedback().connect_axis(3, EncoderSpec{.counts_per_turn = 4000},
-                                                      HallSpec{.pole_pairs = 2}, scripted);
-  Host host(card, t0);
+  const unsigned group = board.feedback().connect_axis(3, EncoderSpec{.counts_per_turn = 4000},
+                                                       HallSpec{.pole_pairs = 2}, scripted);
+  Host host(board, t0);
   EXPECT_EQ(host.module(hm2::gtag::kEncoder).instances, 4);
   EXPECT_EQ(host.module(hm2::gtag::kSserial).instances, 2);
-  const AxisWiring& axis = card.config().axes[3];
+  const AxisWiring& axis = board.config().axes[3];
   EXPECT_EQ(axis.encoder, 3u);
   EXPECT_EQ(axis.sserial_port, 1u);
   EXPECT_EQ(axis.channel, 1u);
@@ -201,7 +201,7 @@ TEST_F(FeedbackBoard, The7i92tServoConfigurationHasAnEncoderAndHallsPerAxis) {
     EXPECT_EQ(host.read(data_address) >> first_bit & 0x7u, input_bits(reference.code(angle)));
   }
   // A missing sensor floats: the 7I92T's pull-ups make it read high.
-  card.feedback().halls(group).set_fault(2, HallFault::Missing);
+  board.feedback().halls(group).set_fault(2, HallFault::Missing);
   for (int i = 0; i < 12; ++i) {
     angle = i / 12.0;
     EXPECT_EQ(host.read(data_address) >> (first_bit + 2) & 1u, 1u) << angle;
@@ -209,11 +209,11 @@ TEST_F(FeedbackBoard, The7i92tServoConfigurationHasAnEncoderAndHallsPerAxis) {
 }
 
 TEST_F(FeedbackBoard, GpioOutputsReadBackAndEncoderPinsShowTheirSignals) {
-  VirtualBoard card(VirtualBoardOptions{}, t0);
+  VirtualBoard board(VirtualBoardOptions{}, t0);
   double angle = 0.0;
-  card.feedback().connect_axis(0, EncoderSpec{.counts_per_turn = 2000}, HallSpec{},
-                               [&angle](Clock::time_point) { return angle; });
-  Host host(card, t0);
+  board.feedback().connect_axis(0, EncoderSpec{.counts_per_turn = 2000}, HallSpec{},
+                                [&angle](Clock::time_point) { return angle; });
+  Host host(board, t0);
   namespace r = hm2::ioport_reg;
   // IO pins 27-29 are encoder 0's A, B, index: port 1, bits 10-12.
   const auto port1 = host.address(hm2::gtag::kIoPort, r::kData, 1);
@@ -230,15 +230,15 @@ TEST_F(FeedbackBoard, GpioOutputsReadBackAndEncoderPinsShowTheirSignals) {
   EXPECT_EQ(host.read(port2) & 0x7u, 0x5u);
   host.write(host.address(hm2::gtag::kIoPort, r::kOutputInvert, 2), 0x3);  // both outputs inverted
   EXPECT_EQ(host.read(port2) & 0x7u, 0x6u);
-  EXPECT_EQ(card.hm2_register(port2), 0x1u) << "the written value stays visible to tests";
+  EXPECT_EQ(board.hm2_register(port2), 0x1u) << "the written value stays visible to tests";
 }
 
 TEST_F(FeedbackBoard, EncoderRegistersOfEveryInstanceAnswer) {
-  VirtualBoard card(VirtualBoardOptions{.config = BoardConfig::preset_7i92t_servo()}, t0);
+  VirtualBoard board(VirtualBoardOptions{.config = BoardConfig::preset_7i92t_servo()}, t0);
   for (unsigned e = 0; e < 4; ++e)
-    card.feedback().connect_encoder(e, EncoderSpec{.counts_per_turn = 1000 * static_cast<int>(e + 1)},
-                                    [t0 = t0](Clock::time_point t) { return seconds(t - t0); });
-  Host host(card, t0);
+    board.feedback().connect_encoder(e, EncoderSpec{.counts_per_turn = 1000 * static_cast<int>(e + 1)},
+                                     [t0 = t0](Clock::time_point t) { return seconds(t - t0); });
+  Host host(board, t0);
   host.at(250ms);
   for (unsigned e = 0; e < 4; ++e)
     EXPECT_EQ(host.read(host.address(hm2::gtag::kEncoder, hm2::encoder_reg::kCount, e)) & 0xFFFF,
@@ -248,6 +248,6 @@ TEST_F(FeedbackBoard, EncoderRegistersOfEveryInstanceAnswer) {
   host.write(host.address(hm2::gtag::kEncoder, hm2::encoder_reg::kCount, 2), 0);
   EXPECT_EQ(host.read(host.address(hm2::gtag::kEncoder, hm2::encoder_reg::kCount, 2)) & 0xFFFF, 0u);
   EXPECT_EQ(host.read(host.address(hm2::gtag::kEncoder, hm2::encoder_reg::kCount, 1)) & 0xFFFF, 500u);
-  EXPECT_THROW(card.feedback().connect_encoder(4, EncoderSpec{}, nullptr), UsageError);
-  EXPECT_THROW(card.feedback().connect_axis(4, EncoderSpec{}, HallSpec{}, nullptr), UsageError);
+  EXPECT_THROW(board.feedback().connect_encoder(4, EncoderSpec{}, nullptr), UsageError);
+  EXPECT_THROW(board.feedback().connect_axis(4, EncoderSpec{}, HallSpec{}, nullptr), UsageError);
 }

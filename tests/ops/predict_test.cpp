@@ -49,19 +49,19 @@ TEST(OpsPredict, PendingNvValuesAreThePairsThatDiffer) {
 // judged against what the simulator holds.
 TEST(OpsPredict, NotLiveCountsEveryPendingValueOnTheCard) {
   SimRig rig(RigOptions().bus(160));
-  auto card = rig.open();
-  const auto first = load(kBrake, card->db());
+  auto amp = rig.open();
+  const auto first = load(kBrake, amp->db());
   ApplyJob job;
   job.profile = &first;
-  job.db = &card->db();
-  auto run = run_apply_on(*card, job);
+  job.db = &amp->db();
+  auto run = run_apply_on(*amp, job);
   ASSERT_EQ(run.outcome, Outcome::Done) << (run.result ? run.result->reason : run.error);
   EXPECT_EQ(run.not_live.size(), 2u);
-  const auto second = load(with_params("  NVMAXCURRENT: 11 A\n"), card->db());
+  const auto second = load(with_params("  NVMAXCURRENT: 11 A\n"), amp->db());
   job.profile = &second;
-  run = run_apply_on(*card, job);
+  run = run_apply_on(*amp, job);
   ASSERT_EQ(run.outcome, Outcome::Done) << (run.result ? run.result->reason : run.error);
   EXPECT_EQ(run.not_live, (std::vector<std::string>{"NVMAXCURRENT", "NVBRAKEONV", "NVBRAKEOFFV"}))
       << "in database order";
-  EXPECT_EQ(pending_nv_values(*card), run.not_live);
+  EXPECT_EQ(pending_nv_values(*amp), run.not_live);
 }

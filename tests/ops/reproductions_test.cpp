@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <optional>
 
 #include "device/errors.hpp"
 #include "lbp/header.hpp"
@@ -28,22 +29,23 @@ struct SetResult {
 };
 
 // `i20 set A=1 B=2` (or `wpd NAME VALUE` with raw syntax) on an open card, as the apps run it.
-SetResult set(Amp& card, const std::vector<std::string>& assignments,
+SetResult set(Amp& amp, const std::vector<std::string>& assignments,
               ValueSyntax syntax = ValueSyntax::Engineering, device::WriteOptions write = {},
               Cancel cancel = {}) {
   SetResult r;
-  const auto profile = profile_from_assignments(assignments, card.db(), syntax);
+  const auto profile = profile_from_assignments(assignments, amp.db(), syntax);
+  std::optional<ApplyJob> job;
   try {
-    precheck(profile, card.db(), write);
+    job = make_apply_job({.profile = &profile,
+                          .db = &amp.db(),
+                          .force = write.force,
+                          .allow_unverified = write.allow_unverified,
+                          .cancel = cancel});
   } catch (const device::SafetyError& e) {
     r.refused = e.what();
     return r;
   }
-  r.run = run_apply_on(card, make_apply_job({.profile = &profile,
-                                             .db = &card.db(),
-                                             .force = write.force,
-                                             .allow_unverified = write.allow_unverified,
-                                             .cancel = cancel}));
+  r.run = run_apply_on(amp, *job);
   return r;
 }
 
@@ -60,12 +62,12 @@ bool refused(const SetResult& r) {
 // ---------------------------------------------------------------- the manual's rules on every path
 TEST(OpsRules, BrakeOffAboveTheCardsBrakeOnIsRefusedOnSetAndWpd) {
   SimRig rig;
-  auto card = rig.open();
+  auto amp = rig.open();
   const auto before = rig.truth();
-  auto r = set(*card, {"NVBRAKEOFFV=370V"});  // NVBRAKEONV is 360 V on the card
+  auto r = set(*amp, {"NVBRAKEOFFV=370V"});  // NVBRAKEONV is 360 V on the card
   EXPECT_TRUE(refused(r));
   EXPECT_NE(reason(r).find("brake-order"), std::string::npos) << reason(r);
-  r = set(*card, {"NVBRAKEONV=30000"}, ValueSyntax::Raw);  // wpd NVBRAKEONV 30000: below BRAKEOFFV 340 V
+  r = set(*amp, {"NVBRAKEONV=30000"}, ValueSyntax::Raw);  // wpd NVBRAKEONV 30000: below BRAKEOFFV 340 V
   EXPECT_TRUE(refused(r));
   EXPECT_NE(reason(r).find("must be below"), std::string::npos) << reason(r);
   EXPECT_EQ(rig.truth().eeprom, before.eeprom) << "nothing was written";
@@ -73,8 +75,8 @@ TEST(OpsRules, BrakeOffAboveTheCardsBrakeOnIsRefusedOnSetAndWpd) {
 
 TEST(OpsRules, UnderVoltageAboveOverVoltageIsRefused) {
   SimRig rig;
-  auto card = rig.open();
-  const auto r = set(*card, {"NVBUSUNDERV=390V"}, ValueSyntax::Engineering, {.force = true});
+  auto amp = rig.open();
+  const auto r = set(*amp, {"NVBUSUNDERV=390V"}, ValueSyntax::Engineering, {.force = true});
   EXPECT_TRUE(refused(r)) << "the manual's order, not a guard: --force does not lift it";
   EXPECT_NE(reason(r).find("undervoltage-below-overvoltage"), std::string::npos) << reason(r);
   EXPECT_EQ(rig.value("NVBUSUNDERV"), 3500);
@@ -82,20 +84,20 @@ TEST(OpsRules, UnderVoltageAboveOverVoltageIsRefused) {
 
 TEST(OpsRules, LiveOverVoltageAtOrBelowTheMeasuredBusNeedsForce) {
   SimRig rig(RigOptions().bus(320));
-  auto card = rig.open();
-  auto r = set(*card, {"BUSOVERV=300V"});
+  auto amp = rig.open();
+  auto r = set(*amp, {"BUSOVERV=300V"});
   EXPECT_TRUE(refused(r));
   EXPECT_NE(reason(r).find("320.00 V the card measures"), std::string::npos) << reason(r);
   EXPECT_EQ(rig.value("BUSOVERV"), 38500);
-  r = set(*card, {"BUSOVERV=300V"}, ValueSyntax::Engineering, {.force = true});
+  r = set(*amp, {"BUSOVERV=300V"}, ValueSyntax::Engineering, {.force = true});
   EXPECT_EQ(r.run.outcome, Outcome::Done) << reason(r);
   EXPECT_EQ(rig.value("BUSOVERV"), 30000);
 }
 
 TEST(OpsRules, AnOverlayCannotWidenTheCardsThirtyAmpRating) {
   SimRig rig(RigOptions().overlay("parameters:\n  - name: NVMAXCURRENT\n    max: 6000\n"));
-  auto card = rig.open();
-  const auto r = set(*card, {"NVMAXCURRENT=45A"});
+  auto amp = rig.open();
+  const auto r = set(*amp, {"NVMAXCURRENT=45A"});
   EXPECT_TRUE(refused(r));
   EXPECT_NE(reason(r).find("30 A"), std::string::npos) << reason(r);
   EXPECT_EQ(rig.value("NVMAXCURRENT"), 1000);
@@ -103,9 +105,9 @@ TEST(OpsRules, AnOverlayCannotWidenTheCardsThirtyAmpRating) {
 
 TEST(OpsRules, ThresholdsAreWrittenSoEveryStepKeepsTheirOrder) {
   SimRig rig(RigOptions().bus(160));
-  auto card = rig.open();
+  auto amp = rig.open();
   // Given as ON first: written OFF first, or the card would hold 190/340 (inverted) between.
-  const auto r = set(*card, {"NVBRAKEONV=190V", "NVBRAKEOFFV=170V"});
+  const auto r = set(*amp, {"NVBRAKEONV=190V", "NVBRAKEOFFV=170V"});
   ASSERT_EQ(r.run.outcome, Outcome::Done) << reason(r);
   ASSERT_EQ(r.run.result->writes.size(), 2u);
   EXPECT_EQ(r.run.result->writes[0].cell, "NVBRAKEOFFV");
@@ -123,10 +125,10 @@ TEST(OpsResets, ResetAtAnyPointOfAnNvWriteLeavesNoStrayWriteAndTellsTheTruth) {
     for (const int reset_ms : {0, 1}) {
       SCOPED_TRACE("reset-after " + std::to_string(n) + ", reset time " + std::to_string(reset_ms) + " ms");
       SimRig rig(RigOptions().reset_ms(reset_ms));
-      auto card = rig.open();
+      auto amp = rig.open();
       const auto before = rig.truth();
       rig.control("reset-after " + std::to_string(n));
-      const auto r = set(*card, {"NVMAXCURRENT=12A"});
+      const auto r = set(*amp, {"NVMAXCURRENT=12A"});
       rig.control("reset-after off");
       const auto after = rig.truth();
       EXPECT_EQ(after.nv_access, lbp::local::NvAccess::Ram);
@@ -155,10 +157,10 @@ TEST(OpsResets, ProfileApplyUnderResetsRestoresWithoutStrayWrites) {
   for (int n = 1; n <= 90; n += 2) {
     SCOPED_TRACE("reset-after " + std::to_string(n));
     SimRig rig(RigOptions().reset_ms(0).bus(160));
-    auto card = rig.open();
+    auto amp = rig.open();
     const auto before = rig.truth();
     rig.control("reset-after " + std::to_string(n));
-    const auto r = set(*card, {"NVBRAKEONV=190V", "NVBRAKEOFFV=170V", "NVBUSOVERV=195V", "NVMAXCURRENT=12A"});
+    const auto r = set(*amp, {"NVBRAKEONV=190V", "NVBRAKEOFFV=170V", "NVBUSOVERV=195V", "NVMAXCURRENT=12A"});
     rig.control("reset-after off");
     const auto after = rig.truth();
     EXPECT_EQ(after.nv_access, lbp::local::NvAccess::Ram);
@@ -181,9 +183,9 @@ TEST(OpsMute, ACardThatGoesSilentMidWriteIsReportedCellByCellNeverInverted) {
   for (int n = 2; n <= 16; n += 2) {
     SCOPED_TRACE("mute-after " + std::to_string(n));
     SimRig rig(RigOptions().bus(160));
-    auto card = rig.open();
+    auto amp = rig.open();
     rig.control("mute-after " + std::to_string(n));
-    const auto r = set(*card, {"NVBRAKEONV=190V", "NVBRAKEOFFV=170V"});
+    const auto r = set(*amp, {"NVBRAKEONV=190V", "NVBRAKEOFFV=170V"});
     rig.control("mute-after off");
     EXPECT_LT(rig.value("NVBRAKEOFFV"), rig.value("NVBRAKEONV"))
         << "every intermediate state keeps the order";
@@ -223,9 +225,9 @@ TEST(OpsPowerLoss, ATornEepromCellIsNamedAndNotCalledRestored) {
   for (const char* mode : {"torn", "lost"}) {
     SCOPED_TRACE(mode);
     SimRig rig(RigOptions().bus(160));
-    auto card = rig.open();
+    auto amp = rig.open();
     rig.control(std::string("eeprom-power-loss ") + mode);
-    const auto r = set(*card, {"NVBRAKEONV=190V", "NVBRAKEOFFV=170V"});
+    const auto r = set(*amp, {"NVBRAKEONV=190V", "NVBRAKEOFFV=170V"});
     EXPECT_EQ(r.run.outcome, Outcome::Uncertain) << r.run.result->reason;
     ASSERT_FALSE(r.run.result->cells.empty());
     EXPECT_EQ(r.run.result->cells.front().cell, "NVBRAKEOFFV");
@@ -237,34 +239,34 @@ TEST(OpsPowerLoss, ATornEepromCellIsNamedAndNotCalledRestored) {
 // ---------------------------------------------------------------- honest reads on unknown firmware
 TEST(OpsHonestReads, FaultsOnUnknownFirmwareComeFromTheCardsOwnRpcTable) {
   SimRig rig(RigOptions().map(7).bus(24).enable_off());
-  auto card = rig.open();
-  EXPECT_FALSE(card->identity().info.working_map_confirmed);
-  const auto r = read_fault_registers(*card);
+  auto amp = rig.open();
+  EXPECT_FALSE(amp->identity().info.working_map_confirmed);
+  const auto r = read_fault_registers(*amp);
   EXPECT_EQ(r.fault, rig.value("FAULT"));
   EXPECT_NE(r.fault, 0) << "no enable and a 24 V bus: the card has faults, and the tool must say so";
   ASSERT_TRUE(r.busv_v);
   EXPECT_DOUBLE_EQ(*r.busv_v, 24.0);
   // BUSV by name: the card's address, not the database's guess.
-  const auto busv = read_values(*card, std::vector<std::string>{"BUSV"}).front();
+  const auto busv = read_values(*amp, std::vector<std::string>{"BUSV"}).front();
   ASSERT_TRUE(busv.fact());
   EXPECT_EQ(*busv.raw, 2400);
   // A working parameter the card does not name is unknown, not a guess.
-  const auto kqp = read_values(*card, std::vector<std::string>{"KQP"}).front();
+  const auto kqp = read_values(*amp, std::vector<std::string>{"KQP"}).front();
   EXPECT_FALSE(kqp.raw);
   EXPECT_NE(unknown_text(kqp).find("not confirmed for SWREVISION"), std::string::npos) << unknown_text(kqp);
   // FAULTMASK is in no RPC: masking is refused rather than judged on a guessed address.
-  EXPECT_THROW(set_fault_mask(*card, "bus-under-voltage", true, {}), device::SafetyError);
+  EXPECT_THROW(set_fault_mask(*amp, "bus-under-voltage", true, {}), device::SafetyError);
 }
 
 TEST(OpsHonestReads, AFreshConnectionLeavesModesADeadSessionLeftOn) {
   SimRig rig;
   {
-    auto card = rig.open();
-    card->link().execute_one(lbp::set_nv_access(lbp::local::NvAccess::Eeprom));
-    card->link().execute_one(lbp::local_write(lbp::local::kSetRpcMemAccess, 1));
+    auto amp = rig.open();
+    amp->link().execute_one(lbp::set_nv_access(lbp::local::NvAccess::Eeprom));
+    amp->link().execute_one(lbp::local_write(lbp::local::kSetRpcMemAccess, 1));
   }  // the session "dies" in both modes
-  auto card = rig.open();
-  EXPECT_EQ(card->identity().modes_left.size(), 2u);
+  auto amp = rig.open();
+  EXPECT_EQ(amp->identity().modes_left.size(), 2u);
   const auto t = rig.truth();
   EXPECT_EQ(t.nv_access, lbp::local::NvAccess::Ram);
   EXPECT_FALSE(t.rpcmem);
@@ -273,7 +275,7 @@ TEST(OpsHonestReads, AFreshConnectionLeavesModesADeadSessionLeftOn) {
 // ---------------------------------------------------------------- discover
 TEST(OpsDiscover, TwinsWithEqualValuesAreAmbiguousAndTheOverlayLoadsBack) {
   SimRig rig(RigOptions().map(7).bus(24).enable_off());
-  auto card = rig.open();
+  auto amp = rig.open();
   const auto dir = std::filesystem::temp_directory_path() / "i20-ops-discover";
   std::filesystem::create_directories(dir);
   DiscoverOptions o;
@@ -282,7 +284,7 @@ TEST(OpsDiscover, TwinsWithEqualValuesAreAmbiguousAndTheOverlayLoadsBack) {
   o.output = dir / "map.yaml";
   o.overwrite = true;
   o.generated_at = "test";
-  const auto result = discover(*card, rig.loaded(), o);
+  const auto result = discover(*amp, rig.loaded(), o);
   for (const char* twin : {"KQP", "KDP", "KQI", "KDI", "KQIL", "KDIL"}) {
     const auto it = std::ranges::find(result.report.findings, std::string(twin), &device::Finding::name);
     ASSERT_NE(it, result.report.findings.end()) << twin;
@@ -304,7 +306,7 @@ TEST(OpsDiscover, TwinsWithEqualValuesAreAmbiguousAndTheOverlayLoadsBack) {
 TEST(OpsDiscover, CtrlCStopsTheScan) {
   SimRig rig(RigOptions().map(7));
   std::atomic<bool> stop{false};
-  auto card = rig.open(Cancel(stop));
+  auto amp = rig.open(Cancel(stop));
   DiscoverOptions o;
   o.scan.scan_begin = 0x0800;
   o.scan.scan_end = 0x2800;
@@ -314,7 +316,7 @@ TEST(OpsDiscover, CtrlCStopsTheScan) {
   };
   o.output = std::filesystem::temp_directory_path() / "i20-ops-discover-cancelled.yaml";
   std::filesystem::remove(o.output);
-  EXPECT_THROW(discover(*card, rig.loaded(), o), device::Cancelled);
+  EXPECT_THROW(discover(*amp, rig.loaded(), o), device::Cancelled);
   EXPECT_FALSE(std::filesystem::exists(o.output)) << "nothing written after Ctrl-C";
 }
 
@@ -322,9 +324,9 @@ TEST(OpsDiscover, CtrlCStopsTheScan) {
 TEST(OpsCancel, CtrlCBeforeTheFirstWriteWritesNothing) {
   SimRig rig;
   std::atomic<bool> stop{true};  // pressed while the card was being read
-  auto card = rig.open();
+  auto amp = rig.open();
   const auto before = rig.truth();
-  const auto r = set(*card, {"NVBRAKEONV=370V"}, ValueSyntax::Engineering, {}, Cancel(stop));
+  const auto r = set(*amp, {"NVBRAKEONV=370V"}, ValueSyntax::Engineering, {}, Cancel(stop));
   EXPECT_EQ(r.run.outcome, Outcome::Interrupted);
   EXPECT_EQ(exit_code(r.run.outcome), 130);
   EXPECT_EQ(rig.truth().eeprom, before.eeprom);
@@ -338,7 +340,7 @@ TEST(OpsCancel, CtrlCBeforeTheFirstWriteWritesNothing) {
 // KQP, reloaded from NVKQP, and says the card reset.
 TEST(OpsSilence, APowerCycleInTheMiddleOfAChangeIsWaitedForAndReported) {
   SimRig rig;
-  auto card = rig.open();
+  auto amp = rig.open();
   rig.control("set KQP " + std::to_string(rig.value("NVKQP") + 7));  // a working value not from the EEPROM
   const auto kqp_before = rig.value("KQP");
   // The power goes before the first batch that writes, and comes back when the tool asks the
@@ -358,11 +360,11 @@ TEST(OpsSilence, APowerCycleInTheMiddleOfAChangeIsWaitedForAndReported) {
       rig.control("power on");
     }
   });
-  const auto r = set(*card, {"NVKQP=" + std::to_string(rig.value("NVKQP") + 1)}, ValueSyntax::Raw);
+  const auto r = set(*amp, {"NVKQP=" + std::to_string(rig.value("NVKQP") + 1)}, ValueSyntax::Raw);
   ASSERT_EQ(power, Power::Back) << "the tool never asked the silent card again";
   EXPECT_EQ(r.run.outcome, Outcome::Done) << reason(r);
   EXPECT_NE(rig.value("KQP"), kqp_before) << "the power cycle reloaded KQP from the EEPROM";
   EXPECT_NE(r.run.card_reset.find("KQP"), std::string::npos)
       << "the reset went unreported: " << r.run.card_reset;
-  EXPECT_GE(card->silences_ended(), 1u);
+  EXPECT_GE(amp->silences_ended(), 1u);
 }

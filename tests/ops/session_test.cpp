@@ -211,10 +211,10 @@ TEST(SessionCard, OpensIdentifiesAndSettlesTheSimulatorAndReadsOnlyFacts) {
   Session session(options);
   EXPECT_FALSE(session.card_open());
   EXPECT_EQ(session.settle().outcome, Outcome::Done) << "no card yet: nothing to settle";
-  auto& card = session.card();
+  auto& amp = session.amp();
   EXPECT_TRUE(session.card_open());
-  EXPECT_NE(card.describe().find("8I20"), std::string::npos) << card.describe();
-  const auto readings = read_values(card, std::vector<std::string>{"BUSV", "NVMAXCURRENT"});
+  EXPECT_NE(amp.describe().find("8I20"), std::string::npos) << amp.describe();
+  const auto readings = read_values(amp, std::vector<std::string>{"BUSV", "NVMAXCURRENT"});
   EXPECT_EQ(reading_outcome(readings), Outcome::Done);
   const auto settled = session.settle();
   EXPECT_EQ(settled.outcome, Outcome::Done);
@@ -225,7 +225,7 @@ TEST(SessionCard, AFailureIsReportedOnceWithItsOutcomeAndTheCardIsSettledAfterIt
   auto options = with(LegacyEnvironment::Ignore);
   options.target.sim = true;
   Session session(options);
-  (void)session.card();
+  (void)session.amp();
   FailureReport report;
   try {
     throw SafetyError("NVMAXCURRENT 40 A is above the card's 30 A");

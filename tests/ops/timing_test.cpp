@@ -16,6 +16,8 @@
 #include "eth/scan.hpp"
 #include "link/pipelined_link.hpp"
 #include "link/serial_stream.hpp"
+#include "ops/endpoint.hpp"
+#include "ops/retry.hpp"
 
 namespace i20::ops {
 namespace {
