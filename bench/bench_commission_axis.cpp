@@ -14,8 +14,8 @@
 #include "build_paths.hpp"
 #include "ethsim/server.hpp"
 #include "motor/loader.hpp"
-#include "ops/commission.hpp"
-#include "ops/session.hpp"
+#include "ops/commission/commission.hpp"
+#include "ops/core/session.hpp"
 
 using namespace i20;
 

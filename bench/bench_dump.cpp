@@ -16,9 +16,9 @@
 #include "build_paths.hpp"
 #include "device/amp.hpp"
 #include "link/serial_link.hpp"
-#include "ops/endpoint.hpp"
-#include "ops/retry.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/endpoint.hpp"
+#include "ops/core/retry.hpp"
+#include "ops/core/timing.hpp"
 #include "sim_process.hpp"
 
 namespace {

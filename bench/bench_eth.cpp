@@ -23,9 +23,9 @@
 #include "eth/target.hpp"
 #include "eth/udp_client.hpp"
 #include "lbp/local.hpp"
-#include "ops/endpoint.hpp"
-#include "ops/retry.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/endpoint.hpp"
+#include "ops/core/retry.hpp"
+#include "ops/core/timing.hpp"
 #include "sim_process.hpp"
 
 namespace {
@@ -33,7 +33,7 @@ namespace {
 using namespace i20;
 using Clock = std::chrono::steady_clock;
 
-// The passthrough as the programs open it (ops/timing.hpp): what the figures describe.
+// The passthrough as the programs open it (ops/core/timing.hpp): what the figures describe.
 eth::PassthroughOptions passthrough_options() {
   return ops::timing::passthrough({}, {});
 }

@@ -21,7 +21,7 @@
 #include "lbp/command.hpp"
 #include "lbp16/lbp16.hpp"
 #include "link/pipelined_link.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/timing.hpp"
 #include "params/param_db.hpp"
 #include "sim/rpc_table.hpp"
 #include "sim/sim_stream.hpp"

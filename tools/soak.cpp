@@ -21,7 +21,7 @@
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
 #include "ops/fleet.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/timing.hpp"
 #include "sim/ground_truth.hpp"
 #include "sim/param_map.hpp"
 #include "sim/sim_stream.hpp"

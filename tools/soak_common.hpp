@@ -19,7 +19,7 @@
 
 #include "link/link.hpp"
 #include "ops/apply_run.hpp"
-#include "ops/cancel.hpp"
+#include "ops/core/cancel.hpp"
 #include "params/param_db.hpp"
 #include "profile/profile.hpp"
 #include "sim/ground_truth.hpp"

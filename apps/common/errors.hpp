@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "ops/session.hpp"
+#include "ops/core/session.hpp"
 #include "parse_error.hpp"
 
 namespace i20::app {

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "errors.hpp"
-#include "ops/session.hpp"
+#include "ops/core/session.hpp"
 
 namespace CLI {
 class App;

@@ -4,7 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "ops/outcome.hpp"
+#include "ops/core/outcome.hpp"
 #include "params/text.hpp"
 
 namespace i20::app {

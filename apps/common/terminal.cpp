@@ -10,7 +10,7 @@
 #include <string>
 
 #include "error/error.hpp"
-#include "ops/outcome.hpp"
+#include "ops/core/outcome.hpp"
 
 namespace i20::app {
 

@@ -4,7 +4,7 @@
 // the note that stdout or stderr went away before the report was complete.
 #pragma once
 
-#include "ops/cancel.hpp"
+#include "ops/core/cancel.hpp"
 
 namespace i20::app {
 

@@ -14,7 +14,7 @@
 
 #include "commission/format.hpp"
 #include "context.hpp"
-#include "ops/commission.hpp"
+#include "ops/commission/commission.hpp"
 #include "output_file.hpp"
 
 namespace i20::cli {

@@ -13,8 +13,8 @@
 #include "console/static_files.hpp"
 #include "console_api.hpp"
 #include "context.hpp"
-#include "ops/session.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/session.hpp"
+#include "ops/core/timing.hpp"
 #include "terminal.hpp"
 
 namespace i20::cli {

@@ -12,7 +12,7 @@
 #include "context.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/discover.hpp"
-#include "ops/errors.hpp"
+#include "ops/core/errors.hpp"
 #include "output_file.hpp"
 
 namespace i20::cli {

@@ -2,7 +2,7 @@
 // i20 doctor [LOGFILE...] [--passive]: what LinuxCNC said about an 8I20 axis, explained.
 //
 // The field question is "LinuxCNC printed this; what is wrong and what do I do?". The
-// matcher (lib/ops/doctor.hpp, messages in params/linuxcnc-messages.yaml) names each
+// matcher (lib/ops/doctor/doctor.hpp, messages in params/linuxcnc-messages.yaml) names each
 // problem with the lines LinuxCNC printed, the cause, the evidence, the fix and the
 // section of docs/field-messages.md it rests on, as `i20 faults` explains a fault bit.
 // --passive adds the card's own state, read without disturbing the running LinuxCNC.
@@ -20,11 +20,11 @@
 
 #include "faults_render.hpp"
 #include "lbp/bytes.hpp"
-#include "ops/doctor.hpp"
-#include "ops/errors.hpp"
-#include "ops/passive_monitor.hpp"
+#include "ops/doctor/doctor.hpp"
+#include "ops/core/errors.hpp"
+#include "ops/watch/passive_monitor.hpp"
 #include "ops/scan.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/timing.hpp"
 #include "params/text.hpp"
 
 namespace i20::cli {

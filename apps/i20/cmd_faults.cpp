@@ -18,10 +18,10 @@
 #include "faults/register_value.hpp"
 #include "faults_render.hpp"
 #include "lbp/bytes.hpp"
-#include "ops/errors.hpp"
+#include "ops/core/errors.hpp"
 #include "ops/faults.hpp"
-#include "ops/live_source.hpp"
-#include "ops/timing.hpp"
+#include "ops/watch/live_source.hpp"
+#include "ops/core/timing.hpp"
 #include "passive.hpp"
 
 namespace i20::cli {

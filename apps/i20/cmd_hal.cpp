@@ -9,10 +9,11 @@
 #include <sstream>
 
 #include "context.hpp"
-#include "hal_load_run.hpp"
 #include "linuxcnc/hal_design.hpp"
 #include "linuxcnc/hal_generate.hpp"
 #include "linuxcnc/hal_lint.hpp"
+#include "ops/hal_file.hpp"
+#include "ops/hal_lint_load.hpp"
 #include "output_file.hpp"
 #include "params/text.hpp"
 #include "profile/loader.hpp"
@@ -88,7 +89,7 @@ void add_load_findings(const std::vector<L::HalSource>& sources, const LintCliOp
                        std::vector<L::LintFinding>& findings) {
   const auto ini =
       o.ini.empty() ? std::optional<std::string>() : std::optional<std::string>(read_file(o.ini));
-  const auto loaded = load_in_halrun(sources, ini);
+  const auto loaded = ops::load_in_halrun(sources, ini, own_executable());
   findings.insert(findings.end(), loaded.findings.begin(), loaded.findings.end());
   const auto order = [&](const L::LintFinding& f) {
     const auto it =
@@ -168,14 +169,9 @@ void run_generate(Context& ctx, const HalCliOptions& o) {
   auto plan = o.plan;
   plan.max_current = max_current(ctx, o.max_current, o.profile);
   plan.command_line = command_line(plan);
-  L::check_plan(plan);
+  L::check_plan(plan);                    // bad options first: they are the user's to fix
   check_output_file(o.out, o.overwrite);  // before any work: a refusal costs nothing
-  const std::string text = L::generate_hal(plan);
-  // The file must pass our own linter; anything else is a bug here, not the user's input.
-  L::LintOptions strict{plan.max_current, plan.pattern};
-  const auto findings = L::lint(L::read_hal(text, "generated"), strict);
-  if (!findings.empty())
-    throw Error("internal error: the generated HAL fails its own lint: " + L::to_string(findings[0]));
+  const std::string text = ops::generate_hal_file(plan);
   if (o.out.empty() || o.out == "-") {
     std::cout << text;
     return;

@@ -12,7 +12,7 @@
 #include "faults/report.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/inventory.hpp"
-#include "ops/signals.hpp"
+#include "ops/core/signals.hpp"
 #include "profile/loader.hpp"
 #include "profile_lookup.hpp"
 

@@ -24,7 +24,7 @@
 #include "faults/fault_mask.hpp"
 #include "faults_render.hpp"
 #include "lbp/bytes.hpp"
-#include "ops/monitor.hpp"
+#include "ops/watch/monitor.hpp"
 #include "passive.hpp"
 #include "terminal.hpp"
 

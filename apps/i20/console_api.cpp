@@ -10,13 +10,13 @@
 #include "lbp/bytes.hpp"
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
-#include "ops/errors.hpp"
+#include "ops/core/errors.hpp"
+#include "ops/core/pending.hpp"
+#include "ops/core/read.hpp"
+#include "ops/core/session.hpp"
 #include "ops/faults.hpp"
-#include "ops/live_source.hpp"
-#include "ops/pending.hpp"
-#include "ops/read.hpp"
 #include "ops/reset.hpp"
-#include "ops/session.hpp"
+#include "ops/watch/live_source.hpp"
 #include "params/value.hpp"
 
 namespace i20::cli {
@@ -212,6 +212,7 @@ ops::LiveSource& ConsoleApi::live() {
 console::Response ConsoleApi::handle(const console::Request& request) {
   const auto path = path_of(request);
   const bool get = request.method() == verb::get;
+  session_.begin_operation();  // each request gets the whole deadline, however long the page is open
   try {
     if (get && path == "/api/overview") return overview(request);
     if (get && path == "/api/params") return params(request);

@@ -13,7 +13,7 @@
 #include "json.hpp"
 #include "ops/diagnosis.hpp"
 #include "ops/faults.hpp"
-#include "ops/live_readings.hpp"
+#include "ops/watch/live_readings.hpp"
 
 namespace CLI {
 class App;

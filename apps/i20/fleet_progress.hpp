@@ -9,7 +9,7 @@
 #include <thread>
 #include <vector>
 
-#include "ops/endpoint.hpp"
+#include "ops/core/endpoint.hpp"
 #include "ops/fleet.hpp"
 
 namespace i20::cli {

@@ -6,7 +6,7 @@
 #include "cmd_doctor.hpp"
 #include "cmd_inventory.hpp"
 #include "context.hpp"
-#include "ops/signals.hpp"
+#include "ops/core/signals.hpp"
 #include "params/closest.hpp"
 #include "terminal.hpp"
 #include "version/build_info.hpp"

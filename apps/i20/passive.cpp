@@ -13,11 +13,11 @@
 #include "faults/decode.hpp"
 #include "faults_render.hpp"
 #include "lbp/bytes.hpp"
-#include "ops/errors.hpp"
-#include "ops/passive_monitor.hpp"
-#include "ops/passive_watch.hpp"
+#include "ops/core/errors.hpp"
+#include "ops/watch/passive_monitor.hpp"
+#include "ops/watch/passive_watch.hpp"
 #include "ops/scan.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/timing.hpp"
 #include "terminal.hpp"
 
 namespace i20::cli {

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "context.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/timing.hpp"
 
 namespace i20::cli {
 

@@ -10,8 +10,8 @@
 #include <iostream>
 
 #include "errors.hpp"
-#include "ops/read.hpp"
-#include "ops/signals.hpp"
+#include "ops/core/read.hpp"
+#include "ops/core/signals.hpp"
 #include "options.hpp"
 #include "terminal.hpp"
 #include "version/build_info.hpp"

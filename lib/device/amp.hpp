@@ -104,7 +104,7 @@ class NvModeLost : public Error {
   bool stray_ram_value_;
 };
 
-// The client's own tries and pauses, given by its owner (ops/timing.hpp sets the programs').
+// The client's own tries and pauses, given by its owner (ops/core/timing.hpp sets the programs').
 struct AmpTiming {
   // Sends of the batch that leaves NV access or RPC memory mode before the mode is reported
   // as possibly still on (the first may fail right after the error that brought us there).
@@ -145,7 +145,7 @@ class Amp8i20 {
   std::vector<WriteReport> write(std::span<const Assignment> assignments, const WriteOptions& options);
 
   // 0xFE 0x5A, then waits up to `wait` until the card answers again (NV values become
-  // live). The wait is the caller's (ops/timing.hpp).
+  // live). The wait is the caller's (ops/core/timing.hpp).
   void reset(std::chrono::milliseconds wait);
 
   // Sets CLEARFAULT, polls until the card clears it (up to `deadline`, the caller's),

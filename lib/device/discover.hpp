@@ -31,7 +31,7 @@ struct DiscoveryOptions {
   std::uint16_t scan_begin = 0x0800;
   std::uint32_t scan_end = 0x2800;  // exclusive
   bool reset_first = true;          // working == NV only right after a reset
-  // How long the card may take to answer again after that reset (ops/timing.hpp).
+  // How long the card may take to answer again after that reset (ops/core/timing.hpp).
   link::Given<std::chrono::milliseconds> reset_wait;
   unsigned alignment = 2;           // 16/32-bit parameters start at even addresses
   std::function<void(std::size_t done, std::size_t total)> progress{};

@@ -10,7 +10,7 @@
 namespace i20 {
 
 // What an error means for the user and the card; apps map it to an exit code in one
-// place (lib/ops/outcome.hpp).
+// place (lib/ops/core/outcome.hpp).
 enum class ErrorKind {
   Failure,       // the card or the line failed; nothing was left half done unreported
   BadInput,      // arguments, files or values are wrong: nothing was sent

@@ -6,7 +6,7 @@
 //
 //   1. identification, the HostMot2 cookie area and the IDROM with its tables at their
 //      usual place, and the running-host watch's first counter read   (survey_board)
-//   2. the watch's last counter read at the window's end (ops/timing.hpp), with its COMMAND sample
+//   2. the watch's last counter read at the window's end (ops/core/timing.hpp), with its COMMAND sample
 //   3. stop, SSLBP's parameters                                      (read_locals)
 //   4. stop, the remotes' baud rates, the setup start, the channels' registers
 //

@@ -3,7 +3,7 @@
 // operation that stops, starts or re-modes an SSERIAL port: on a running machine a stop
 // drops every axis on that port (their 8I20s see no DOIT for 40 ms and disable).
 //
-// What is measured, over a short window (RunningHostCheck::window, set in ops/timing.hpp;
+// What is measured, over a short window (RunningHostCheck::window, set in ops/core/timing.hpp;
 // longer when a little foreign traffic is seen: extra_windows), with read-only packets:
 //
 //  1. LBP16 space 6 RXUDPCount (0x0A) and TXUDPCount (0x10), read at the start and the end
@@ -84,7 +84,7 @@ struct HostActivity {
   std::uint32_t foreign_packets() const { return foreign_received + foreign_sent; }
   // "the card received 31 UDP packets and sent 30 that were not ours in W ms; SSERIAL
   // port 0 COMMAND was busy with 0x1001 (a DOIT)" or "no other host talked to the card
-  // in W ms", W the window watched (ops/timing.hpp sets it).
+  // in W ms", W the window watched (ops/core/timing.hpp sets it).
   std::string describe() const;
 };
 

@@ -73,7 +73,7 @@ struct UdpOptions {
   link::Given<std::chrono::milliseconds> max_timeout;
   // Extra attempts for packets that may be resent (see Resend): a transaction is sent at
   // most 1 + retries times. Packets with writes are sent once unless the caller vouches
-  // for them (Resend::Idempotent). ops hands down its budget's resends (ops/retry.hpp);
+  // for them (Resend::Idempotent). ops hands down its budget's resends (ops/core/retry.hpp);
   // the passthrough's packets hold writes, so ops' own reads over Ethernet never get
   // resent here.
   link::Given<unsigned> retries;

@@ -3,7 +3,7 @@
 // no timeout of their own: every such figure in their option structs is a Given, which has
 // no default, so an options struct built without it does not compile (aggregate
 // initialisation that leaves a Given out is an error, and so is a default-constructed
-// struct). The programs build the structs in ops/timing.hpp; a test names its figures or
+// struct). The programs build the structs in ops/core/timing.hpp; a test names its figures or
 // takes the programs' from there.
 #pragma once
 

@@ -8,12 +8,12 @@
 #include "device/errors.hpp"
 #include "faults/bit_info.hpp"
 #include "lbp/bytes.hpp"
-#include "ops/amp_cell_access.hpp"
-#include "ops/failure.hpp"
-#include "ops/pending.hpp"
-#include "ops/read.hpp"
+#include "ops/core/amp_cell_access.hpp"
+#include "ops/core/failure.hpp"
+#include "ops/core/pending.hpp"
+#include "ops/core/read.hpp"
 #include "ops/reset.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/timing.hpp"
 #include "ops/undo.hpp"
 #include "profile/backup.hpp"
 #include "profile/validate.hpp"
@@ -214,7 +214,7 @@ TargetRun run_apply_opened(const Endpoint& target, const ApplyJob& job, const Am
     const auto amp = open();
     run = run_apply_on(*amp, job, activity);
   } catch (...) {
-    // One meaning for every failure (ops/failure.hpp): a defect is uncertain here too.
+    // One meaning for every failure (ops/core/failure.hpp): a defect is uncertain here too.
     const auto failure = failure_of_current_exception();
     run.target = target;
     run.error = failure.line.message;

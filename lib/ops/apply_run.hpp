@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "device/amp.hpp"
-#include "ops/amp.hpp"
-#include "ops/endpoint.hpp"
-#include "ops/outcome.hpp"
-#include "ops/transaction.hpp"
+#include "ops/core/amp.hpp"
+#include "ops/core/endpoint.hpp"
+#include "ops/core/outcome.hpp"
+#include "ops/core/transaction.hpp"
 #include "params/param_db.hpp"
 #include "profile/profile.hpp"
 

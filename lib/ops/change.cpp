@@ -2,7 +2,7 @@
 #include "ops/change.hpp"
 
 #include "device/errors.hpp"
-#include "ops/read.hpp"
+#include "ops/core/read.hpp"
 #include "ops/undo.hpp"
 #include "params/value.hpp"
 #include "profile/loader.hpp"

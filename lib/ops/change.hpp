@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "device/amp.hpp"
-#include "ops/amp.hpp"
+#include "ops/core/amp.hpp"
 #include "params/param_db.hpp"
 #include "profile/profile.hpp"
 #include "profile/save.hpp"

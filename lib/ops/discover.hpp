@@ -8,8 +8,8 @@
 #include <string>
 
 #include "device/discover.hpp"
-#include "ops/amp.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/amp.hpp"
+#include "ops/core/timing.hpp"
 #include "params/param_db.hpp"
 
 namespace i20::ops {

@@ -5,7 +5,7 @@
 #include "faults/fault_mask.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/change.hpp"
-#include "ops/read.hpp"
+#include "ops/core/read.hpp"
 
 namespace i20::ops {
 namespace {

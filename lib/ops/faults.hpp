@@ -12,9 +12,9 @@
 
 #include "device/amp.hpp"
 #include "faults/report.hpp"
-#include "ops/amp.hpp"
+#include "ops/core/amp.hpp"
 #include "ops/apply_run.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/timing.hpp"
 
 namespace i20::ops {
 

@@ -6,9 +6,12 @@
 
 #include "eth/passthrough_port.hpp"
 #include "eth/target.hpp"
-#include "ops/timing.hpp"
+#include "link/wait_bound.hpp"
+#include "ops/core/timing.hpp"
 
 namespace i20::ops {
+
+using Clock = std::chrono::steady_clock;
 namespace {
 
 // The channels of one SSERIAL port: one PassthroughPort serves them all, and their
@@ -42,7 +45,9 @@ std::vector<EthPort> by_port(const std::vector<Endpoint>& targets) {
 
 // Opened one after another before any thread starts; the ports of one card share its
 // transport, or each would take the other's packets for another host's.
-void open_ports(std::vector<EthPort>& ports, const OpenOptions& open) {
+void open_ports(std::vector<EthPort>& ports, const OpenOptions& open, Clock::time_point started) {
+  // Opening the ports counts against each target's deadline, as Amp::open's does.
+  const link::WaitBound bounded(started + open.retry.operation_deadline);
   std::map<std::string, std::shared_ptr<eth::Lbp16Transport>> transports;
   for (auto& p : ports) {
     const eth::PassthroughOptions options = timing::passthrough(open.link, open.retry);
@@ -63,8 +68,9 @@ void open_ports(std::vector<EthPort>& ports, const OpenOptions& open) {
 
 void for_each_target(const std::vector<Endpoint>& targets, const params::ParamDb& db, const OpenOptions& open,
                      const Cancel& cancel, const FleetTask& task) {
+  const auto started = Clock::now();
   auto ports = by_port(targets);
-  open_ports(ports, open);
+  open_ports(ports, open, started);
   std::vector<std::thread> threads;
   for (const auto& line : group_by_line(targets, false))
     threads.emplace_back([&, line] {
@@ -79,7 +85,7 @@ void for_each_target(const std::vector<Endpoint>& targets, const params::ParamDb
       const unsigned channel = targets[i].eth_target().channel;
       threads.emplace_back([&, i, channel, port = p.port] {
         task(i, [&, i, channel, port] {
-          return Amp::attach(port->link(channel), targets[i], db, open.retry, cancel);
+          return Amp::attach(port->link(channel), targets[i], db, open.retry, cancel, started);
         });
       });
     }

@@ -5,7 +5,7 @@
 
 #include "device/errors.hpp"
 #include "eth/target.hpp"
-#include "ops/read.hpp"
+#include "ops/core/read.hpp"
 
 namespace i20::ops {
 namespace {

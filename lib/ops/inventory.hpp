@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "ops/amp.hpp"
-#include "ops/endpoint.hpp"
+#include "ops/core/amp.hpp"
+#include "ops/core/endpoint.hpp"
 #include "ops/faults.hpp"
-#include "ops/outcome.hpp"
+#include "ops/core/outcome.hpp"
 #include "profile/diff.hpp"
 #include "profile/profile.hpp"
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "ops/outcome.hpp"
+#include "ops/core/outcome.hpp"
 #include "profile/diff.hpp"
 
 namespace i20::ops {

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "ops/amp.hpp"
+#include "ops/core/amp.hpp"
 #include "ops/faults.hpp"
-#include "ops/read.hpp"
+#include "ops/core/read.hpp"
 #include "profile/profile.hpp"
 
 namespace i20::ops {

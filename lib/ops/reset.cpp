@@ -5,8 +5,8 @@
 #include <exception>
 
 #include "device/errors.hpp"
-#include "ops/amp_cell_access.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/amp_cell_access.hpp"
+#include "ops/core/timing.hpp"
 #include "profile/validate.hpp"
 
 namespace i20::ops {

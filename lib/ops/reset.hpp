@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "ops/amp.hpp"
-#include "ops/cell_access.hpp"
-#include "ops/outcome.hpp"
-#include "ops/pending.hpp"
+#include "ops/core/amp.hpp"
+#include "ops/core/cell_access.hpp"
+#include "ops/core/outcome.hpp"
+#include "ops/core/pending.hpp"
 #include "params/param_db.hpp"
 #include "profile/finding.hpp"
 #include "profile/profile.hpp"

@@ -2,7 +2,7 @@
 #include "ops/scan.hpp"
 
 #include "eth/running_host.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/timing.hpp"
 
 namespace i20::ops {
 

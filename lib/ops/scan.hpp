@@ -9,7 +9,7 @@
 
 #include "eth/scan.hpp"
 #include "eth/target.hpp"
-#include "ops/endpoint.hpp"
+#include "ops/core/endpoint.hpp"
 
 namespace i20::ops {
 

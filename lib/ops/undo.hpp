@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "ops/amp.hpp"
+#include "ops/core/amp.hpp"
 #include "profile/profile.hpp"
 
 namespace i20::ops {

@@ -13,7 +13,7 @@
 #include "ethsim/faulty_network.hpp"
 #include "fixtures.hpp"
 #include "harness.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/timing.hpp"
 #include "sim/ground_truth.hpp"
 
 using namespace i20;

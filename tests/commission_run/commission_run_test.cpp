@@ -14,7 +14,7 @@
 #include <thread>
 
 #include "eventually.hpp"
-#include "ops/outcome.hpp"
+#include "ops/core/outcome.hpp"
 #include "sim/amplifier.hpp"
 #include "sim/bits.hpp"
 #include "virtual_axis.hpp"

@@ -12,8 +12,8 @@
 #include "ethsim/server.hpp"
 #include "motor/loader.hpp"
 #include "motor/sensors.hpp"
-#include "ops/commission.hpp"
-#include "ops/session.hpp"
+#include "ops/commission/commission.hpp"
+#include "ops/core/session.hpp"
 
 namespace i20::test {
 

@@ -13,7 +13,7 @@ using namespace i20::device;
 
 namespace {
 
-// The 8I20 client's tries and poll pauses, named here (the programs' are in ops/timing.hpp).
+// The 8I20 client's tries and poll pauses, named here (the programs' are in ops/core/timing.hpp).
 constexpr device::AmpTiming kAmpTiming{.leave_mode_tries = 2u,
                                        .reset_poll = std::chrono::milliseconds(20),
                                        .clear_fault_poll = std::chrono::milliseconds(5)};

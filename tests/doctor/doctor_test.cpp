@@ -4,7 +4,7 @@
 // network namespace, the rig of tests/linuxcnc_axis), each with one cause injected; the other
 // lines below are LinuxCNC's wording from its sources (sserial.c, hostmot2.c, hm2_eth.c,
 // watchdog.c, uspace_rtapi_app.cc; docs/field-messages.md names them).
-#include "ops/doctor.hpp"
+#include "ops/doctor/doctor.hpp"
 
 #include <gtest/gtest.h>
 

@@ -12,8 +12,8 @@
 
 #include "ethsim/board_control.hpp"
 #include "fixtures.hpp"
-#include "ops/passive_monitor.hpp"
-#include "ops/passive_watch.hpp"
+#include "ops/watch/passive_monitor.hpp"
+#include "ops/watch/passive_watch.hpp"
 #include "programs_timing.hpp"
 
 using namespace i20;

@@ -205,7 +205,7 @@ TEST(EthBatching, ASlowSslbpIsCaughtAndTheResultsStayRight) {
 
 TEST(EthBatching, LateDoitsAreReplayedOnlyAsOftenAsTheCallerAllows) {
   // The replay bound is the caller's (PassthroughOptions::max_replays, set by
-  // ops/timing.hpp): with none allowed, the first late DOIT ends the exchange with a
+  // ops/core/timing.hpp): with none allowed, the first late DOIT ends the exchange with a
   // timeout that says why, instead of a replay.
   ethsim::ServerOptions options;
   options.sslbp.processing = std::chrono::microseconds(400);

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// The Ethernet layers' options with the figures the programs use (ops/timing.hpp at the
+// The Ethernet layers' options with the figures the programs use (ops/core/timing.hpp at the
 // default --timeout and retry budget): the layers hold no counts or waits of their own, so a
 // test that does not name its figures takes the programs'.
 #pragma once
@@ -8,9 +8,9 @@
 #include "eth/passive_reader.hpp"
 #include "eth/passthrough_port.hpp"
 #include "eth/scan.hpp"
-#include "ops/endpoint.hpp"
-#include "ops/retry.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/endpoint.hpp"
+#include "ops/core/retry.hpp"
+#include "ops/core/timing.hpp"
 
 namespace i20::programs_timing {
 

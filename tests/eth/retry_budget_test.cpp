@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// Issue 19, "one retry budget": ops owns it (ops/retry.hpp) and hands it down where the
+// Issue 19, "one retry budget": ops owns it (ops/core/retry.hpp) and hands it down where the
 // links are built (ops::timing::serial_link, ops::timing::passthrough), so the layers
 // never multiply their resends. The worst case asserted here: a read whose replies are all
 // lost reaches the card at most RetryPolicy::attempts (3) times in all, over serial and over
@@ -27,11 +27,11 @@
 #include "ethsim/faulty_network.hpp"
 #include "fixtures.hpp"
 #include "lbp/header.hpp"
-#include "ops/amp.hpp"
-#include "ops/amp_cell_access.hpp"
-#include "ops/cancel.hpp"
-#include "ops/read.hpp"
-#include "ops/timing.hpp"
+#include "ops/core/amp.hpp"
+#include "ops/core/amp_cell_access.hpp"
+#include "ops/core/cancel.hpp"
+#include "ops/core/read.hpp"
+#include "ops/core/timing.hpp"
 #include "sim/param_map.hpp"
 #include "sim/sim_stream.hpp"
 

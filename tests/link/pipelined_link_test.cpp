@@ -22,7 +22,7 @@ using lbp::DataSize;
 
 namespace {
 
-// The link's figures, named here (the programs' are set in ops/timing.hpp): each batch sent
+// The link's figures, named here (the programs' are set in ops/core/timing.hpp): each batch sent
 // once, a reply awaited `base` plus its wire time.
 PipelinedLinkOptions quick(std::chrono::milliseconds base = 20ms) {
   return {.base_timeout = base, .retries = 0u, .max_drain = std::chrono::milliseconds(500)};

@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The serial port's own bounds, named here (the programs' are in ops/timing.hpp).
+// The serial port's own bounds, named here (the programs' are in ops/core/timing.hpp).
 SerialOptions port_figures() {
   return {.write_slack = std::chrono::milliseconds(2000), .cancel_grace = std::chrono::milliseconds(200)};
 }

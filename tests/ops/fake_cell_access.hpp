@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "error/error.hpp"
-#include "ops/cell_access.hpp"
+#include "ops/core/cell_access.hpp"
 #include "params/param_db.hpp"
 
 namespace i20::ops::testing {

@@ -6,8 +6,8 @@
 
 #include "fake_cell_access.hpp"
 #include "ops/apply_run.hpp"
-#include "ops/pending.hpp"
-#include "ops/transaction.hpp"
+#include "ops/core/pending.hpp"
+#include "ops/core/transaction.hpp"
 #include "sim_rig.hpp"
 #include "test_util.hpp"
 

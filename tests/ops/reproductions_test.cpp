@@ -14,7 +14,7 @@
 #include "ops/change.hpp"
 #include "ops/discover.hpp"
 #include "ops/faults.hpp"
-#include "ops/read.hpp"
+#include "ops/core/read.hpp"
 #include "sim_rig.hpp"
 
 using namespace i20;

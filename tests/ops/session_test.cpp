@@ -2,7 +2,7 @@
 // ops::Session, the one session every program runs through: where the card is (the command
 // line, then the environment Mesa's WPD/RPD read), what every failure means (one Outcome,
 // one exit code), and a card left settled at the end.
-#include "ops/session.hpp"
+#include "ops/core/session.hpp"
 
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
@@ -12,11 +12,12 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "eth/running_host.hpp"
-#include "ops/errors.hpp"
+#include "ops/core/errors.hpp"
+#include "ops/core/read.hpp"
 #include "ops/faults.hpp"
-#include "ops/read.hpp"
 
 namespace i20::ops {
 namespace {
@@ -235,6 +236,22 @@ TEST(SessionCard, AFailureIsReportedOnceWithItsOutcomeAndTheCardIsSettledAfterIt
   EXPECT_EQ(report.outcome, Outcome::Refused) << "the card settled cleanly: the refusal stands";
   ASSERT_EQ(report.lines.size(), 1u);
   EXPECT_EQ(report.lines.front().label, "refused");
+}
+
+// A session that stays open (the console) runs one operation after another: each gets the
+// whole deadline from begin_operation(), however long the session has been open. Without it
+// the card's deadline, counted from its opening, refuses every exchange once it has passed.
+TEST(SessionCard, EachOperationGetsTheWholeDeadline) {
+  auto options = with(LegacyEnvironment::Ignore);
+  options.target.sim = true;
+  options.retry.operation_deadline = std::chrono::milliseconds(300);
+  Session session(options);
+  auto& amp = session.amp();
+  const auto opened = std::chrono::steady_clock::now();  // the card was opened before this
+  std::this_thread::sleep_until(opened + options.retry.operation_deadline);  // the subject: time
+  EXPECT_THROW(read_values(amp, std::vector<std::string>{"BUSV"}), link::OutOfTime);
+  session.begin_operation();
+  EXPECT_EQ(reading_outcome(read_values(amp, std::vector<std::string>{"BUSV"})), Outcome::Done);
 }
 
 }  // namespace

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "link/pipelined_link.hpp"
-#include "ops/amp.hpp"
+#include "ops/core/amp.hpp"
 #include "params/param_db.hpp"
 #include "sim/ground_truth.hpp"
 #include "sim/param_map.hpp"

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// ops/timing.hpp builds every lower layer's options: the rules those figures must keep,
+// ops/core/timing.hpp builds every lower layer's options: the rules those figures must keep,
 // against the budget (retry.hpp) and the 8I20's 40 ms watchdog (8I20 manual, "8I20 DEVICE
 // SPECIFIC SETUP": SSLBP's normal start sets it to 40 mS).
-#include "ops/timing.hpp"
+#include "ops/core/timing.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,8 +16,8 @@
 #include "eth/scan.hpp"
 #include "link/pipelined_link.hpp"
 #include "link/serial_stream.hpp"
-#include "ops/endpoint.hpp"
-#include "ops/retry.hpp"
+#include "ops/core/endpoint.hpp"
+#include "ops/core/retry.hpp"
 
 namespace i20::ops {
 namespace {
@@ -104,7 +104,7 @@ namespace i20::ops {
 
 // The layers below ops hold no count or wait of their own: none of their option structs can
 // be built without the caller's figures (link::Given has no default), so a figure cannot be
-// forgotten in ops/timing.hpp and silently taken from a lower layer.
+// forgotten in ops/core/timing.hpp and silently taken from a lower layer.
 TEST(Timing, NoLayerBelowOpsCanBeBuiltWithoutItsFigures) {
   EXPECT_FALSE(std::is_default_constructible_v<link::PipelinedLinkOptions>);
   EXPECT_FALSE(std::is_default_constructible_v<link::SerialOptions>);

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Apply against a fake card with injected failures: every run ends applied-and-verified,
 // rolled-back-and-verified, or with an exact account of each cell; never silently wrong.
-#include "ops/transaction.hpp"
+#include "ops/core/transaction.hpp"
 
 #include <gtest/gtest.h>
 

@@ -87,7 +87,7 @@ TEST(SimStream, WorldChangesThroughTheStream) {
   EXPECT_THROW(s.control("busv"), ControlError);
 }
 
-// The link's figures, named here (the programs' are set in ops/timing.hpp).
+// The link's figures, named here (the programs' are set in ops/core/timing.hpp).
 constexpr link::PipelinedLinkOptions kLink{
     .base_timeout = 50ms, .retries = 0u, .max_drain = std::chrono::milliseconds(500)};
 

@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// The moving half of `i20 commission`, inside lib/ops: one DriveLoop cycle at a time with
+// every guard checked after each, the counters unwrapped and every cycle recorded.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "eth/drive_loop.hpp"
+#include "ops/core/cancel.hpp"
+#include "ops/commission/commission.hpp"
+
+namespace i20::ops::commission_detail {
+
+// Why the motion stopped early: caught by run_commission, which zeroes the current.
+class Abort : public std::runtime_error {
+ public:
+  Abort(StopReason reason, const std::string& message) : std::runtime_error(message), reason_(reason) {}
+  StopReason reason() const { return reason_; }
+
+ private:
+  StopReason reason_;
+};
+
+// One recorded cycle.
+struct Tick {
+  double t_s = 0;
+  double command_turns = 0;          // where the current vector holds the rotor (the analysis' frame)
+  std::vector<std::int64_t> counts;  // per encoder instance, unwrapped
+  std::vector<std::optional<std::int64_t>> index_latch;  // per encoder instance
+  std::vector<std::uint32_t> input_words;
+};
+
+// The rotor's scale, once known: which encoder, which way, counts per electrical turn.
+struct Scale {
+  std::size_t encoder = 0;  // index into the encoders
+  int direction = 1;
+  double counts_per_electrical_turn = 0;
+};
+
+class Motion {
+ public:
+  Motion(eth::DriveLoop& loop, const CommissionPlan& plan, const CommissionOptions& options,
+         const Cancel& cancel);
+
+  // One cycle: q current `amps` (signed) at ANGLE `angle_turns` (the 8I20's frame), the
+  // guards, the tick recorded. `command_turns` is what the rotor should follow (recorded).
+  const Tick& drive(double amps, double angle_turns, double command_turns);
+  // Holds the rotor at `command_turns` (current vector there: ANGLE a quarter turn behind).
+  const Tick& hold(double amps, double command_turns) {
+    return drive(amps, command_turns - 0.25, command_turns);
+  }
+
+  // Known scale: the guards for travel, speed and following apply from now on. `follow`:
+  // the rotor should track the command from the current tick.
+  void set_scale(const Scale& scale, bool follow);
+  void stop_following() { follow_ = false; }
+  const std::optional<Scale>& scale() const { return scale_; }
+
+  const std::vector<Tick>& ticks() const { return ticks_; }
+  const eth::DriveLoop& loop() const { return loop_; }
+  double elapsed_s() const;
+  // Changes of each candidate input (FeedbackMap::inputs) between ticks [from, to).
+  std::vector<unsigned> input_changes(std::size_t from, std::size_t to) const;
+  bool input_bit(const Tick& tick, std::size_t input) const;
+
+ private:
+  void unwrap(const eth::DriveReading& reading, Tick& tick);
+  void guard(const eth::DriveReading& reading, const Tick& tick);
+  void guard_motion(const Tick& tick);
+
+  eth::DriveLoop& loop_;
+  const CommissionPlan& plan_;
+  const CommissionOptions& options_;
+  Cancel cancel_;
+  std::chrono::steady_clock::time_point start_;
+  std::vector<Tick> ticks_;
+  std::vector<std::uint16_t> last16_;
+  std::uint32_t foreign_at_start_ = 0;
+  std::uint64_t cycles_ = 0;
+  std::optional<Scale> scale_;
+  bool follow_ = false;
+  std::int64_t follow_count_ = 0;
+  double follow_command_ = 0;
+  std::int64_t start_count_ = 0;
+};
+
+}  // namespace i20::ops::commission_detail
