@@ -20,8 +20,8 @@
 #include "link/pipelined_link.hpp"
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
-#include "ops/fleet.hpp"
 #include "ops/core/timing.hpp"
+#include "ops/fleet.hpp"
 #include "sim/ground_truth.hpp"
 #include "sim/param_map.hpp"
 #include "sim/sim_stream.hpp"
@@ -127,7 +127,7 @@ void run_fleet(const Scenario& s, std::size_t index, const params::ParamDb& db, 
       std::this_thread::sleep_for(std::chrono::microseconds(500 * *i.again_after));
       stop.request(i.signal);
     });
-  const auto runs = ops::run_fleet(targets, ops::make_apply_job(request));
+  const auto runs = fleet_runs(targets, request);
   if (signals.joinable()) signals.join();
   for (std::size_t i = 0; i < runs.size(); ++i) {
     sim::GroundTruth after = before[i];

@@ -335,6 +335,21 @@ void record(Tally& t, const Scenario& s, std::size_t index, const ops::TargetRun
               << "\n";
 }
 
+std::vector<ops::TargetRun> fleet_runs(const std::vector<ops::Endpoint>& targets,
+                                       const ops::ApplyRequest& request) {
+  try {
+    return ops::run_fleet(targets, ops::make_apply_job(request));
+  } catch (const Error& e) {
+    std::vector<ops::TargetRun> refused(targets.size());
+    for (std::size_t i = 0; i < targets.size(); ++i) {
+      refused[i].target = targets[i];
+      refused[i].outcome = ops::outcome_of(e.kind());
+      refused[i].error = e.what();
+    }
+    return refused;
+  }
+}
+
 ops::ApplyRequest request_for(const profile::Profile& p, const params::ParamDb& db, const ops::Cancel& cancel,
                               const std::filesystem::path& backups, Path path, unsigned timeout_ms) {
   ops::ApplyRequest request{.profile = &p, .db = &db, .cancel = cancel};

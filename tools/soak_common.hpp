@@ -20,6 +20,7 @@
 #include "link/link.hpp"
 #include "ops/apply_run.hpp"
 #include "ops/core/cancel.hpp"
+#include "ops/fleet.hpp"
 #include "params/param_db.hpp"
 #include "profile/profile.hpp"
 #include "sim/ground_truth.hpp"
@@ -167,6 +168,11 @@ Judged judge(const sim::RegisterMap& map, const sim::GroundTruth& before, const 
 
 profile::Profile profile_of(const Scenario& s, const params::ParamDb& db);
 Wanted cells_written(const Scenario& s, const params::ParamDb& db);
+// The fleet as `i20 profile apply` runs it: a request the rules that need no card refuse
+// (make_apply_job throws) is refused for every target with nothing opened.
+std::vector<ops::TargetRun> fleet_runs(const std::vector<ops::Endpoint>& targets,
+                                       const ops::ApplyRequest& request);
+
 ops::ApplyRequest request_for(const profile::Profile& p, const params::ParamDb& db, const ops::Cancel& cancel,
                               const std::filesystem::path& backups, Path path, unsigned timeout_ms);
 

@@ -23,8 +23,8 @@
 #include "ethsim/server.hpp"
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
-#include "ops/fleet.hpp"
 #include "ops/core/timing.hpp"
+#include "ops/fleet.hpp"
 #include "sim/control.hpp"
 #include "sim/ground_truth.hpp"
 #include "sim/param_map.hpp"
@@ -319,7 +319,7 @@ void run_fleet(const EthScenario& e, std::size_t index, const params::ParamDb& d
       std::this_thread::sleep_for(std::chrono::microseconds(500 * *i.again_after));
       stop.request(i.signal);
     });
-  const auto runs = ops::run_fleet(targets, ops::make_apply_job(request));
+  const auto runs = fleet_runs(targets, request);
   if (timed.joinable()) timed.join();
   quiesce(b, e);
   for (std::size_t ch = 0; ch < runs.size(); ++ch) {
