@@ -40,12 +40,14 @@ void run_console(Context& ctx, const ConsoleOptions& o) {
     message += ")";
     throw Error(message);
   }
-  ConsoleApi api(session);
-  console::ServerOptions options;
+  ConsoleApi api(session, std::chrono::milliseconds(o.interval_ms));
+  console::ServerOptions options{.timing = {.live_interval = std::chrono::milliseconds(o.interval_ms),
+                                            .stop_poll = ops::timing::kConsoleStopPoll,
+                                            .drain = ops::timing::kConsoleDrain,
+                                            .idle = ops::timing::kConsoleIdle}};
   options.address = o.address;
   options.port = o.port;
   options.static_dir = static_dir;
-  options.live_interval = std::chrono::milliseconds(o.interval_ms);
   std::unique_ptr<console::Server> server;
   try {
     server = std::make_unique<console::Server>(options, api);

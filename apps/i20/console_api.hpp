@@ -13,6 +13,7 @@
 //   WebSocket /api/live     FAULT, STATUS, bus voltage and temperature samples (watch)
 #pragma once
 
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
@@ -23,6 +24,7 @@
 namespace i20::ops {
 class Session;
 class LiveSource;
+class LiveSampler;
 struct TargetRun;
 }  // namespace i20::ops
 
@@ -30,7 +32,8 @@ namespace i20::cli {
 
 class ConsoleApi : public console::Api {
  public:
-  explicit ConsoleApi(ops::Session& session);
+  // `live_interval`: the live view's pace, which paces its retries of a lost card too.
+  ConsoleApi(ops::Session& session, std::chrono::milliseconds live_interval);
   ~ConsoleApi() override;
 
   console::Response handle(const console::Request& request) override;
@@ -59,7 +62,9 @@ class ConsoleApi : public console::Api {
   };
 
   ops::Session& session_;
+  std::chrono::milliseconds live_interval_;
   std::unique_ptr<ops::LiveSource> live_;
+  std::unique_ptr<ops::LiveSampler> sampler_;  // the live view's reads of live_
   std::optional<Preview> preview_;
 };
 

@@ -24,7 +24,6 @@ struct Limits {
   std::size_t body_bytes = 64 * 1024;   // an edit is a few hundred bytes
   std::size_t header_bytes = 8 * 1024;  // the request line and every header together
   std::size_t header_count = 48;
-  std::chrono::seconds idle{30};  // a connection that sends nothing for this long is closed
 };
 
 // A complete response: status, the message as text (JSON for /api, plain text elsewhere),

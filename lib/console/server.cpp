@@ -18,8 +18,6 @@ namespace net = boost::asio;
 namespace websocket = beast::websocket;
 using tcp = net::ip::tcp;
 
-constexpr std::chrono::milliseconds kStopPoll{50};
-constexpr std::chrono::seconds kDrain{1};      // reading what a refused client still sends
 constexpr std::size_t kLiveBacklog = 8;        // samples a slow WebSocket client may lag behind
 constexpr std::size_t kLiveMessageMax = 4096;  // the page sends nothing that needs more
 
@@ -112,7 +110,7 @@ class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
     parser_.emplace();
     parser_->header_limit(static_cast<std::uint32_t>(limits.header_bytes));
     parser_->body_limit(limits.body_bytes);
-    stream_.expires_after(limits.idle);
+    stream_.expires_after(server_.options.timing.idle);
     http::async_read(stream_, buffer_, *parser_,
                      [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
   }
@@ -162,7 +160,7 @@ class HttpConnection : public std::enable_shared_from_this<HttpConnection> {
   void drain() {
     beast::error_code ignored;
     stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
-    stream_.expires_after(kDrain);
+    stream_.expires_after(server_.options.timing.drain);
     stream_.async_read_some(net::buffer(scratch_),
                             [self = shared_from_this()](beast::error_code ec, std::size_t) {
                               if (!ec) self->drain_more();
@@ -207,7 +205,7 @@ void Server::Impl::broadcast() {
 }
 
 void Server::Impl::tick_live() {
-  live_timer.expires_after(options.live_interval);
+  live_timer.expires_after(options.timing.live_interval);
   live_timer.async_wait([this](beast::error_code ec) {
     if (ec) return;
     broadcast();
@@ -216,7 +214,7 @@ void Server::Impl::tick_live() {
 }
 
 void Server::Impl::tick_stop() {
-  stop_timer.expires_after(kStopPoll);
+  stop_timer.expires_after(options.timing.stop_poll);
   stop_timer.async_wait([this](beast::error_code ec) {
     if (ec) return;
     if (stop_requested && stop_requested()) return io.stop();

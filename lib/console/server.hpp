@@ -12,18 +12,27 @@
 #include <string>
 
 #include "console/http.hpp"
+#include "link/given.hpp"
 
 namespace i20::console {
 
 class Api;
 
+// The console's waits, given by the program (ops/core/timing.hpp holds i20's).
+struct ServerTiming {
+  link::Given<std::chrono::milliseconds> live_interval;  // between two live samples
+  link::Given<std::chrono::milliseconds> stop_poll;      // how often run() asks stop_requested
+  link::Given<std::chrono::milliseconds> drain;          // reading what a refused client still sends
+  link::Given<std::chrono::seconds> idle;  // a connection that sends nothing this long is closed
+};
+
 struct ServerOptions {
+  ServerTiming timing;
   std::string address = "127.0.0.1";
   unsigned short port = 0;  // 0: a free port the system picks
-  std::filesystem::path static_dir;
-  Limits limits;
-  std::chrono::milliseconds live_interval{100};
-  std::string token;  // empty: a fresh random one
+  std::filesystem::path static_dir{};
+  Limits limits{};
+  std::string token{};  // empty: a fresh random one
 };
 
 class Server {
@@ -38,7 +47,7 @@ class Server {
   const std::string& token() const;
   // "http://127.0.0.1:8720/?token=...": the one URL that opens the console.
   std::string url() const;
-  // Serves until stop() is called or `stop_requested` returns true (polled every 50 ms).
+  // Serves until stop() is called or `stop_requested` returns true (polled every timing.stop_poll).
   void run(const std::function<bool()>& stop_requested = {});
   // From any thread.
   void stop();

@@ -94,8 +94,7 @@ DriveLoop::DriveLoop(std::unique_ptr<Lbp16Transport> bus, unsigned sserial_port,
                      NormalModeOptions options)
     : bus_(std::move(bus)), options_(options), channel_(channel) {
   if (channel_ >= 8) throw UsageError("an SSERIAL channel is 0..7");
-  if (options_.period.count() <= 0 || options_.period > std::chrono::milliseconds{20})
-    throw UsageError("the DOIT period must be 1..20 ms to keep the 8I20's 40 ms watchdog fed");
+  check_doit_period(options_.period);
   auto started = start_normal_mode(*bus_, sserial_port, static_cast<std::uint8_t>(1u << channel_), options_);
   hostmot2_ = std::move(started.hostmot2);
   port_ = std::move(started.port);

@@ -39,8 +39,7 @@ TransportStats FencedTransport::stats() const {
 
 std::vector<lbp::Bytes> FencedTransport::transact(std::span<const lbp16::Command> commands, Resend resend) {
   // A packet that will not be sent needs no fence before it.
-  if (link::WaitBound::expired())
-    throw link::OutOfTime("the command's time was up before a packet to " + describe() + " was sent");
+  link::WaitBound::require_time_left(describe());
   if (writers_at_risk_ > 0 || unsettled_) fence();
   return exchange(commands, resend);
 }

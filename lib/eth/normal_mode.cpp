@@ -38,6 +38,12 @@ struct NormalModeSession::Cycle {
   std::vector<lbp16::Command> packet;
 };
 
+void check_doit_period(std::chrono::milliseconds period) {
+  if (period.count() <= 0 || period > kMaxDoitPeriod)
+    throw UsageError("the DOIT period must be 1.." + std::to_string(kMaxDoitPeriod.count()) +
+                     " ms to keep the 8I20's 40 ms watchdog fed");
+}
+
 NormalStart start_normal_mode(Lbp16Transport& bus, unsigned sserial_port, std::uint8_t mask,
                               const NormalModeOptions& options) {
   NormalStart out;
@@ -89,8 +95,7 @@ NormalModeSession::NormalModeSession(std::unique_ptr<Lbp16Transport> bus, unsign
                                      std::uint8_t channel_mask, NormalModeOptions options)
     : bus_(std::move(bus)), options_(options), mask_(channel_mask) {
   if (mask_ == 0) throw UsageError("a normal-mode session needs at least one channel");
-  if (options_.period.count() <= 0 || options_.period > std::chrono::milliseconds{20})
-    throw UsageError("the DOIT period must be 1..20 ms to keep the 8I20's 40 ms watchdog fed");
+  check_doit_period(options_.period);
   auto started = start_normal_mode(*bus_, sserial_port, mask_, options_);
   port_ = std::move(started.port);
   unit_numbers_ = std::move(started.unit_numbers);

@@ -50,11 +50,14 @@ inline constexpr std::string_view kNormalStartEffect =
     "a normal start clears the 8I20's latched faults, sets QSETPOINT to 0 A, enables its current "
     "loop and arms its 40 ms watchdog (8I20 manual, 8I20 DEVICE SPECIFIC SETUP)";
 
+// The longest DOIT period: one lost cycle then still leaves the 8I20's 40 ms watchdog fed.
+inline constexpr std::chrono::milliseconds kMaxDoitPeriod{20};
+
 struct NormalModeOptions {
   UdpOptions udp;
   SslbpOptions sslbp;
   RunningHostCheck running_host;
-  // DOIT period; at most 20 ms so that one lost cycle still leaves the 40 ms watchdog fed.
+  // DOIT period, at most kMaxDoitPeriod (check_doit_period).
   link::Given<std::chrono::milliseconds> period;
   // Consecutive cycles without a reply before the session gives up.
   link::Given<unsigned> max_missed_cycles;
@@ -105,6 +108,9 @@ struct NormalStart {
   std::vector<std::pair<unsigned, std::uint32_t>> unit_numbers;
   HostActivity activity;
 };
+// Throws UsageError unless `period` is 1 ms to kMaxDoitPeriod.
+void check_doit_period(std::chrono::milliseconds period);
+
 NormalStart start_normal_mode(Lbp16Transport& bus, unsigned sserial_port, std::uint8_t mask,
                               const NormalModeOptions& options);
 

@@ -210,11 +210,8 @@ std::vector<lbp::Bytes> UdpClient::transact(std::span<const lbp16::Command> comm
   std::chrono::microseconds waited{0};
   for (unsigned attempt = 0; attempt < attempts; ++attempt) {
     // Past the operation's end nothing more is sent: not this packet, nor a resend of it.
-    if (link::WaitBound::expired()) {
-      if (attempt == 0)
-        throw link::OutOfTime("the command's time was up before a packet to " + impl_->name + " was sent");
-      break;
-    }
+    if (attempt == 0) link::WaitBound::require_time_left(impl_->name);
+    if (link::WaitBound::expired()) break;
     if (attempt > 0) ++stats_.resends;
     // Late replies to earlier transactions go. Between attempts of this one, a tagged reply
     // to an earlier attempt is still the answer (the tag says so): keep it.

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "link/link.hpp"
+
 namespace i20::link {
 namespace {
 
@@ -35,6 +37,10 @@ WaitBound::Clock::duration WaitBound::cap(Clock::duration wait) {
 bool WaitBound::expired() {
   const auto left = remaining();
   return left && *left == Clock::duration::zero();
+}
+
+void WaitBound::require_time_left(const std::string& destination) {
+  if (expired()) throw OutOfTime("the command's time was up before a packet to " + destination + " was sent");
 }
 
 }  // namespace i20::link

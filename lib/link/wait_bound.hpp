@@ -18,6 +18,7 @@
 
 #include <chrono>
 #include <optional>
+#include <string>
 
 namespace i20::link {
 
@@ -39,6 +40,9 @@ class WaitBound {
   static Clock::duration cap(Clock::duration wait);
   // True when a bound is in force and has passed: nothing more should be sent.
   static bool expired();
+  // Throws OutOfTime, naming `destination`, when the bound has passed: a packet for it is
+  // not to be sent.
+  static void require_time_left(const std::string& destination);
 
  private:
   std::optional<Clock::time_point> previous_;

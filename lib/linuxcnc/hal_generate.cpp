@@ -19,14 +19,6 @@ constexpr int kLogicMaxInputs = 16;
 // Personality bits of logic(9): the outputs a gate has.
 constexpr unsigned kLogicAnd = 0x100, kLogicOr = 0x200, kLogicNand = 0x800, kLogicNor = 0x1000;
 
-// The power-up (docs/linuxcnc-hal.md, "Power-up and fault reset"). The smart-serial port runs
-// this long after the machine is switched on: the 8I20's bus, switched on with the machine,
-// has risen by then (LinuxCNC's Smithy sample configurations wait about a second too).
-constexpr double kPortRunDelaySeconds = 1.0;
-// ... and its 8I20s' fault pins are judged this long after the port was started: hostmot2
-// has run the start and read each remote's fresh status by then.
-constexpr double kFaultWatchDelaySeconds = 0.5;
-
 std::string two_digits(int n) {
   std::string digits = n < 10 ? "0" : "";  // apart: GCC 12's -O3 -Wrestrict misfires on `"0" + std::string&&`
   digits += std::to_string(n);
@@ -252,21 +244,26 @@ void load_section(std::ostream& out, const HalPlan& plan, const std::string& boa
   out << "addf " << board << ".write servo-thread\n\n";
 }
 
-void smart_serial_section(std::ostream& out, const std::string& board) {
+// HAL's timedelay takes seconds.
+double seconds(std::chrono::milliseconds delay) {
+  return std::chrono::duration<double>(delay).count();
+}
+
+void smart_serial_section(std::ostream& out, const std::string& board, const PowerUpDelays& delays) {
   out << "# ---- smart-serial port 0: power-up and fault reset\n"
          "# The port runs only while the machine is on, from "
-      << kPortRunDelaySeconds
+      << seconds(delays.port_run)
       << " s after machine-on: the 8I20s' bus has risen by\n"
          "# then, so a normal power-up latches no bus fault. Machine off stops the port (no DoIt: the\n"
          "# 8I20's 40 ms watchdog turns its output off); the next machine-on starts it again, which is\n"
          "# how hostmot2 clears a stopped port and its remotes' latched faults (sserial(9): run low, then\n"
          "# high). The 8I20s' faults count "
-      << kFaultWatchDelaySeconds
+      << seconds(delays.fault_watch)
       << " s after the start, so the stopped port's stale ones never hold\n"
          "# the machine in E-stop, and the pids are enabled only then.\n"
-      << "setp i20-port-run.on-delay " << kPortRunDelaySeconds << "\n"
+      << "setp i20-port-run.on-delay " << seconds(delays.port_run) << "\n"
       << "setp i20-port-run.off-delay 0\n"
-      << "setp i20-watching.on-delay " << kFaultWatchDelaySeconds << "\n"
+      << "setp i20-watching.on-delay " << seconds(delays.fault_watch) << "\n"
       << "setp i20-watching.off-delay 0\n"
       << "net i20-machine-on motion.motion-enabled => i20-port-run.in\n"
       << "net i20-port-run i20-port-run.out => " << board << ".sserial.port-0.run i20-watching.in\n"
@@ -379,13 +376,13 @@ void check_plan(const HalPlan& plan, const HalNames& names) {
     throw UsageError("too many inputs for one logic gate (at most 16)");
 }
 
-std::string generate_hal(const HalPlan& plan, const HalNames& names) {
+std::string generate_hal(const HalPlan& plan, const PowerUpDelays& delays, const HalNames& names) {
   check_plan(plan, names);
   const std::string board = hm2_device(plan.board);
   std::ostringstream out;
   header(out, plan, board);
   load_section(out, plan, board, names);
-  smart_serial_section(out, board);
+  smart_serial_section(out, board, delays);
   for (int k = 0; k < plan.axes; ++k) axis_section(out, plan, axis(board, k), names);
   estop_section(out, plan);
   return out.str();

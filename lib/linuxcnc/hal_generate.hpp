@@ -5,10 +5,12 @@
 // MAXCURRENT), and every 8I20 fault pin in the E-stop chain. Pure: returns the text.
 #pragma once
 
+#include <chrono>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "link/given.hpp"
 #include "linuxcnc/hal_names.hpp"
 
 namespace i20::linuxcnc {
@@ -28,6 +30,14 @@ struct HalPlan {
   std::string command_line;              // how the file was asked for, for its header
 };
 
+// The generated power-up's waits (docs/linuxcnc-hal.md, "Power-up and fault reset"), given by
+// the program (ops/core/timing.hpp): how long after machine-on the smart-serial port runs, and
+// how long after the port's start its 8I20s' fault pins count.
+struct PowerUpDelays {
+  link::Given<std::chrono::milliseconds> port_run;
+  link::Given<std::chrono::milliseconds> fault_watch;
+};
+
 // The HAL device names of a board: hm2_7i96s.0, hm2_7i92.0. Throws UsageError.
 std::string hm2_device(const std::string& board);
 
@@ -35,6 +45,7 @@ std::string hm2_device(const std::string& board);
 void check_plan(const HalPlan& plan, const HalNames& names = HalNames::builtin());
 
 // The HAL text. Calls check_plan first.
-std::string generate_hal(const HalPlan& plan, const HalNames& names = HalNames::builtin());
+std::string generate_hal(const HalPlan& plan, const PowerUpDelays& delays,
+                         const HalNames& names = HalNames::builtin());
 
 }  // namespace i20::linuxcnc

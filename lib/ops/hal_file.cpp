@@ -3,6 +3,7 @@
 
 #include "error/error.hpp"
 #include "linuxcnc/hal_lint.hpp"
+#include "ops/core/timing.hpp"
 
 namespace i20::ops {
 
@@ -10,7 +11,7 @@ namespace L = linuxcnc;
 
 std::string generate_hal_file(const L::HalPlan& plan) {
   L::check_plan(plan);
-  std::string text = L::generate_hal(plan);
+  std::string text = L::generate_hal(plan, {timing::kHalPortRunDelay, timing::kHalFaultWatchDelay});
   const L::LintOptions strict{plan.max_current, plan.pattern};
   const auto findings = L::lint(L::read_hal(text, "generated"), strict);
   if (!findings.empty())

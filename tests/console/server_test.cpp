@@ -40,11 +40,14 @@ class ConsoleServer : public ::testing::Test {
     fs::create_directories(root_ / "site");
     std::ofstream(root_ / "site" / "index.html") << "<title>console</title>";
     std::ofstream(root_ / "secret.html") << "outside the folder";
-    ServerOptions options;
+    // Short waits: the tests run through them (the live interval) or wait for a close.
+    ServerOptions options{.timing = {.live_interval = std::chrono::milliseconds(20),
+                                     .stop_poll = std::chrono::milliseconds(10),
+                                     .drain = std::chrono::seconds(1),
+                                     .idle = std::chrono::seconds(30)}};
     options.static_dir = root_ / "site";
     options.limits.body_bytes = 1024;
     options.limits.header_count = 20;
-    options.live_interval = std::chrono::milliseconds(20);
     server_ = std::make_unique<Server>(options, api_);
     port_ = server_->port();
     thread_ = std::thread([this] { server_->run(); });

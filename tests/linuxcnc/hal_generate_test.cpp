@@ -8,10 +8,14 @@
 #include "error/error.hpp"
 #include "linuxcnc/hal_design.hpp"
 #include "linuxcnc/hal_lint.hpp"
+#include "ops/core/timing.hpp"
 
 using namespace i20::linuxcnc;
 
 namespace {
+
+// The power-up delays the program writes (ops/core/timing.hpp).
+const PowerUpDelays kProgramDelays{i20::ops::timing::kHalPortRunDelay, i20::ops::timing::kHalFaultWatchDelay};
 
 HalPlan hall_encoder_plan(int axes = 1) {
   HalPlan p;
@@ -53,7 +57,7 @@ TEST(HalGenerate, EveryPlanLintsCleanWithTheFactsItWasWrittenFrom) {
   halls_only.halls = {"a.in,b.in,c.in"};
   plans.push_back(halls_only);
   for (const auto& p : plans) {
-    const auto text = generate_hal(p);
+    const auto text = generate_hal(p, kProgramDelays);
     const auto findings = lint(read_hal(text, "gen.hal"), {p.max_current, p.pattern});
     for (const auto& f : findings)
       ADD_FAILURE() << "cfg=" << p.cfg << " axes=" << p.axes << ": " << to_string(f);
@@ -61,7 +65,7 @@ TEST(HalGenerate, EveryPlanLintsCleanWithTheFactsItWasWrittenFrom) {
 }
 
 TEST(HalGenerate, RotorAngleFeedsTheEightI20AndTheCurrentIsLimitedToMaxcurrent) {
-  const HalDesign d(read_hal(generate_hal(hall_encoder_plan(2)), "gen.hal"));
+  const HalDesign d(read_hal(generate_hal(hall_encoder_plan(2), kProgramDelays), "gen.hal"));
   for (int k = 0; k < 2; ++k) {
     const std::string n = std::to_string(k), dev = "hm2_7i96s.0.8i20.0." + n;
     const auto* angle = d.signal_of(dev + ".angle");
@@ -85,7 +89,7 @@ TEST(HalGenerate, RotorAngleFeedsTheEightI20AndTheCurrentIsLimitedToMaxcurrent) 
 }
 
 TEST(HalGenerate, EveryFaultPinOfEveryEightI20ReachesTheEstopChain) {
-  const HalDesign d(read_hal(generate_hal(hall_encoder_plan(2)), "gen.hal"));
+  const HalDesign d(read_hal(generate_hal(hall_encoder_plan(2), kProgramDelays), "gen.hal"));
   const auto& faults = HalNames::builtin().i20_fault_pins();
   // logic personalities: per axis `or` over 13 inputs, `nand` of that and the watch, `and` of
   // the enable and the watch; the link's `nor`; the chain: `and` of 4.
@@ -116,7 +120,7 @@ TEST(HalGenerate, EveryFaultPinOfEveryEightI20ReachesTheEstopChain) {
 // faults), its 8I20s' faults count and the pids are enabled half a second after that.
 // LinuxCNC runs it in tests/linuxcnc_axis/axis_test.sh.
 TEST(HalGenerate, ThePortRunsAfterMachineOnAndItsFaultsCountOnlyOnceItRuns) {
-  const auto text = generate_hal(hall_encoder_plan(2));
+  const auto text = generate_hal(hall_encoder_plan(2), kProgramDelays);
   const HalDesign d(read_hal(text, "gen.hal"));
   EXPECT_EQ(d.signal_of("motion.motion-enabled"), d.signal_of("i20-port-run.in"));
   EXPECT_EQ(d.signal_of("i20-port-run.out"), d.signal_of("hm2_7i96s.0.sserial.port-0.run"));
@@ -140,7 +144,7 @@ TEST(HalGenerate, QhiNetsTheIndexBetweenEncoderAndBldcOnly) {
   auto p = hall_encoder_plan(1);
   p.cfg = "qhi";
   p.encoder_offset = -250;
-  const HalDesign d(read_hal(generate_hal(p), "gen.hal"));
+  const HalDesign d(read_hal(generate_hal(p, kProgramDelays), "gen.hal"));
   const auto* index = d.signal_of("bldc.0.index-enable");
   ASSERT_NE(index, nullptr);
   EXPECT_EQ(index, d.signal_of("hm2_7i96s.0.encoder.00.index-enable"));
@@ -157,7 +161,7 @@ TEST(HalGenerate, QhiHandsBldcTheLatchedIndexThroughTheCapture) {
   auto p = hall_encoder_plan(2);
   p.cfg = "qhi";
   p.encoder_offset = 40;
-  const auto text = generate_hal(p);
+  const auto text = generate_hal(p, kProgramDelays);
   const HalDesign d(read_hal(text, "gen.hal"));
   for (int k = 0; k < 2; ++k) {
     const std::string n = std::to_string(k), j = "j" + n + "-", mux = "mux-gen.0" + n;
@@ -187,14 +191,14 @@ TEST(HalGenerate, QhiHandsBldcTheLatchedIndexThroughTheCapture) {
   }
   EXPECT_NE(text.find("loadrt mux_generic config=\"ss2,ss2\"\n"), std::string::npos) << text;
   // Without an index bldc reads rawcounts itself: no capture.
-  const auto qh = generate_hal(hall_encoder_plan(1));
+  const auto qh = generate_hal(hall_encoder_plan(1), kProgramDelays);
   EXPECT_EQ(qh.find("mux_generic"), std::string::npos);
   EXPECT_NE(qh.find("net j0-rawcounts hm2_7i96s.0.encoder.00.rawcounts => bldc.0.rawcounts\n"),
             std::string::npos);
 }
 
 TEST(HalGenerate, TheHeaderNamesTheIniValuesItReads) {
-  const auto text = generate_hal(hall_encoder_plan(1));
+  const auto text = generate_hal(hall_encoder_plan(1), kProgramDelays);
   for (const char* ini :
        {"[KINS]KINEMATICS", "[EMCMOT]SERVO_PERIOD", "[JOINT_k]ENCODER_SCALE", "FF0", "DEADBAND"})
     EXPECT_NE(text.find(ini), std::string::npos) << ini;

@@ -13,11 +13,15 @@
 #include "build_paths.hpp"
 #include "linuxcnc/hal_generate.hpp"
 #include "linuxcnc/hal_lint.hpp"
+#include "ops/core/timing.hpp"
 
 using namespace i20::linuxcnc;
 namespace fs = std::filesystem;
 
 namespace {
+
+// The power-up delays the program writes (ops/core/timing.hpp).
+const PowerUpDelays kProgramDelays{i20::ops::timing::kHalPortRunDelay, i20::ops::timing::kHalFaultWatchDelay};
 
 std::string data_text(const std::string& name) {
   std::ifstream in(i20::test::source_dir() / "tests/linuxcnc/data" / name);
@@ -148,7 +152,7 @@ TEST(HalLintBroken, TheGeneratedFileWithACommissionFragmentIsRefused) {
   p.counts_per_rev = 4000;
   p.max_current = 12.0;
   p.halls = {"hm2_7i96s.0.inm.00.input-00,hm2_7i96s.0.inm.00.input-01,hm2_7i96s.0.inm.00.input-02"};
-  auto statements = read_hal(generate_hal(p), "axis.hal");
+  auto statements = read_hal(generate_hal(p, kProgramDelays), "axis.hal");
   const auto fragment_text = data_text("commission-fragment.hal");
   const auto fragment = read_hal(fragment_text, "x-axis.hal");
   EXPECT_EQ(lint_exit_code(lint(statements, {p.max_current, p.pattern})), 0);

@@ -17,10 +17,6 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-constexpr std::uint32_t kForeignPacketLimit = timing::kCommissionForeignPackets;
-constexpr std::uint64_t kHostCheckEvery = timing::kCommissionHostCheckEvery;
-constexpr std::size_t kSpeedWindow = timing::kCommissionSpeedWindow;
-
 std::uint16_t angle_word(double turns) {
   const double frac = turns - std::floor(turns);
   return static_cast<std::uint16_t>(static_cast<std::uint32_t>(std::lround(frac * 65536.0)) & 0xFFFFu);
@@ -100,9 +96,9 @@ void Motion::guard(const eth::DriveReading& reading, const Tick& tick) {
   if (tick.t_s > plan_.time_limit_s)
     throw Abort(StopReason::TimeLimit,
                 std::string("the time limit (") + fixed(plan_.time_limit_s, 0) + " s) ran out");
-  if (++cycles_ % kHostCheckEvery == 0) {
+  if (++cycles_ % timing::kCommissionHostCheckEvery == 0) {
     const auto foreign = loop_.foreign_packets();
-    if (foreign > foreign_at_start_ + kForeignPacketLimit)
+    if (foreign > foreign_at_start_ + timing::kCommissionForeignPackets)
       throw Abort(StopReason::OtherHost,
                   std::string("another host sent the card ") + std::to_string(foreign - foreign_at_start_) +
                       " packet(s) during the run (LinuxCNC?): stopped so that two hosts do "
@@ -136,8 +132,8 @@ void Motion::guard_motion(const Tick& tick) {
     throw Abort(StopReason::TravelLimit, std::string("the rotor turned ") + fixed(travel, 2) +
                                              " electrical turns, beyond the plan's " +
                                              fixed(plan_.max_electrical_turns, 1));
-  if (ticks_.size() > kSpeedWindow) {
-    const auto& then = ticks_[ticks_.size() - 1 - kSpeedWindow];
+  if (ticks_.size() > timing::kCommissionSpeedWindow) {
+    const auto& then = ticks_[ticks_.size() - 1 - timing::kCommissionSpeedWindow];
     const double speed =
         std::abs(static_cast<double>(count - then.counts[s.encoder])) / cpe / (tick.t_s - then.t_s);
     if (speed > plan_.runaway_turns_per_s)

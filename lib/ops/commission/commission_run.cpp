@@ -33,11 +33,6 @@ constexpr double kGivenScaleAgreement = 0.2;
 // The check: how far each push should get (its waits: timing.hpp).
 constexpr double kCheckEnoughTurns = 0.5;
 constexpr double kCheckMinTurns = 0.25;
-using timing::kCheckPushS;
-using timing::kCheckRampS;
-using timing::kCheckRestS;
-using timing::kHoldRampS;
-using timing::kHoldS;
 // Hall codes off the pattern's sector tolerated in the check (edges blur by hysteresis).
 constexpr double kHallMismatchLimit = 0.02;
 
@@ -368,7 +363,7 @@ double Procedure::push(const Rotor& rotor, int sign, ClosedLoopCheck& check) {
   const double start = rotor.angle(m_.ticks().back().counts[e]);
   double moved = 0;
   double amps = 0;
-  for (double t = 0; t < kCheckPushS && std::abs(moved) < kCheckEnoughTurns; t += dt) {
+  for (double t = 0; t < timing::kCheckPushS && std::abs(moved) < kCheckEnoughTurns; t += dt) {
     const double theta = rotor.angle(m_.ticks().back().counts[e]);
     // A governor: the current creeps up from 0 while the rotor turns slower than the sweep
     // did, and drops to 0 when it is faster, so a light rotor is not flung (the torque
@@ -379,7 +374,7 @@ double Procedure::push(const Rotor& rotor, int sign, ClosedLoopCheck& check) {
         std::abs(theta - rotor.angle(before.counts[e])) / std::max(dt, ticks.back().t_s - before.t_s);
     amps = speed > 0.5 * plan_.turns_per_s
                ? 0.0
-               : std::min(plan_.check_current_a, amps + plan_.check_current_a * dt / kCheckRampS);
+               : std::min(plan_.check_current_a, amps + plan_.check_current_a * dt / timing::kCheckRampS);
     const auto& tick = m_.drive(sign * amps, theta, theta);
     const double now = rotor.angle(tick.counts[e]);
     moved = now - start;
@@ -395,7 +390,7 @@ double Procedure::push(const Rotor& rotor, int sign, ClosedLoopCheck& check) {
   }
   // Brake: hold the current vector where the rotor is now, so it stops there.
   const double stop_at = rotor.angle(m_.ticks().back().counts[e]);
-  for (double t = 0; t < kCheckRestS; t += dt) m_.hold(plan_.check_current_a, stop_at);
+  for (double t = 0; t < timing::kCheckRestS; t += dt) m_.hold(plan_.check_current_a, stop_at);
   return moved;
 }
 
@@ -407,13 +402,14 @@ double Procedure::hold_error(const Rotor& rotor, double at_turns) {
   // The current ramps up where the rotor is, and the command then moves at the sweep's
   // speed: no step for the rotor to be flung by.
   double command = rotor.angle(m_.ticks().back().counts[e]);
-  for (double t = 0; t < kHoldRampS; t += dt) m_.hold(plan_.check_current_a * t / kHoldRampS, command);
+  for (double t = 0; t < timing::kHoldRampS; t += dt)
+    m_.hold(plan_.check_current_a * t / timing::kHoldRampS, command);
   const double step = plan_.turns_per_s * dt;
   while (std::abs(at_turns - command) > 1e-9) {
     command = at_turns > command ? std::min(at_turns, command + step) : std::max(at_turns, command - step);
     m_.hold(plan_.check_current_a, command);
   }
-  for (double t = 0; t < kHoldS; t += dt) m_.hold(plan_.check_current_a, at_turns);
+  for (double t = 0; t < timing::kHoldS; t += dt) m_.hold(plan_.check_current_a, at_turns);
   return wrap_turns(rotor.angle(m_.ticks().back().counts[e]) - at_turns) * 360.0;
 }
 

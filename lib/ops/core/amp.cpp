@@ -189,8 +189,7 @@ bool Amp::wait_for_answer(const link::LinkError& e) {
   // In short slices, so that a stop request is obeyed at once where the card may be stopped.
   while (Clock::now() < until) {
     if (!uninterruptible_) cancel_.check("waiting for the card to answer again");
-    std::this_thread::sleep_for(
-        std::min<Clock::duration>(until - Clock::now(), std::chrono::milliseconds(10)));
+    std::this_thread::sleep_for(std::min<Clock::duration>(until - Clock::now(), timing::kStopPollSlice));
   }
   ++probes_;
   return true;
@@ -229,8 +228,13 @@ std::string Amp::settle() {
   }
   uninterruptible_ = was_uninterruptible;
   unsettled_said_ = true;
+  // Past the bound the card may have been answering late rather than not at all: say which.
+  const bool time_up = std::chrono::steady_clock::now() >= bound();
+  const std::string what = time_up
+                               ? " had not confirmed leaving " + mode + " when the time to settle it ran out"
+                               : " stopped answering while in " + mode;
   throw device::AmpStateError(
-      "the 8I20 on " + endpoint_.text + " stopped answering while in " + mode +
+      "the 8I20 on " + endpoint_.text + what +
       " and may still be in it: when it answers again, run any i20 command on it (it leaves "
       "the mode first), or `i20 " +
       endpoint_.flags() + " reset`, before the machine uses it");

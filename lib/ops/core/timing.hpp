@@ -138,6 +138,18 @@ inline constexpr unsigned kZeroCyclesBeforeStop = 3;
 // view, unless --interval says otherwise.
 inline constexpr std::chrono::milliseconds kWatchInterval{200};
 inline constexpr std::chrono::milliseconds kConsoleLiveInterval{100};
+// The console's server: how often it asks whether to stop (Ctrl-C), how long it reads what a
+// refused client still sends before closing, and how long a silent connection stays open.
+inline constexpr std::chrono::milliseconds kConsoleStopPoll{50};
+inline constexpr std::chrono::seconds kConsoleDrain{1};
+inline constexpr std::chrono::seconds kConsoleIdle{30};
+// The power-up `i20 hal` writes (docs/linuxcnc-hal.md, "Power-up and fault reset"): the
+// smart-serial port runs this long after machine-on, when the 8I20's bus, switched on with the
+// machine, has risen (LinuxCNC's Smithy sample configurations wait about a second too); its
+// 8I20s' faults count this long after the port started, when hostmot2 has run the start and
+// read each remote's fresh status.
+inline constexpr std::chrono::milliseconds kHalPortRunDelay{1000};
+inline constexpr std::chrono::milliseconds kHalFaultWatchDelay{500};
 // A lost card is retried at the sample interval, but not more often than this: opening a
 // vanished port or waiting out a timeout every 20 ms would only spin.
 inline constexpr std::chrono::milliseconds kMonitorMinRetry{500};

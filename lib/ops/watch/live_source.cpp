@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "ops/watch/live_source.hpp"
 
+#include <algorithm>
+
 #include "eth/normal_mode.hpp"
 #include "eth/target.hpp"
+#include "ops/core/errors.hpp"
 #include "ops/core/timing.hpp"
 
 namespace i20::ops {
@@ -64,6 +67,32 @@ std::unique_ptr<LiveSource> make_live_source(Session& session, LiveMode mode) {
   if (mode == LiveMode::NormalModeOnEthernet && is_eth_target(session))
     return std::make_unique<NormalModeSource>(session.endpoint().eth_target(), session.options().link);
   return std::make_unique<RegisterSource>(session);
+}
+
+std::chrono::milliseconds retry_interval(std::chrono::milliseconds interval) {
+  return std::max(interval, timing::kMonitorMinRetry);
+}
+
+LiveSampler::LiveSampler(LiveSource& source, std::chrono::milliseconds interval)
+    : source_(source), retry_every_(retry_interval(interval)) {}
+
+LiveSampler::Sample LiveSampler::next() {
+  if (retry_at_ && Clock::now() < *retry_at_) return {std::nullopt, error_};
+  try {
+    Sample s{source_.read(), {}};
+    retry_at_.reset();
+    error_.clear();
+    return s;
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const UsageError&) {
+    throw;  // not the card's: nothing a retry mends
+  } catch (const Error& e) {
+    error_ = e.what();
+    source_.reconnect();  // the port may have gone away with the adapter
+    retry_at_ = Clock::now() + retry_every_;
+    return {std::nullopt, error_};
+  }
 }
 
 }  // namespace i20::ops

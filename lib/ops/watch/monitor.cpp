@@ -10,9 +10,9 @@
 #include "faults/fault_mask.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/core/errors.hpp"
+#include "ops/core/signals.hpp"
 #include "ops/watch/live_readings.hpp"
 #include "ops/watch/live_source.hpp"
-#include "ops/core/signals.hpp"
 
 namespace i20::ops {
 namespace {
@@ -171,15 +171,13 @@ void Monitor::record(const FaultReadings& r, std::vector<MonitorEvent> events) {
 void Monitor::lose(const std::string& why) {
   lost_at_ = Clock::now();
   summary_.connected = false;
-  MonitorEvent e{
-      WallClock::now(),
-      Kind::Lost,
-      "lost contact with the 8I20 on " + where_ + ": " + why + "; retrying every " +
-          seconds_text(
-              std::chrono::duration<double>(std::max(o_.interval, timing::kMonitorMinRetry)).count()) +
-          " (Ctrl-C stops)",
-      {},
-      {}};
+  MonitorEvent e{WallClock::now(),
+                 Kind::Lost,
+                 "lost contact with the 8I20 on " + where_ + ": " + why + "; retrying every " +
+                     seconds_text(std::chrono::duration<double>(retry_interval(o_.interval)).count()) +
+                     " (Ctrl-C stops)",
+                 {},
+                 {}};
   e.elapsed_s = elapsed();
   sink_.event(e);
   source_->reconnect();  // drop the link: the port may have gone away with the adapter
@@ -247,7 +245,7 @@ Outcome Monitor::run() {
   while (!done()) {
     if (!sleep_until(next)) break;
     sample_once();
-    const auto step = lost_at_ ? std::max(o_.interval, timing::kMonitorMinRetry) : o_.interval;
+    const auto step = lost_at_ ? retry_interval(o_.interval) : o_.interval;
     next += step;
     if (next < Clock::now()) next = Clock::now() + step;  // a slow read skips ticks, never bunches them
   }
