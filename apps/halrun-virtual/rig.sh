@@ -125,7 +125,7 @@ cleanup() {
   fi
   ip netns del "$ns_host" 2>/dev/null
   ip netns del "$ns_card" 2>/dev/null
-  rm -rf "$work"
+  [[ -n ${I20_KEEP_WORK:-} ]] || rm -rf "$work"
 }
 trap cleanup EXIT
 trap 'exit 1' INT TERM HUP

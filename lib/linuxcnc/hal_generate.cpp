@@ -19,6 +19,10 @@ constexpr int kLogicMaxInputs = 16;
 // Personality bits of logic(9): the outputs a gate has.
 constexpr unsigned kLogicAnd = 0x100, kLogicOr = 0x200, kLogicNand = 0x800, kLogicNor = 0x1000;
 
+// hostmot2's default fault-lim for a smart-serial port (sserial(9); its "Smart Serial Comms
+// Error" message says "at least 200 times").
+constexpr int kSserialFaultLimit = 200;
+
 std::string two_digits(int n) {
   std::string digits = n < 10 ? "0" : "";  // apart: GCC 12's -O3 -Wrestrict misfires on `"0" + std::string&&`
   digits += std::to_string(n);
@@ -208,7 +212,7 @@ void load_section(std::ostream& out, const HalPlan& plan, const std::string& boa
     gate("i20-ok-" + n, kLogicNand | 2u);
     gate("i20-enable-" + n, kLogicAnd | 2u);
   }
-  gate("i20-link-ok", kLogicNor | 1u);
+  gate("i20-link-ok", kLogicNor | 2u);
   gate("i20-estop-ok", kLogicAnd | static_cast<unsigned>(plan.axes + 2));
   logic_names.pop_back();
   personalities.pop_back();
@@ -229,7 +233,10 @@ void load_section(std::ostream& out, const HalPlan& plan, const std::string& boa
          "loadrt logic names="
       << logic_names << " personality=" << personalities << "\n"
       << "# The power-up: the port runs a while after machine-on, its faults are watched a while later.\n"
-         "loadrt timedelay names=i20-port-run,i20-watching\n\n"
+         "loadrt timedelay names=i20-port-run,i20-watching\n"
+         "# The port's error counter against hostmot2's limit (the link's failure, below).\n"
+         "loadrt conv_u32_float names=i20-port-errors\n"
+         "loadrt comp names=i20-port-stopped\n\n"
       << "addf " << board << ".read servo-thread\n"
       << "addf motion-command-handler servo-thread\n"
          "addf motion-controller servo-thread\n";
@@ -237,7 +244,7 @@ void load_section(std::ostream& out, const HalPlan& plan, const std::string& boa
   for (int k = 0; k < plan.axes; ++k)
     out << "addf i20-faults-" << k << " servo-thread\naddf i20-ok-" << k << " servo-thread\naddf i20-enable-"
         << k << " servo-thread\n";
-  out << "addf i20-link-ok servo-thread\naddf i20-estop-ok servo-thread\n";
+  out << "addf i20-port-errors servo-thread\naddf i20-port-stopped servo-thread\naddf i20-link-ok servo-thread\naddf i20-estop-ok servo-thread\n";
   for (int k = 0; k < plan.axes; ++k) out << "addf pid." << k << ".do-pid-calcs servo-thread\n";
   for (const auto& capture : index_captures) out << index_capture_functions(capture);
   for (int k = 0; k < plan.axes; ++k) out << "addf bldc." << k << " servo-thread\n";
@@ -269,7 +276,16 @@ void smart_serial_section(std::ostream& out, const std::string& board, const Pow
       << "net i20-port-run i20-port-run.out => " << board << ".sserial.port-0.run i20-watching.in\n"
       << "net i20-watching i20-watching.out\n"
       << "# The link: hm2_eth's packet errors past their limit (io-error) stop the machine.\n"
-      << "net i20-link-failed " << board << ".packet-error-exceeded => i20-link-ok.in-00\n\n";
+      << "net i20-link-failed " << board << ".packet-error-exceeded => i20-link-ok.in-00\n"
+      << "# So does a port hostmot2 stopped for its errors (Smart Serial Comms Error): when its\n"
+      << "# fault-count passes fault-lim, hostmot2 stops the port, whose 8I20s' fault pins then stop\n"
+      << "# updating, and the count keeps its value until the port starts again (sserial(9)). The\n"
+      << "# comparison's limit is fault-lim's: change both together.\n"
+      << "setp " << board << ".sserial.port-0.fault-lim " << kSserialFaultLimit << "\n"
+      << "setp i20-port-stopped.in0 " << kSserialFaultLimit << "\n"
+      << "net i20-port-errors " << board << ".sserial.port-0.fault-count => i20-port-errors.in\n"
+      << "net i20-port-error-count i20-port-errors.out => i20-port-stopped.in1\n"
+      << "net i20-port-stopped i20-port-stopped.out => i20-link-ok.in-01\n\n";
 }
 
 void axis_section(std::ostream& out, const HalPlan& plan, const Axis& a, const HalNames& names) {

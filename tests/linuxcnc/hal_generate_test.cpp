@@ -92,8 +92,8 @@ TEST(HalGenerate, EveryFaultPinOfEveryEightI20ReachesTheEstopChain) {
   const HalDesign d(read_hal(generate_hal(hall_encoder_plan(2), kProgramDelays), "gen.hal"));
   const auto& faults = HalNames::builtin().i20_fault_pins();
   // logic personalities: per axis `or` over 13 inputs, `nand` of that and the watch, `and` of
-  // the enable and the watch; the link's `nor`; the chain: `and` of 4.
-  EXPECT_EQ(d.module("logic")->args.at("personality"), "0x20D,0x802,0x102,0x20D,0x802,0x102,0x1001,0x104");
+  // the enable and the watch; the link's `nor` of 2; the chain: `and` of 4.
+  EXPECT_EQ(d.module("logic")->args.at("personality"), "0x20D,0x802,0x102,0x20D,0x802,0x102,0x1002,0x104");
   for (int k = 0; k < 2; ++k) {
     const std::string n = std::to_string(k);
     for (std::size_t i = 0; i < faults.size(); ++i) {
@@ -107,6 +107,12 @@ TEST(HalGenerate, EveryFaultPinOfEveryEightI20ReachesTheEstopChain) {
   }
   // The link's own failure: hm2_eth's packet errors past their limit.
   EXPECT_EQ(d.signal_of("hm2_7i96s.0.packet-error-exceeded"), d.signal_of("i20-link-ok.in-00"));
+  // ... and a port hostmot2 stopped for its errors: its fault-count past fault-lim, the same
+  // limit on both sides.
+  EXPECT_EQ(d.signal_of("hm2_7i96s.0.sserial.port-0.fault-count"), d.signal_of("i20-port-errors.in"));
+  EXPECT_EQ(d.signal_of("i20-port-errors.out"), d.signal_of("i20-port-stopped.in1"));
+  EXPECT_EQ(d.setting("hm2_7i96s.0.sserial.port-0.fault-lim")->value, d.setting("i20-port-stopped.in0")->value);
+  EXPECT_EQ(d.signal_of("i20-port-stopped.out"), d.signal_of("i20-link-ok.in-01"));
   EXPECT_EQ(d.signal_of("i20-link-ok.nor"), d.signal_of("i20-estop-ok.in-03"));
   EXPECT_EQ(d.signal_of("i20-estop-ok.and"), d.signal_of("iocontrol.0.emc-enable-in"));
   // No E-stop input given: the chain's first input is left for the user, so E-stop holds.

@@ -71,3 +71,66 @@ realtime_started() {
   note "$label: LinuxCNC's realtime did not start ($why): the run measured this host, not the axis; running it again ($try of $STALL_TRIES)"
   return 1
 }
+
+# --- the file `i20 hal` writes, run as LinuxCNC would run it --------------------------------
+# generated_hal_files: `i20 hal` writes the card's axes (port 0, channel k = encoder k) to
+# $work/generated.hal, with an INI ($work/axis.ini) holding the values the file reads (gains
+# 0: the pid's output is its bias, a torque command in amps), and $work/loadable.hal, the file
+# less its iocontrol lines: iocontrol needs a running LinuxCNC's NML buffers, so its lines (E-stop
+# out, tool change loop) are left out of the load and counted in io_lines. Sets estop_pin, the
+# E-stop input the file was given.
+generated_hal_files() {
+  local -a axes_args
+  if [[ $CARD == 7i96s ]]; then
+    axes_args=(--board 7i96s --axes 1 --halls "$(IFS=,; echo "${HALL_NETS[*]}")"
+      --estop-in "$BOARD.inm.00.input-10")
+  else
+    axes_args=(--board 7i92t --axes 2 --halls "$BOARD.gpio.010.in,$BOARD.gpio.011.in,$BOARD.gpio.012.in"
+      --halls "$(IFS=,; echo "${HALL_NETS[*]}")" --estop-in "$BOARD.gpio.016.in")
+  fi
+  rm -f "$work/generated.hal" # a run again writes it anew
+  "$I20" hal "${axes_args[@]}" --board-ip "$CARD_IP" --cfg qh --pattern 25 --poles $POLES \
+    --counts-per-rev $COUNTS --max-current 10A -o "$work/generated.hal" 2>"$work/i20.err" ||
+    fail "i20 hal failed: $(cat "$work/i20.err")"
+  {
+    printf '[KINS]\nKINEMATICS = trivkins coordinates=%s\nJOINTS = %s\n' "$( ((CHANNELS == 1)) && echo X || echo XY)" "$CHANNELS"
+    printf '[EMCMOT]\nEMCMOT = motmod\nSERVO_PERIOD = 1000000\n'
+    for ((j = 0; j < CHANNELS; j++)); do
+      printf '[JOINT_%s]\nENCODER_SCALE = %s\nP = 0\nI = 0\nD = 0\nFF0 = 0\nFF1 = 0\nFF2 = 0\n' "$j" "$COUNTS"
+      printf 'BIAS = 0\nDEADBAND = 0\nFERROR = 1\nMIN_FERROR = 0.5\n'
+    done
+  } >"$work/axis.ini"
+  grep -v 'iocontrol\.0\.' "$work/generated.hal" >"$work/loadable.hal"
+  io_lines=$(grep -c 'iocontrol\.0\.' "$work/generated.hal")
+  estop_pin=$(sed -n 's/^net estop-ext \([^ ]*\) => .*/\1/p' "$work/generated.hal")
+  [[ -n $estop_pin ]] || fail "i20 hal did not net --estop-in to estop-ext"
+  chmod 644 "$work/loadable.hal" "$work/axis.ini"
+}
+
+# generated_preamble [tolerant]: the first lines of a halrun script that runs the generated
+# file, machine on from its start. Printed to stdout.
+generated_preamble() {
+  # The linuxcnc start script loads these before the HAL files (2.9: motmod needs them).
+  printf 'loadrt homemod\nloadrt tpmod\nsource %s\n' "$work/loadable.hal"
+  # No task runs here to take the machine out of E-stop and turn it on: the test stands in
+  # for it (motion-enabled, the joint's amp-enable-out) and for a closed E-stop loop (the
+  # input pin).
+  printf 'unlinkp motion.motion-enabled\nunlinkp joint.%s.amp-enable-out\nunlinkp %s\n' "$CHANNEL" "$estop_pin"
+  # tolerant: this host's servo thread is not realtime, so its late DOITs would stop the port
+  # (fault-lim) and its late replies time out; a real machine's thread keeps time, and the
+  # generated file leaves fault-lim and packet-read-timeout be. A run whose subject is the
+  # port's own stop keeps hostmot2's fault-lim.
+  # (The file's own check of that limit, i20-port-stopped, follows it.)
+  [[ ${1:-} == tolerant ]] &&
+    printf 'setp %s.sserial.port-0.fault-lim 1000000\nsetp i20-port-stopped.in0 1000000\n' "$BOARD"
+  printf 'setp %s.packet-read-timeout 20000000\n' "$BOARD"
+  printf 'sets estop-ext TRUE\nsets i20-machine-on TRUE\nsets j%s-amp-enable TRUE\n' "$CHANNEL"
+  # The servo thread's longest period, for the stall check (kept_time).
+  printf 'loadrt timedelta count=1\naddf timedelta.0 servo-thread\n'
+}
+
+# run_generated_hal SCRIPT: halrun runs SCRIPT with the generated file's INI, as the HAL user;
+# its output in $work/hal.out.
+run_generated_hal() {
+  hal env INI_FILE_NAME="$work/axis.ini" timeout 90 halrun -i "$work/axis.ini" -f "$1" >"$work/hal.out" 2>&1
+}
