@@ -239,3 +239,23 @@ TEST(DoctorText, PinTableOfAStoppedPort) {
             "hm2_7i92.0.sserial.port-0.run 1) once the cause is gone.");
   EXPECT_EQ(d.known, 2u);
 }
+
+// A configured machine's pins are netted: halcmd's `show pin` then ends the line with the
+// signal ("==> sig" for an output, "<== sig" for an input). What a user pastes from a running
+// machine reads as the bare pins do, and a netted -not twin that is TRUE is no fault.
+TEST(DoctorText, PinsOfAConfiguredMachineReadWithTheirSignals) {
+  const auto d = of_text(
+      "Component Pins:\n"
+      "Owner   Type  Dir         Value  Name\n"
+      "    20  u32   OUT    0x00000026  hm2_7i92.0.sserial.port-0.fault-count ==> i20-port-errors\n"
+      "    20  bit   IN          FALSE  hm2_7i92.0.sserial.port-0.run <== i20-port-run\n"
+      "    20  bit   OUT          TRUE  hm2_7i92.0.8i20.0.1.fault.bus-underv ==> j1-8i20-fault-bus-underv\n"
+      "    20  bit   OUT          TRUE  hm2_7i92.0.8i20.0.1.fault.overcurrent-not ==> j1-ok\n"
+      "    20  bit   OUT          FALSE  hm2_7i92.0.8i20.0.1.fault.overcurrent ==> j1-8i20-fault-overcurrent\n");
+  ASSERT_TRUE(names(d, "pin-8i20-fault"));
+  EXPECT_EQ(find(d, "pin-8i20-fault")->evidence, "hm2_7i92.0.8i20.0.1.fault.bus-underv is TRUE");
+  EXPECT_EQ(find(d, "pin-8i20-fault")->count, 1u) << "the TRUE -not twin is not a fault";
+  EXPECT_TRUE(names(d, "pin-fault-count"));
+  EXPECT_TRUE(names(d, "pin-run-false"));
+  EXPECT_TRUE(d.unrecognised.empty()) << d.unrecognised.size() << " pin lines not read";
+}
