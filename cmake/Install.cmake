@@ -24,7 +24,7 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/share/console/ DESTINATION ${CMAKE_INSTA
 # The same layout as in the repository, so the documents' relative links keep working.
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(FILES ${PROJECT_SOURCE_DIR}/docs/README.md ${PROJECT_SOURCE_DIR}/docs/facts.md
-              ${PROJECT_SOURCE_DIR}/docs/motor-model.md
+              ${PROJECT_SOURCE_DIR}/docs/motor-model.md ${PROJECT_SOURCE_DIR}/docs/axis-tuning.md
               ${PROJECT_SOURCE_DIR}/docs/commissioning-analysis.md ${PROJECT_SOURCE_DIR}/docs/commissioning.md
               ${PROJECT_SOURCE_DIR}/docs/linuxcnc-hal.md ${PROJECT_SOURCE_DIR}/docs/field-messages.md
               ${PROJECT_SOURCE_DIR}/docs/virtual-feedback.md ${PROJECT_SOURCE_DIR}/docs/console.md DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)

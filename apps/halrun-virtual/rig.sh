@@ -15,7 +15,7 @@
 # halrun, runuser or the HAL user. Gives: skip, fail, note;
 # CARD, BOARD, CHANNEL, CHANNELS, ENC, AMP, HALL_NETS, CARD_IP; POLES, COUNTS (the motor
 # file's axis); $work (a folder the HAL user can read); start_sim, stop_sim, sim_ask,
-# sim_angle; hal (a command in the host namespace as the HAL user); RT.
+# sim_reading, sim_angle; hal (a command in the host namespace as the HAL user); RT.
 set -u
 
 SKIP=77
@@ -172,18 +172,34 @@ stop_sim() {
   sim_pid=""
   rm -f "$work/ctl"
 }
-# The simulator's answer to one control line (its stdout's next line).
+# The simulator's answer to one control line (its stdout's next line). Every line it takes
+# is answered with one, so the answer is waited for, however loaded the host (a sanitizer-built
+# card under CI's load once took over the 2 s this used to wait: the question went unanswered
+# and the next question read this one's answer). A card that does not answer within a minute
+# fails the test, naming the question.
 sim_ask() {
   local before
   before=$(wc -l <"$work/sim.out")
   echo "$1" >"$work/ctl"
-  for _ in $(seq 100); do
+  for _ in $(seq 3000); do
     (($(wc -l <"$work/sim.out") > before)) && break
+    kill -0 "$sim_pid" 2>/dev/null || fail "i20sim ended before answering '$1': $(tail -n 3 "$work/sim.err")"
     sleep 0.02
   done
+  (($(wc -l <"$work/sim.out") > before)) || fail "i20sim did not answer '$1' within a minute"
   tail -n +$((before + 1)) "$work/sim.out" | head -1
 }
-sim_angle() { sim_ask "ch $CHANNEL motor" | sed -n 's/.*motor_angle=\([-0-9.]*\)turns.*/\1/p'; }
+# sim_reading VAR FIELD: sets VAR to the number the motor's reading gives as FIELD=value
+# (its unit cut off); fails, showing the answer, when there is none. Called as a command, not
+# in $(...), so that a failure ends the test.
+sim_reading() {
+  local answer number
+  answer=$(sim_ask "ch $CHANNEL motor")
+  number=$(sed -n "s/.* $2=\\(-\\{0,1\\}[0-9][0-9.]*\\).*/\\1/p" <<<" $answer")
+  [[ -n $number ]] || fail "i20sim's motor reading has no $2: '$answer'"
+  printf -v "$1" '%s' "$number"
+}
+sim_angle() { sim_reading "$1" motor_angle; }
 
 # --- LinuxCNC -------------------------------------------------------------------------------
 hal() { $RT ip netns exec "$ns_host" runuser -u "$HAL_USER" -- env HOME="$hal_home" "$@"; }

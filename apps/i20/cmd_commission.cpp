@@ -8,12 +8,14 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <numbers>
 #include <sstream>
 #include <type_traits>
 #include <variant>
 
 #include "commission/format.hpp"
 #include "context.hpp"
+#include "motor/units.hpp"
 #include "ops/commission/commission.hpp"
 #include "output_file.hpp"
 
@@ -107,6 +109,19 @@ app::Json report_json(const ops::CommissionReport& r) {
                        .set("bound_deg", r.check->bound_deg)
                        .set("how", r.check->how));
   }
+  if (r.mechanics) {
+    const auto& m = *r.mechanics;
+    const auto estimate = [](const mechanics::Estimate& e) {
+      return app::Json::object().set("value", e.value).set("sigma", e.sigma);
+    };
+    j.set("mechanics", app::Json::object()
+                           .set("inertia_kgm2", estimate(m.inertia_kgm2))
+                           .set("viscous_nm_per_rad_s", estimate(m.viscous_nm_per_rad_s))
+                           .set("coulomb_nm", estimate(m.coulomb_nm))
+                           .set("bias_nm", estimate(m.bias_nm))
+                           .set("windows", m.windows)
+                           .set("widest_turns", r.widest_turns));
+  }
   j.set("notes", array_of(r.notes));
   j.set("samples", r.samples);
   j.set("elapsed_s", r.elapsed_s);
@@ -177,6 +192,18 @@ void print_text(const ops::CommissionReport& r) {
     for (const auto& p : f.problems) std::cout << "  could not tell: " << p.message << "\n";
     for (const auto& n : f.notes) std::cout << "  note: " << n << "\n";
   }
+  if (r.mechanics) {
+    const auto& m = *r.mechanics;
+    const auto line = [](const char* what, const mechanics::Estimate& e, double scale, const char* unit) {
+      std::cout << "  " << what << e.value * scale << " +- " << e.sigma * scale << " " << unit << "\n";
+    };
+    line("inertia (total, at the motor)  ", m.inertia_kgm2, 1e4, "kg cm^2");
+    line("viscous friction               ", m.viscous_nm_per_rad_s, 1e3, "mNm/(rad/s)");
+    line("Coulomb friction               ", m.coulomb_nm, 1, "Nm");
+    line("bias (+ opposes forward motion)", m.bias_nm, 1, "Nm");
+    std::cout << "  fitted over " << m.windows << " windows; the move went +-" << fixed(r.widest_turns, 3)
+              << " motor turns\n";
+  }
   if (r.check)
     std::cout << "  closed-loop check " << (r.check->passed ? "passed" : "FAILED") << ": " << r.check->how
               << "\n";
@@ -187,6 +214,44 @@ void print_text(const ops::CommissionReport& r) {
             << fixed(r.doit.worst().count() / 1000.0, 1) << " ms\n";
   std::cout << "  " << (r.current_zeroed ? "current: QSETPOINT 0 sent and the port stopped" : r.zero_note)
             << "\n";
+}
+
+// How a moving command is run, in its words: `name` (the plan's and progress's prefix),
+// what the question asks to do and whom to keep clear of.
+struct MotionRun {
+  const char* name;
+  const char* action;
+  const char* keep_clear_of;
+  bool yes;
+  bool yaml;
+};
+
+// The plan printed and asked for, the run, and its report rendered and recorded: what
+// commission and tune-axis share.
+ops::CommissionReport plan_ask_and_run(Context& ctx, const ops::CommissionOptions& options,
+                                       const MotionRun& how) {
+  auto& session = ctx.session();
+  const auto plan = ops::prepare_commission(session, options);
+  const std::string name = how.name;
+  std::cerr << "i20 " << name << ": the plan\n";
+  for (const auto& line : plan.lines()) std::cerr << "  " << line << "\n";
+  if (!how.yes)
+    ctx.require_confirmation(std::string(how.action) + " on " + plan.preflight.target.url() +
+                                 " as planned? Keep clear of " + how.keep_clear_of,
+                             name + " not confirmed; the motor was not driven (pass --yes in scripts)");
+  const auto report = ops::run_commission(session, plan, options, [&name](const std::string& phase) {
+    std::cerr << "i20 " << name << ": " << phase << "\n";
+  });
+  const auto tree = report_json(report);
+  if (ctx.options.json)
+    ctx.print_json(tree);
+  else if (how.yaml)
+    std::cout << report_yaml(tree);
+  else
+    print_text(report);
+  ctx.record(report.outcome());
+  if (!report.current_zeroed) std::cerr << "i20: card state: " << report.zero_note << "\n";
+  return report;
 }
 
 void run_commission_command(Context& ctx, Args& a) {
@@ -200,25 +265,8 @@ void run_commission_command(Context& ctx, Args& a) {
   if (!a.halls.empty()) a.o.halls = split_commas(a.halls);
   if (!a.check.empty()) a.o.check_file = ops::CheckFile{read_text(a.check), a.check};
   a.o.hal_fragment = !a.out.empty();
-  auto& session = ctx.session();
-  const auto plan = ops::prepare_commission(session, a.o);
-  std::cerr << "i20 commission: the plan\n";
-  for (const auto& line : plan.lines()) std::cerr << "  " << line << "\n";
-  if (!a.yes)
-    ctx.require_confirmation(
-        "Drive the motor on " + plan.preflight.target.url() + " as planned? Keep clear of the axis",
-        "commission not confirmed; the motor was not driven (pass --yes in scripts)");
-  const auto report = ops::run_commission(
-      session, plan, a.o, [](const std::string& phase) { std::cerr << "i20 commission: " << phase << "\n"; });
-  const auto tree = report_json(report);
-  if (ctx.options.json)
-    ctx.print_json(tree);
-  else if (a.yaml)
-    std::cout << report_yaml(tree);
-  else
-    print_text(report);
-  ctx.record(report.outcome());
-  if (!report.current_zeroed) std::cerr << "i20: card state: " << report.zero_note << "\n";
+  const auto report =
+      plan_ask_and_run(ctx, a.o, {"commission", "Drive the motor", "the axis", a.yes, a.yaml});
   if (a.out.empty()) return;
   if (report.outcome() != ops::Outcome::Done) {
     std::cerr << "i20: " << a.out << " not written: the commissioning did not complete\n";
@@ -228,9 +276,112 @@ void run_commission_command(Context& ctx, Args& a) {
   std::cerr << "i20: wrote " << a.out << "\n";
 }
 
+// ------------------------------------------------------------------ tune-axis
+struct TuneAxisArgs {
+  ops::CommissionOptions o;
+  std::string check, travel, lead, torque_constant, inertia_guess, friction_guess = "0Nm", csv;
+  bool yes = false, yaml = false, overwrite = false;
+};
+
+double quantity(motor::Quantity kind, const char* flag, const std::string& text) {
+  try {
+    return motor::parse_quantity(kind, text);
+  } catch (const Error& e) {
+    throw UsageError(std::string(flag) + ": " + e.what());
+  }
+}
+
+// The window in motor turns: a length over --lead (a screw, a belt), or an angle (rotary).
+double half_window_turns(const TuneAxisArgs& a) {
+  if (a.lead.empty()) return quantity(motor::Quantity::Angle, "--travel", a.travel) / (4 * std::numbers::pi);
+  const double lead = quantity(motor::Quantity::Length, "--lead", a.lead);
+  if (!(lead > 0)) throw UsageError("--lead must be a positive length: the travel per motor turn, e.g. 5mm");
+  return quantity(motor::Quantity::Length, "--travel", a.travel) / lead / 2;
+}
+
+std::string motion_csv(const ops::CommissionReport& r) {
+  std::ostringstream out;
+  out << "time_s,shaft_rad,torque_nm\n";
+  for (const auto& s : r.motion) out << s.time_s << "," << s.position_rad << "," << s.torque_nm << "\n";
+  return out.str();
+}
+
+void run_tune_axis_command(Context& ctx, TuneAxisArgs& a) {
+  check_output_file(a.csv, a.overwrite);
+  a.o.check_file = ops::CheckFile{read_text(a.check), a.check};
+  a.o.identify = ops::AxisIdentification{
+      .half_window_turns = half_window_turns(a),
+      .duration_s = a.o.identify ? a.o.identify->duration_s : 8.0,
+      .torque_constant_nm_per_a =
+          quantity(motor::Quantity::TorqueConstant, "--torque-constant", a.torque_constant),
+      .inertia_guess_kgm2 = quantity(motor::Quantity::Inertia, "--inertia-guess", a.inertia_guess),
+      .friction_guess_nm = quantity(motor::Quantity::Torque, "--friction-guess", a.friction_guess)};
+  const auto report = plan_ask_and_run(ctx, a.o, {"tune-axis", "Move the axis", "it", a.yes, a.yaml});
+  if (!a.csv.empty() && !report.motion.empty()) {
+    write_file_atomically(a.csv, motion_csv(report), a.overwrite);
+    std::cerr << "i20: wrote " << a.csv << "\n";
+  }
+  if (report.mechanics && report.outcome() == ops::Outcome::Done && !ctx.options.json)
+    std::cerr << "i20: next, the gains: i20 pid --inertia " << report.mechanics->inertia_kgm2.value << "kgm^2"
+              << " --viscous " << report.mechanics->viscous_nm_per_rad_s.value << "Nm/(rad/s) --coulomb "
+              << report.mechanics->coulomb_nm.value << "Nm --bias " << report.mechanics->bias_nm.value
+              << "Nm --torque-constant " << a.torque_constant
+              << (a.lead.empty() ? std::string(" --lead 360deg --units deg") : " --lead " + a.lead)
+              << " --max-current " << fixed(report.plan.preflight.max_current_a, 2) << "A\n";
+}
+
+void register_tune_axis_command(CLI::App& app, Context& ctx) {
+  auto a = std::make_shared<TuneAxisArgs>();
+  a->o.identify = ops::AxisIdentification{};
+  auto* cmd = app.add_subcommand(
+      "tune-axis",
+      "Identify an axis's mechanics over Ethernet (--eth IP or eth://IP/chN): the total inertia at the "
+      "motor, "
+      "its viscous and Coulomb friction and a constant bias (a vertical axis's weight), each with its "
+      "uncertainty, from a gentle back-and-forth move within the travel window you give. It commutates with "
+      "the setup of --check FILE.hal (what i20 commission -o wrote: its index and encoder-offset), turning "
+      "forward up to one motor turn to find the index, then moves under a position loop of its own within "
+      "--travel about that place. The same preflight, plan-and-ask (--yes in scripts) and stops as i20 "
+      "commission: a runaway, the travel or time limit, a latched fault, another host or Ctrl-C end it with "
+      "QSETPOINT 0 and the port stopped, and the 8I20's 40 ms watchdog disables it should this program die. "
+      "Afterwards the current is 0: hold a vertical axis with its brake or a counterweight. The values feed "
+      "i20 pid (it prints the command). Exit codes as i20 commission's (3: the move could not identify "
+      "them). "
+      "docs/axis-tuning.md says how and how well.");
+  cmd->add_option("--check", a->check,
+                  "The axis's commutation: a HAL file with bldc cfg qi/qhi (i20 commission -o)")
+      ->required();
+  cmd->add_option(
+         "--travel", a->travel,
+         "The travel window the axis may use, in all: a length with --lead (10mm), or an angle for a "
+         "rotary axis without it (720deg); centred where the index is found")
+      ->required();
+  cmd->add_option("--lead", a->lead, "Travel per motor turn (a 5 mm screw direct: 5mm)");
+  cmd->add_option("--torque-constant", a->torque_constant, "The motor's torque constant (0.45Nm/A)")
+      ->required();
+  cmd->add_option("--inertia-guess", a->inertia_guess,
+                  "A guess of the total inertia at the motor (the rotor's from its datasheet will do, e.g. "
+                  "0.6kgcm^2): it sets the move's loop gain only")
+      ->required();
+  cmd->add_option("--friction-guess", a->friction_guess,
+                  "A guess of the friction torque (default 0Nm): stiffens the loop so friction holds it back "
+                  "little");
+  cmd->add_option("--duration", a->o.identify->duration_s, "Seconds of back-and-forth (default 8)");
+  cmd->add_option("--current", a->o.current_amps,
+                  "The most current the move and the index search may use, in amps (default 20% of "
+                  "MAXCURRENT; never above it)");
+  cmd->add_option("--time-limit", a->o.time_limit_s, "Stop after this many seconds in all (default 60)");
+  cmd->add_option("--csv", a->csv, "Write the move as recorded: time, shaft angle (rad), torque (Nm)");
+  cmd->add_flag("--overwrite", a->overwrite, "Replace an existing --csv file");
+  cmd->add_flag("--yes,-y", a->yes, "Do not ask before driving the motor (scripts)");
+  cmd->add_flag("--yaml", a->yaml, "The report as YAML");
+  cmd->callback([&ctx, a] { run_tune_axis_command(ctx, *a); });
+}
+
 }  // namespace
 
 void register_commission_command(CLI::App& app, Context& ctx) {
+  register_tune_axis_command(app, ctx);
   auto a = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
       "commission",

@@ -12,6 +12,7 @@
 #include "linuxcnc/hal_design.hpp"
 #include "linuxcnc/hal_generate.hpp"
 #include "linuxcnc/hal_lint.hpp"
+#include "linuxcnc/ini_check.hpp"
 #include "ops/hal_file.hpp"
 #include "ops/hal_lint_load.hpp"
 #include "output_file.hpp"
@@ -84,20 +85,13 @@ app::Json finding_json(const L::LintFinding& f) {
 }
 
 // --load: the files run in halrun against the virtual card; halcmd's complaints join the
-// findings, in file and line order.
+// findings.
 void add_load_findings(const std::vector<L::HalSource>& sources, const LintCliOptions& o,
                        std::vector<L::LintFinding>& findings) {
   const auto ini =
       o.ini.empty() ? std::optional<std::string>() : std::optional<std::string>(read_file(o.ini));
   const auto loaded = ops::load_in_halrun(sources, ini, own_executable());
-  findings.insert(findings.end(), loaded.findings.begin(), loaded.findings.end());
-  const auto order = [&](const L::LintFinding& f) {
-    const auto it =
-        std::find_if(sources.begin(), sources.end(), [&](const auto& s) { return s.file == f.at.file; });
-    return std::pair{it - sources.begin(), f.at.line};
-  };
-  std::stable_sort(findings.begin(), findings.end(),
-                   [&](const auto& a, const auto& b) { return order(a) < order(b); });
+  L::add_halrun_findings(findings, loaded.findings);
   std::cerr << "i20: loaded in halrun against " << loaded.ran << ": " << loaded.findings.size() << " name"
             << (loaded.findings.size() == 1 ? "" : "s") << " halcmd rejected";
   if (!loaded.left_out.empty())
@@ -120,7 +114,19 @@ void run_lint(Context& ctx, const LintCliOptions& o) {
     sources.push_back({file, std::move(text), std::move(s)});
   }
   auto findings = L::lint(statements, options);
+  if (!o.ini.empty()) {
+    const auto more = L::check_ini(statements, read_file(o.ini), o.ini);
+    findings.insert(findings.end(), more.begin(), more.end());
+  }
   if (o.load) add_load_findings(sources, o, findings);
+  // In file and line order, the HAL files as given, the INI after them.
+  const auto order = [&](const L::LintFinding& f) {
+    const auto it =
+        std::find_if(sources.begin(), sources.end(), [&](const auto& s) { return s.file == f.at.file; });
+    return std::pair{it - sources.begin(), f.at.line};
+  };
+  std::stable_sort(findings.begin(), findings.end(),
+                   [&](const auto& a, const auto& b) { return order(a) < order(b); });
   if (ctx.options.json) {
     auto list = app::Json::array();
     for (const auto& f : findings) list.push(finding_json(f));
@@ -162,6 +168,7 @@ std::string command_line(const L::HalPlan& p) {
   if (p.max_current) c << " --max-current " << *p.max_current << "A";
   for (const auto& h : p.halls) c << " --halls " << h;
   if (!p.estop_in.empty()) c << " --estop-in " << p.estop_in;
+  if (p.notch) c << " --notch";
   return c.str();
 }
 
@@ -218,6 +225,10 @@ void register_hal_commands(CLI::App& app, Context& ctx) {
   hal->add_option("--estop-in", p.estop_in,
                   "The pin that is true while the E-stop loop is closed (default: left for you to net to "
                   "estop-ext; until then the machine stays in E-stop)");
+  hal->add_flag(
+      "--notch", p.notch,
+      "A notch after each pid (LinuxCNC's biquad), as `i20 pid --notch` designs the loop of a two-mass "
+      "axis: its coefficients come from [JOINT_k]NOTCH_N0, NOTCH_N1, NOTCH_N2, NOTCH_D1, NOTCH_D2");
   hal->add_option("--output,-o", o->out, "Write the HAL file here (default: standard output)");
   hal->add_flag("--overwrite", o->overwrite, "Replace the --output file if it exists");
   hal->add_option("--profile", o->profile,
@@ -254,8 +265,11 @@ void register_hal_commands(CLI::App& app, Context& ctx) {
       "namespaces of its own: needs root and linuxcnc-uspace) and report every pin, parameter or "
       "function halcmd says does not exist on its line. Lines that need a running LinuxCNC "
       "(loadusr, iocontrol, halui, GUI pins) are left out and counted");
-  lint->add_option("--ini", lo->ini, "The configuration's INI file, for --load of files that read INI values")
-      ->needs("--load");
+  lint->add_option(
+      "--ini", lo->ini,
+      "The configuration's INI file: every [SECTION]KEY the files read must be in it (halcmd stops at "
+      "one that is not), a joint's notch from i20 pid --notch must be run by the files, and --load "
+      "runs with it");
   lint->callback([&ctx, lo] { run_lint(ctx, *lo); });
 }
 

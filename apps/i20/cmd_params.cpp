@@ -150,16 +150,15 @@ struct SetOptions {
 void run_set(Context& ctx, const SetOptions& o) {
   const auto& loaded = ctx.session().db();
   // Bad input and the rules that need no card refuse before the link is even opened.
-  const auto profile = ops::profile_from_assignments(o.assignments, loaded, ops::ValueSyntax::Engineering);
-  const auto job = ops::make_apply_job({.profile = &profile,
-                                        .db = &loaded,
-                                        .force = o.write.force,
-                                        .allow_unverified = o.write.allow_unverified,
-                                        .dry_run = o.dry_run,
-                                        .cancel = ctx.session().cancel()});
+  const ops::ValueChange change({.values = ops::named_values(o.assignments),
+                                 .force = o.write.force,
+                                 .allow_unverified = o.write.allow_unverified,
+                                 .dry_run = o.dry_run,
+                                 .cancel = ctx.session().cancel()},
+                                loaded);
   auto& amp = ctx.amp();
-  const bool show_progress = !ctx.options.json && profile.settings.size() > 1;
-  const auto run = ops::run_apply_on(amp, job, [show_progress](const std::string& what) {
+  const bool show_progress = !ctx.options.json && change.profile().settings.size() > 1;
+  const auto run = change.run_on(amp, [show_progress](const std::string& what) {
     if (show_progress && what.rfind("writing", 0) == 0) std::cerr << "i20: " << what << "\n";
   });
   ctx.record(run.outcome);

@@ -302,10 +302,9 @@ console::Response ConsoleApi::faults(const console::Request& request) {
 ops::TargetRun ConsoleApi::run_change(const std::vector<std::string>& assignments, bool dry_run) {
   const auto& loaded = session_.db();
   // Bad input and the rules that need no card refuse before anything is sent, as `i20 set`.
-  const auto profile = ops::profile_from_assignments(assignments, loaded, ops::ValueSyntax::Engineering);
-  const auto job = ops::make_apply_job(
-      {.profile = &profile, .db = &loaded, .dry_run = dry_run, .cancel = session_.cancel()});
-  return ops::run_apply_on(session_.amp(), job);
+  const ops::ValueChange change(
+      {.values = ops::named_values(assignments), .dry_run = dry_run, .cancel = session_.cancel()}, loaded);
+  return change.run_on(session_.amp());
 }
 
 console::Response ConsoleApi::preview(const console::Request& request) {

@@ -5,6 +5,7 @@
 
 #include "cmd_doctor.hpp"
 #include "cmd_inventory.hpp"
+#include "cmd_pid.hpp"
 #include "context.hpp"
 #include "ops/core/signals.hpp"
 #include "params/closest.hpp"
@@ -68,6 +69,7 @@ int main(int argc, char** argv) {
   cli::register_commission_command(app, ctx);  // apps/i20/cmd_commission.cpp
   cli::register_console_command(app, ctx);
   cli::register_doctor_command(app, ctx);  // apps/i20/cmd_doctor.cpp
+  cli::register_pid_command(app, ctx);     // apps/i20/cmd_pid.cpp
   // Before the command runs: what it reports may name the options that override a refusal,
   // and only those the command has (`i20 set` has --force, `i20 faults clear` has not).
   app.parse_complete_callback([&app] { app::set_overrides(app::overrides_of_parsed(app)); });

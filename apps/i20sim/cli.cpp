@@ -2,9 +2,7 @@
 #include "cli.hpp"
 
 #include <CLI/CLI.hpp>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "ethsim/board_control.hpp"
 #include "motor/error.hpp"
@@ -60,14 +58,6 @@ struct Raw {
   std::vector<std::string> faults;
   std::vector<std::string> motors;
 };
-
-motor::MotorParams load_motor_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw motor::MotorError(path + ": cannot be read");
-  std::stringstream text;
-  text << in.rdbuf();
-  return motor::parse_motor(text.str(), path);
-}
 
 RegisterMap build_map(const Raw& raw) {
   // The YAML is the single source of addresses; user overlays ($I20_PARAMS) do not apply
@@ -217,7 +207,7 @@ void apply(Invocation& o, const Raw& raw) {
                                   : raw.power_loss == "torn" ? EepromPowerLoss::Torn
                                                              : EepromPowerLoss::None;
   for (const auto& path : raw.motors) {
-    auto params = load_motor_file(path);
+    auto params = motor::load_motor_file(path);
     if (o.eth) {
       for (const auto& other : o.eth_options.motors)
         if (other.channel == params.channel)

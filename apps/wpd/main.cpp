@@ -13,9 +13,9 @@
 #include "errors.hpp"
 #include "ops/change.hpp"
 #include "ops/core/errors.hpp"
-#include "ops/faults.hpp"
 #include "ops/core/signals.hpp"
 #include "ops/core/timing.hpp"
+#include "ops/faults.hpp"
 #include "options.hpp"
 #include "params/value.hpp"
 #include "terminal.hpp"
@@ -125,15 +125,15 @@ static int run(int argc, char** argv) {
         const int code = clear_faults(session, write);
         return settled(session, code);
       }
-      const auto profile = ops::profile_from_value(name, value_text, db, ops::ValueSyntax::Raw);
       // Checked against every rule that needs no card before the link is even opened.
-      const auto job = ops::make_apply_job({.profile = &profile,
-                                            .db = &db,
-                                            .force = write.force,
-                                            .allow_unverified = write.allow_unverified,
-                                            .cancel = session.cancel()});
+      const ops::ValueChange change({.values = {{name, value_text}},
+                                     .syntax = ops::ValueSyntax::Raw,
+                                     .force = write.force,
+                                     .allow_unverified = write.allow_unverified,
+                                     .cancel = session.cancel()},
+                                    db);
       auto& amp = session.amp();
-      return report(ops::run_apply_on(amp, job), amp.db());  // run_apply_on settles the card itself
+      return report(change.run_on(amp), amp.db());  // the run settles the card itself
     } catch (...) {
       return app::print_failure("wpd", session.fail());  // the card settled too: a mode may be on
     }

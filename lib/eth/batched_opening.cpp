@@ -63,6 +63,7 @@ BoardSurvey survey_board(Lbp16Transport& bus, std::span<const lbp16::Command> ex
   const auto resends = bus.stats().resends;
   const auto parts = bus.transact_counted(commands, Resend::IfReadOnly, survey.sent);
   survey.sent_once = bus.stats().resends == resends;
+  survey.unarrived = bus.stats().unarrived;
   survey.replied_at = std::chrono::steady_clock::now();
   const auto board = lbp16::BoardInfo::parse(parts[0]);
   survey.identity = BoardIdentity{.card_name = board.card_name,

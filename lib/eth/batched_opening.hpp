@@ -35,8 +35,9 @@ struct BoardSurvey {
   BoardIdentity identity{};
   HostMot2Info hostmot2{};
   std::vector<lbp::Bytes> extra_replies{};
-  std::uint64_t sent = 0;  // our packets once that one was sent (transact_counted)
-  bool sent_once = true;   // that request went out once (no resend after a late reply)
+  std::uint64_t sent = 0;       // our packets once that one was sent (transact_counted)
+  bool sent_once = true;        // that request went out once (no resend after a late reply)
+  std::uint64_t unarrived = 0;  // packets of ours the card had not counted then (TransportStats)
   std::chrono::steady_clock::time_point replied_at{};
 };
 BoardSurvey survey_board(Lbp16Transport& bus, std::span<const lbp::lbp16::Command> extra = {});
@@ -53,6 +54,7 @@ struct CounterSample {
   std::uint64_t sent = 0;
   std::chrono::steady_clock::time_point at{};
   bool sent_once = true;
+  std::uint64_t unarrived = 0;  // packets of ours the card had not counted at that read
 };
 // require_no_running_host() with the window opened by `first`: command_samples - 1 COMMAND
 // samples inside it and the last counter read (with a COMMAND sample) at its end. The host

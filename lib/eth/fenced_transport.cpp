@@ -34,6 +34,13 @@ TransportStats FencedTransport::stats() const {
   s.foreign_arrivals = late_.foreign_arrivals;
   s.fences = late_.fences;
   s.lost_writers = late_.lost_writers;
+  // Packets of ours not counted yet that may still come: no more than we sent within the
+  // bound (a lossy session's lost reads would otherwise pile up and hide another host).
+  const auto since = Clock::now() - options_.bound.get();
+  std::uint64_t recent = 0;
+  for (const auto& [at, sends] : recent_sends_)
+    if (at >= since) recent += sends;
+  s.unarrived = std::min<std::uint64_t>(missing_, recent);
   return s;
 }
 
@@ -62,12 +69,21 @@ std::vector<lbp::Bytes> FencedTransport::exchange(std::span<const lbp16::Command
   } catch (const link::LinkError&) {
     // Unanswered (or answered wrongly): every attempt may still reach the card.
     if (writes) writers_at_risk_ += inner_->stats().packets_sent - before;
+    record_sends(inner_->stats().packets_sent - before);
     throw;
   }
   const std::uint64_t sends = inner_->stats().packets_sent - before;
+  record_sends(sends);
   account(static_cast<std::uint16_t>(lbp::read_le(parts.front())), sends, writes);
   parts.erase(parts.begin());
   return parts;
+}
+
+void FencedTransport::record_sends(std::uint64_t sends) {
+  const auto now = Clock::now();
+  while (!recent_sends_.empty() && recent_sends_.front().first < now - options_.bound.get())
+    recent_sends_.pop_front();
+  if (sends > 0) recent_sends_.emplace_back(now, sends);
 }
 
 // Updates the ledger with the count read at the start of our latest answered packet.

@@ -27,6 +27,7 @@
 #pragma once
 
 #include <chrono>
+#include <deque>
 #include <memory>
 
 #include "eth/transport.hpp"
@@ -71,6 +72,10 @@ class FencedTransport final : public Lbp16Transport {
   std::uint64_t presumed_lost_writers_ = 0;  // given up on at a fence: if they arrive, it is late
   bool unsettled_ = false;  // packets sent before the ledger began may still arrive: fence first
   TransportStats late_;     // late_arrivals, fences, fence_waits
+  // Our sends within the last `bound` (when, how many): only these may still arrive, so
+  // TransportStats::unarrived is at most their number (older ones not arrived are lost).
+  std::deque<std::pair<std::chrono::steady_clock::time_point, std::uint64_t>> recent_sends_;
+  void record_sends(std::uint64_t sends);
 };
 
 }  // namespace i20::eth

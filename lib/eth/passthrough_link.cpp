@@ -8,10 +8,13 @@ namespace i20::eth {
 std::unique_ptr<SslbpPassthroughLink> SslbpPassthroughLink::open(const EthTarget& target,
                                                                  PassthroughOptions options) {
   // Fenced: a request the network delivers late must not run between our later packets.
-  auto bus = std::make_unique<FencedTransport>(
-      std::make_unique<UdpClient>(target.host_port.ip, target.host_port.port, options.udp), options.fence);
-  return std::make_unique<SslbpPassthroughLink>(std::move(bus), target, std::move(options));
+  return std::make_unique<SslbpPassthroughLink>(
+      PassthroughPort::open(target.host_port, target.sserial_port, target.channel_mask(), std::move(options)),
+      target);
 }
+
+SslbpPassthroughLink::SslbpPassthroughLink(std::shared_ptr<PassthroughPort> port, const EthTarget& target)
+    : target_(target), port_(std::move(port)) {}
 
 SslbpPassthroughLink::SslbpPassthroughLink(std::unique_ptr<Lbp16Transport> bus, const EthTarget& target,
                                            PassthroughOptions options)

@@ -34,6 +34,8 @@ class SslbpPassthroughLink final : public link::Link {
   // The same over any transport (tests inject faults here).
   SslbpPassthroughLink(std::unique_ptr<Lbp16Transport> bus, const EthTarget& target,
                        PassthroughOptions options);
+  // Over a port already opened for target's channel.
+  SslbpPassthroughLink(std::shared_ptr<PassthroughPort> port, const EthTarget& target);
 
   std::vector<lbp::Bytes> execute(std::span<const lbp::Command> batch) override;
   std::string describe() const override { return target_.describe(); }

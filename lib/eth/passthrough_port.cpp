@@ -70,15 +70,25 @@ class ChannelLink final : public link::Link {
 std::shared_ptr<PassthroughPort> PassthroughPort::open(const HostPort& host_port, unsigned sserial_port,
                                                        std::uint8_t channel_mask,
                                                        PassthroughOptions options) {
-  auto bus = std::make_unique<FencedTransport>(
+  std::shared_ptr<Lbp16Transport> bus = std::make_unique<FencedTransport>(
       std::make_unique<UdpClient>(host_port.ip, host_port.port, options.udp), options.fence);
-  return std::make_shared<PassthroughPort>(std::move(bus), sserial_port, channel_mask, std::move(options));
+  return open(std::move(bus), sserial_port, channel_mask, std::move(options));
 }
 
 std::shared_ptr<PassthroughPort> PassthroughPort::open(std::shared_ptr<Lbp16Transport> card,
                                                        unsigned sserial_port, std::uint8_t channel_mask,
                                                        PassthroughOptions options) {
-  return std::make_shared<PassthroughPort>(std::move(card), sserial_port, channel_mask, std::move(options));
+  for (unsigned attempt = 1;; ++attempt) {
+    try {
+      return std::make_shared<PassthroughPort>(card, sserial_port, channel_mask, options);
+    } catch (const link::TimeoutError&) {  // a datagram lost on the way, or its reply
+      if (attempt >= options.opening_attempts) throw;
+    } catch (const LatePacketError&) {  // one given up on that arrived after all
+      if (attempt >= options.opening_attempts) throw;
+    }
+    // The next try's first exchange asks for time left (WaitBound) and fences first. A reply
+    // of the wrong shape, SSLBP's own error, another host and the time being up end it.
+  }
 }
 
 std::shared_ptr<Lbp16Transport> PassthroughPort::board_transport(const HostPort& host_port,
@@ -101,7 +111,8 @@ PassthroughPort::PassthroughPort(std::shared_ptr<Lbp16Transport> bus, unsigned s
   const CounterSample first{.reply = survey.extra_replies.front(),
                             .sent = survey.sent,
                             .at = survey.replied_at,
-                            .sent_once = survey.sent_once};
+                            .sent_once = survey.sent_once,
+                            .unarrived = survey.unarrived};
   // One COMMAND sample, with the last counter read at the end of the window: the whole
   // command stays within issue 18's 8 requests. The counters decide (host_is_running); a
   // busy COMMAND only names what was seen, and a sample halfway changed no decision. A host

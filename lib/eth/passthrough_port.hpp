@@ -133,6 +133,13 @@ struct PassthroughOptions {
   // How long closing the port may take to stop SSLBP (best effort: setup mode drives no
   // motor), whatever is left of the command's time.
   link::Given<std::chrono::milliseconds> close_budget;
+  // Openings in all when one fails because the network lost or delayed a datagram
+  // (link::TimeoutError, LatePacketError), within the bound in force. The opening writes only
+  // SSLBP's own registers (its stop and setup start), which the next opening writes again over
+  // the same transport, whose fence first waits out the failed one's packets. A reply of the
+  // wrong shape, SSLBP's error, another host, a card that is not what the target needs and
+  // the time being up are not retried: the first one is reported.
+  link::Given<unsigned> opening_attempts;
 };
 
 // What answered on a channel at setup start.
@@ -158,9 +165,9 @@ struct PassthroughStats {
 
 class PassthroughPort : public std::enable_shared_from_this<PassthroughPort> {
  public:
-  // Opens UDP to `card` and sets the channels of `channel_mask` up. Throws
-  // RunningHostError, DiscoveryError (not a HostMot2 card, no such port or channel, no
-  // 8I20) or link::LinkError.
+  // Opens UDP to `card` and sets the channels of `channel_mask` up, again after a link
+  // failure (PassthroughOptions::opening_attempts). Throws RunningHostError, DiscoveryError
+  // (not a HostMot2 card, no such port or channel, no 8I20) or link::LinkError.
   static std::shared_ptr<PassthroughPort> open(const HostPort& host_port, unsigned sserial_port,
                                                std::uint8_t channel_mask, PassthroughOptions options);
   // Several ports of one card at once (a fleet over a 7I92T's two ports): open them over

@@ -40,6 +40,9 @@ struct TransportStats {
   std::uint64_t foreign_arrivals = 0;  // packets the card received that were not ours
   std::uint64_t fences = 0;            // waits for unanswered writing packets to arrive
   std::uint64_t lost_writers = 0;      // writing packets that had not arrived by a fence's bound
+  // Packets of ours the card had not counted at our last answered packet: late ones (a
+  // request the network delayed past its resend) may still arrive, and are not another host's.
+  std::uint64_t unarrived = 0;
   // Packets of ours that reached (or may reach) the card: every send and every copy the
   // network made of one. What a check for another host's packets counts as ours.
   std::uint64_t ours() const { return packets_sent + network_repeats; }

@@ -224,8 +224,11 @@ std::vector<lbp::Bytes> UdpClient::transact(std::span<const lbp16::Command> comm
                                : std::vector<lbp16::Command>(commands.begin(), commands.end());
     const lbp::Bytes wire = lbp16::encode_packet(packet);
     const std::size_t expected = lbp16::reply_bytes(packet);
-    impl_->send(wire);
+    // Timed from before the send: a reply cannot come before it, and a send (or a thread put
+    // aside just after it) that takes milliseconds on a loaded host must not shorten the round
+    // trip learnt (the sanitizer run saw 37.6 ms learnt for a card answering after 40 ms).
     sent_at.push_back(Clock::now());
+    impl_->send(wire);
     ++stats_.packets_sent;
     if (expected == 0) return std::vector<lbp::Bytes>(commands.size());  // untagged writes: no reply exists
 

@@ -21,7 +21,9 @@ const char* kHelp =
     "host off                   that host exits: it stops its port\n"
     "host                       what the host is doing\n"
     "card reset [MS]            the card resets: silent MS ms (default 5), SSERIAL ports come back stopped\n"
-    "card power-loss MS         the card and its 8I20s lose power for MS ms, then power up\n";
+    "card power-loss MS         the card and its 8I20s lose power for MS ms, then power up\n"
+    "card loss RATE [SEED]      datagrams to the card lost, 0..1 (a bad cable or switch), e.g. card loss "
+    "0.02\n";
 
 std::vector<std::string> words(std::string_view line) {
   std::istringstream in{std::string(line)};
@@ -47,6 +49,15 @@ unsigned number(const std::string& text, const char* what, const char* form) {
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size())
     throw sim::ControlError("'" + text + "' is not a " + what + " number; expected " + form);
+  return value;
+}
+
+// A probability, 0..1.
+double rate(const std::string& text, const char* form) {
+  double value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || !(value >= 0 && value <= 1))
+    throw sim::ControlError("'" + text + "' is not a rate from 0 to 1; expected " + form);
   return value;
 }
 
@@ -138,13 +149,17 @@ std::string apply_board_control(BoardServer& server, std::string_view line) {
   }
   if (head == "host") return host_control(server, w);
   if (head == "card") {
-    const char* form = "card reset [MS] | card power-loss MS";
+    const char* form = "card reset [MS] | card power-loss MS | card loss RATE [SEED]";
     if (w.size() >= 2 && w[1] == "reset") {
       server.go_dark(std::chrono::milliseconds(w.size() > 2 ? number(w[2], "time", form) : 5), false);
       return "ok";
     }
     if (w.size() == 3 && w[1] == "power-loss") {
       server.go_dark(std::chrono::milliseconds(number(w[2], "time", form)), true);
+      return "ok";
+    }
+    if ((w.size() == 3 || w.size() == 4) && w[1] == "loss") {
+      server.set_datagram_loss(rate(w[2], form), w.size() == 4 ? number(w[3], "seed", form) : 1u);
       return "ok";
     }
     throw sim::ControlError(std::string("expected ") + form);

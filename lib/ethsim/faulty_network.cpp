@@ -97,8 +97,8 @@ struct FaultyNetwork::Impl {
   // Decides the fate of datagram `index` of direction `dir` (0: requests, 1: replies).
   void forward(std::uint64_t dir, std::uint64_t index, udp::socket& from, const udp::endpoint& to,
                const std::vector<std::uint8_t>& bytes) {
+    std::lock_guard lock(mutex);  // the faults too: set_faults() and release_held() change them
     const bool spoil = dir == 0 ? faults.requests : faults.replies;
-    std::lock_guard lock(mutex);
     (dir == 0 ? counted.requests : counted.replies)++;
     if (spoil && unit(faults.seed, dir, index, 0) < faults.drop_share) {
       ++counted.dropped;
@@ -244,6 +244,7 @@ void FaultyNetwork::set_faults(const NetworkFaults& faults) {
 
 void FaultyNetwork::release_held() {
   std::lock_guard lock(impl_->mutex);
+  impl_->faults.hold_share = 0;
   if (impl_->held_one) impl_->release_held_one(Clock::duration{0});
   impl_->held = impl_->count_held();
 }

@@ -66,8 +66,10 @@ class FaultyNetwork {
   // duplicated one too) has been delivered. False when `limit` passed first.
   bool wait_idle(std::chrono::milliseconds limit) const;
   NetworkStats stats() const;
-  // Delivers the datagram hold_share holds, if any, as if the next one had passed: a run
-  // is judged after every datagram it sent reached its end.
+  // The end of a run: delivers the datagram hold_share holds, if any, as if the next one had
+  // passed, and holds nothing more (the card's reply to a request released here would
+  // otherwise be held in turn, with nothing left to follow it: CI saw wait_idle() give up so).
+  // A run is judged after every datagram it sent reached its end.
   void release_held();
   // From the next datagram on, these faults (the soak turns them on once the card is open
   // and off again when the fault heals).

@@ -152,6 +152,7 @@ void BoardServer::serve_once(Clock::time_point until) {
     {
       std::lock_guard lock(mutex_);
       if (dark_until_) continue;  // a card without power hears nothing
+      if (loss_rate_ > 0 && std::uniform_real_distribution<double>(0, 1)(loss_rng_) < loss_rate_) continue;
       reply = board_->handle(lbp::ByteView(socket_->buffer.data(), n), Clock::now());
       ready = board_->board_time();
     }
@@ -167,6 +168,7 @@ void BoardServer::serve_once(Clock::time_point until) {
     if (power_lost_)
       for (const auto& a : amplifiers())
         if (auto* amp = amplifier(*board_, a.port, a.channel)) amp->power_cycle(Clock::now());
+    back_.notify_all();
   }
   if (dark_until_) return;
   board_->advance(Clock::now());
@@ -181,6 +183,19 @@ void BoardServer::go_dark(Clock::duration dark, bool power_loss) {
   if (power_loss)
     for (const auto& a : amplifiers())
       if (auto* amp = amplifier(*board_, a.port, a.channel)) amp->power_off();
+}
+
+bool BoardServer::wait_until_back(Clock::duration timeout) {
+  std::unique_lock lock(mutex_);
+  return back_.wait_for(lock, timeout, [this] { return !dark_until_; });
+}
+
+void BoardServer::set_datagram_loss(double rate, std::uint32_t seed) {
+  if (!(rate >= 0 && rate <= 1))
+    throw UsageError("a datagram loss rate is 0..1, not " + std::to_string(rate));
+  std::lock_guard lock(mutex_);
+  loss_rate_ = rate;
+  loss_rng_.seed(seed);
 }
 
 std::optional<HostStats> BoardServer::host_stats() {

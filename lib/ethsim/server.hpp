@@ -17,10 +17,12 @@
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <random>
 #include <string>
 #include <thread>
 #include <utility>
@@ -125,6 +127,14 @@ class BoardServer {
   // them, and answers nothing for `dark`; then its SSERIAL ports come back stopped and the
   // 8I20s power up from their EEPROMs. A host running the card stops with it.
   void go_dark(Clock::duration dark, bool power_loss);
+  // Waits until the card has come back from go_dark (its ports stopped, its 8I20s powered up
+  // again): false if it has not within `timeout`. True at once for a card that is not dark.
+  bool wait_until_back(Clock::duration timeout);
+
+  // Datagrams to the card are lost with probability `rate` (0..1), as on a bad cable or a
+  // busy switch: the card never sees them, so each costs its sender the reply. The losses
+  // follow `seed`, so a run can be repeated.
+  void set_datagram_loss(double rate, std::uint32_t seed);
 
  private:
   struct Socket;
@@ -138,7 +148,10 @@ class BoardServer {
   std::vector<MotorAxis> motor_axes_;
   std::optional<SimulatedHost> host_;            // under mutex_
   std::optional<Clock::time_point> dark_until_;  // under mutex_
+  std::condition_variable back_;                 // dark_until_ cleared
   bool power_lost_ = false;                      // under mutex_
+  double loss_rate_ = 0;                         // under mutex_
+  std::mt19937 loss_rng_;                        // under mutex_
   std::atomic<bool> stop_requested_{false};
   std::thread thread_;
 };

@@ -9,6 +9,7 @@
 #include "lbp/local.hpp"
 #include "lbp/preparse.hpp"
 #include "link/ports.hpp"
+#include "link/wait_bound.hpp"
 
 namespace i20::link {
 namespace {
@@ -243,8 +244,10 @@ void PipelinedLink::send_burst(Run& run) {
 // Waits until at least one more reply is complete and accepted.
 void PipelinedLink::await_reply(Run& run) {
   const auto before = run.replies.size();
-  const auto timeout = std::chrono::duration_cast<std::chrono::microseconds>(options_.base_timeout) +
-                       wire_time(run.command_bytes + run.reply_bytes);
+  const auto full = std::chrono::duration_cast<std::chrono::microseconds>(options_.base_timeout) +
+                    wire_time(run.command_bytes + run.reply_bytes);
+  // The operation's end cuts the wait short (WaitBound): past it, only the way back runs.
+  const auto timeout = std::chrono::duration_cast<std::chrono::microseconds>(WaitBound::cap(full));
   const auto deadline = Clock::now() + timeout;
   std::array<Byte, 256> buffer;
   for (;;) {

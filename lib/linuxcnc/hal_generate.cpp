@@ -143,6 +143,12 @@ struct Axis {
   std::string joint, i20, encoder, bldc, pid, faults, sig;
 };
 
+// The biquad after pid k (HalPlan::notch).
+std::string notch_name(int k) {
+  std::string name = "i20-notch-";
+  return name.append(std::to_string(k));
+}
+
 Axis axis(const std::string& board, int k) {
   const std::string n = std::to_string(k);
   return {k,           "joint." + n, board + ".8i20.0." + n, board + ".encoder." + two_digits(k),
@@ -179,6 +185,11 @@ void header(std::ostream& out, const HalPlan& plan, const std::string& board) {
          "#                                             pid gains of joint k; the output is in amps, so\n"
          "#                                             P is amps per machine unit of following error\n"
          "#   [JOINT_k]FERROR, MIN_FERROR               following-error limits (motion reads them itself)\n";
+  if (plan.notch)
+    out << "#   [JOINT_k]NOTCH_N0, NOTCH_N1, NOTCH_N2, NOTCH_D1, NOTCH_D2\n"
+           "#                                             the notch after pid k (i20 pid --notch): "
+           "LinuxCNC's\n"
+           "#                                             biquad with these coefficients (its type 0)\n";
   if (encoder)
     out << "# Motor: " << *plan.poles << " poles, " << *plan.counts_per_rev
         << " encoder counts per revolution"
@@ -224,6 +235,11 @@ void load_section(std::ostream& out, const HalPlan& plan, const std::string& boa
       << plan.board_ip << "\n"
       << "loadrt pid num_chan=" << plan.axes << "\n"
       << "loadrt bldc cfg=" << cfgs << "\n";
+  if (plan.notch) {
+    std::string notches;
+    for (int k = 0; k < plan.axes; ++k) notches.append(k ? "," : "").append(notch_name(k));
+    out << "loadrt biquad names=" << notches << "\n";
+  }
   const auto index_captures = has(plan.cfg, 'i') ? captures(plan) : std::vector<IndexCapture>{};
   out << index_capture_loads(index_captures);
   out << "# Per axis: any fault of its 8I20 (or), that fault while the port is watched (nand: ok), and\n"
@@ -244,8 +260,12 @@ void load_section(std::ostream& out, const HalPlan& plan, const std::string& boa
   for (int k = 0; k < plan.axes; ++k)
     out << "addf i20-faults-" << k << " servo-thread\naddf i20-ok-" << k << " servo-thread\naddf i20-enable-"
         << k << " servo-thread\n";
-  out << "addf i20-port-errors servo-thread\naddf i20-port-stopped servo-thread\naddf i20-link-ok servo-thread\naddf i20-estop-ok servo-thread\n";
-  for (int k = 0; k < plan.axes; ++k) out << "addf pid." << k << ".do-pid-calcs servo-thread\n";
+  out << "addf i20-port-errors servo-thread\naddf i20-port-stopped servo-thread\naddf i20-link-ok "
+         "servo-thread\naddf i20-estop-ok servo-thread\n";
+  for (int k = 0; k < plan.axes; ++k) {
+    out << "addf pid." << k << ".do-pid-calcs servo-thread\n";
+    if (plan.notch) out << "addf " << notch_name(k) << " servo-thread\n";
+  }
   for (const auto& capture : index_captures) out << index_capture_functions(capture);
   for (int k = 0; k < plan.axes; ++k) out << "addf bldc." << k << " servo-thread\n";
   out << "addf " << board << ".write servo-thread\n\n";
@@ -309,9 +329,23 @@ void axis_section(std::ostream& out, const HalPlan& plan, const Axis& a, const H
                                                                 : gain;
     out << "setp " << a.pid << "." << param << " " << ini << gain << "\n";
   }
-  out << "setp " << a.pid << ".maxoutput " << amps(*plan.max_current) << "   # amps: the card's MAXCURRENT\n"
-      << "net " << a.sig << "torque " << a.pid << ".output => " << a.bldc << ".value\n\n"
-      << "# Commutation: bldc turns the command into the rotor angle and a signed current.\n";
+  out << "setp " << a.pid << ".maxoutput " << amps(*plan.max_current) << "   # amps: the card's MAXCURRENT\n";
+  if (plan.notch) {
+    const std::string notch = notch_name(a.k);
+    out << "# The notch after the pid (i20 pid --notch designed the loop with it): type 0 takes the\n"
+           "# coefficients as given; enabling it (a rising enable) makes them its own.\n"
+        << "setp " << notch << ".type 0\n";
+    for (const auto& [param, key] :
+         {std::pair{"n0", "NOTCH_N0"}, std::pair{"n1", "NOTCH_N1"}, std::pair{"n2", "NOTCH_N2"},
+          std::pair{"d1", "NOTCH_D1"}, std::pair{"d2", "NOTCH_D2"}})
+      out << "setp " << notch << "." << param << " " << ini << key << "\n";
+    out << "setp " << notch << ".enable 1\n"
+        << "net " << a.sig << "torque-raw " << a.pid << ".output => " << notch << ".in\n"
+        << "net " << a.sig << "torque " << notch << ".out => " << a.bldc << ".value\n\n";
+  } else {
+    out << "net " << a.sig << "torque " << a.pid << ".output => " << a.bldc << ".value\n\n";
+  }
+  out << "# Commutation: bldc turns the command into the rotor angle and a signed current.\n";
   if (has(plan.cfg, 'q')) {
     if (!has(plan.cfg, 'i'))
       out << "net " << a.sig << "rawcounts " << a.encoder << ".rawcounts => " << a.bldc << ".rawcounts\n";

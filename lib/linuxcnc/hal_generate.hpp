@@ -27,7 +27,8 @@ struct HalPlan {
   std::optional<double> max_current;     // the card's MAXCURRENT in amps: the pid's output limit
   std::vector<std::string> halls;        // per axis "PIN1,PIN2,PIN3" (cfg with h)
   std::string estop_in;                  // the E-stop loop's input pin; "" leaves it to the user
-  std::string command_line;              // how the file was asked for, for its header
+  bool notch = false;        // a biquad after each pid: [JOINT_k]NOTCH_N0..NOTCH_D2 (i20 pid --notch)
+  std::string command_line;  // how the file was asked for, for its header
 };
 
 // The generated power-up's waits (docs/linuxcnc-hal.md, "Power-up and fault reset"), given by

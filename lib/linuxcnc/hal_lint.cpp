@@ -564,9 +564,24 @@ class Linter {
     return std::regex_match(instance, std::regex(R"(^pid\.[0-9]+$)"));
   }
 
-  // The pid instances whose output reaches `pin` directly or through a bldc (value -> out).
-  // A file may loop a bldc back on itself (its out netted to its own value): each bldc is
-  // followed once.
+  // "NAME.in" when `pin` is the output of an instance of `loadrt biquad` (names=, or count=
+  // as biquad.N).
+  std::optional<std::string> biquad_input_of(const std::string& pin) const {
+    const auto* biquad = design_.module("biquad");
+    if (biquad == nullptr || pin.size() < 4 || pin.compare(pin.size() - 4, 4, ".out") != 0)
+      return std::nullopt;
+    const std::string instance = pin.substr(0, pin.size() - 4);
+    const auto names = biquad->args.find("names");
+    const bool ours = names != biquad->args.end()
+                          ? std::ranges::count(split_commas(names->second), instance) > 0
+                          : std::regex_match(instance, std::regex(R"(^biquad\.[0-9]+$)"));
+    if (!ours) return std::nullopt;
+    return instance + ".in";
+  }
+
+  // The pid instances whose output reaches `pin` directly, through a bldc (value -> out) or
+  // through a biquad (in -> out). A file may loop a bldc back on itself (its out netted to its
+  // own value): each is followed once.
   std::vector<std::string> pids_feeding(const std::string& pin) const {
     std::vector<std::string> out;
     std::set<std::string> followed{pin};
@@ -577,6 +592,9 @@ class Linter {
       if (sig == nullptr) continue;
       for (const auto& p : sig->pins) {
         if (is_pid_output(p.name)) out.push_back(p.name.substr(0, p.name.size() - 7));
+        // A filter on the way (i20 hal --notch's biquad) passes the command on: follow its input.
+        if (const auto in = biquad_input_of(p.name); in && followed.insert(*in).second)
+          pending.push_back(*in);
         const auto b = split_bldc(p.name);
         if (!b || b->rest != "out") continue;
         std::string value = "bldc.";

@@ -194,4 +194,16 @@ HalrunReading read_halrun_output(std::string_view output, const std::map<std::st
   return r;
 }
 
+void add_halrun_findings(std::vector<LintFinding>& findings, const std::vector<LintFinding>& from_halrun) {
+  const auto refused_already = [&](const SourceLine& at) {
+    return std::any_of(findings.begin(), findings.end(), [&](const LintFinding& f) {
+      return f.refused_by_halcmd && f.at.file == at.file && f.at.line == at.line;
+    });
+  };
+  std::vector<LintFinding> added;
+  for (const auto& f : from_halrun)
+    if (!refused_already(f.at)) added.push_back(f);
+  findings.insert(findings.end(), added.begin(), added.end());
+}
+
 }  // namespace i20::linuxcnc

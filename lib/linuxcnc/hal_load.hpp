@@ -57,4 +57,9 @@ struct HalrunReading {
 };
 HalrunReading read_halrun_output(std::string_view output, const std::map<std::string, std::string>& copies);
 
+// Adds halcmd's findings from a load to the lint's own: one line, one finding. A line the
+// lint already found halcmd refuses by its own rules (an INI key missing, a pin on two
+// signals) is not reported again in halcmd's words; the rest are added.
+void add_halrun_findings(std::vector<LintFinding>& findings, const std::vector<LintFinding>& from_halrun);
+
 }  // namespace i20::linuxcnc

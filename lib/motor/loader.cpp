@@ -12,6 +12,7 @@
 #include "motor/error.hpp"
 #include "motor/units.hpp"
 #include "params/closest.hpp"
+#include "params/data_file.hpp"
 #include "params/text.hpp"
 #include "params/value.hpp"
 #include "params/yaml_problem.hpp"
@@ -111,6 +112,26 @@ const std::vector<Key>& keys() {
        }},
       {"load", "0.1Nm",
        [](MotorParams& p, std::string_view v) { p.load_nm = quantity(Q::Torque, v, Sign::Any); }},
+      {"machine.lead", "5mm",
+       [](MotorParams& p, std::string_view v) {
+         p.machine.lead_m_per_turn = quantity(Q::Length, v, Sign::Positive);
+       }},
+      {"machine.mass", "40kg",
+       [](MotorParams& p, std::string_view v) {
+         p.machine.mass_kg = quantity(Q::Mass, v, Sign::NonNegative);
+       }},
+      {"machine.load_inertia", "2kgcm^2",
+       [](MotorParams& p, std::string_view v) {
+         p.machine.load_inertia_kgm2 = quantity(Q::Inertia, v, Sign::NonNegative);
+       }},
+      {"machine.stiffness", "800Nm/rad",
+       [](MotorParams& p, std::string_view v) {
+         p.machine.stiffness_nm_per_rad = quantity(Q::Stiffness, v, Sign::NonNegative);
+       }},
+      {"machine.damping", "0.02Nm/(rad/s)",
+       [](MotorParams& p, std::string_view v) {
+         p.machine.damping_nm_per_rad_s = quantity(Q::Viscous, v, Sign::NonNegative);
+       }},
       {"brake.torque", "1.3Nm",
        [](MotorParams& p, std::string_view v) {
          p.brake_torque_nm = quantity(Q::Torque, v, Sign::NonNegative);
@@ -273,6 +294,12 @@ MotorParams parse_motor(std::string_view text, std::string_view origin) {
     throw MotorError(std::string(origin) + ": " + e.what());
   }
   return params;
+}
+
+MotorParams load_motor_file(const std::string& path) {
+  const auto file = params::read_data_file(path, "motor file");
+  if (!file.problem.empty()) throw MotorError(path + ": " + file.problem);
+  return parse_motor(file.text, path);
 }
 
 std::string motor_keys_help() {

@@ -11,6 +11,8 @@
 //   cogging: {torque: 0.005Nm, periods_per_turn: 24}           # optional
 //   load: 0Nm                      # optional, + opposes forward rotation
 //   brake: {torque: 1.3Nm, engaged: false}                     # optional
+//   machine: {lead: 5mm, mass: 40kg, load_inertia: 0.2kgcm^2,   # optional: what it drives;
+//             stiffness: 30Nm/rad, damping: 0.002Nm/(rad/s)}    # no stiffness: rigid
 //   max_speed: 6000rpm             # optional: beyond it the virtual 8I20 faults
 //   channel: 0                     # the 8I20 channel it sits on (default 0)
 //   encoder: {counts_per_turn: 10000, direction: 1, index_angle: 0deg}   # optional
@@ -30,6 +32,11 @@ namespace i20::motor {
 
 // The motor a file's text describes; `origin` names it in messages (a path).
 MotorParams parse_motor(std::string_view yaml_text, std::string_view origin);
+
+// The motor file at `path`, read with the checks every YAML file users hand the toolkit gets
+// (a directory, a binary or a file over 1 MiB is refused before parsing): MotorError
+// "PATH: reason".
+MotorParams load_motor_file(const std::string& path);
 
 // Sets one key (dotted for nested ones: "friction.viscous", "brake.engaged") from its text,
 // as a motor file writes it: what the simulators' control lines change live. Throws

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "motor/motor.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -54,11 +55,63 @@ double time_to_stop(double w0, double net, double inertia, double viscous) {
   return -(inertia / viscous) * std::log(w_ss / (w_ss - w0));
 }
 
+// A compliant coupling is integrated in steps this fine: the resonance turns at most this
+// many radians per step (the symplectic step's energy error stays well under 1%).
+constexpr double kCouplingStepRadians = 0.005;
+// The stiffest coupling the model runs: above this the masses are rigid for any servo.
+constexpr double kHighestResonanceHz = 5000;
+
+// 1/J_motor + 1/J_load: how the coupling's torque accelerates the two apart.
+double coupled_mobility(const MotorParams& p) {
+  return 1 / p.inertia_kgm2 + 1 / reflected_load_inertia(p);
+}
+
 }  // namespace
+
+double reflected_load_inertia(const MotorParams& p) {
+  const double radius = p.machine.lead_m_per_turn / kTwoPi;  // metres of travel per radian
+  return p.machine.load_inertia_kgm2 + p.machine.mass_kg * radius * radius;
+}
+
+double total_inertia(const MotorParams& p) {
+  return p.inertia_kgm2 + reflected_load_inertia(p);
+}
+
+bool compliant(const MotorParams& p) {
+  return p.machine.stiffness_nm_per_rad > 0 && reflected_load_inertia(p) > 0;
+}
+
+std::optional<double> resonance_hz(const MotorParams& p) {
+  if (!compliant(p)) return std::nullopt;
+  return std::sqrt(p.machine.stiffness_nm_per_rad * coupled_mobility(p)) / kTwoPi;
+}
 
 double flux_linkage(const MotorParams& p) {
   return p.torque_constant_nm_per_a / (1.5 * p.pole_pairs);
 }
+
+namespace {
+void validate_machine(const MotorParams& p) {
+  const auto non_negative = [](double v) { return v >= 0 && std::isfinite(v); };
+  const MachineParams& m = p.machine;
+  require(non_negative(m.lead_m_per_turn), "machine.lead must not be negative");
+  require(non_negative(m.mass_kg), "machine.mass must not be negative");
+  require(non_negative(m.load_inertia_kgm2), "machine.load_inertia must not be negative");
+  require(non_negative(m.stiffness_nm_per_rad), "machine.stiffness must not be negative");
+  require(non_negative(m.damping_nm_per_rad_s), "machine.damping must not be negative");
+  require(m.mass_kg == 0 || m.lead_m_per_turn > 0,
+          "machine.mass needs machine.lead (the travel per motor turn) to reach the motor shaft");
+  require(m.stiffness_nm_per_rad == 0 || reflected_load_inertia(p) > 0,
+          "machine.stiffness couples a load: give machine.mass or machine.load_inertia");
+  require(m.damping_nm_per_rad_s == 0 || m.stiffness_nm_per_rad > 0,
+          "machine.damping belongs to a compliant coupling: give machine.stiffness");
+  if (const auto f = resonance_hz(p); f && p.inertia_kgm2 > 0)
+    require(*f <= kHighestResonanceHz,
+            "machine.stiffness puts the resonance at " + std::to_string(static_cast<long>(*f)) +
+                " Hz, above the model's " + std::to_string(static_cast<long>(kHighestResonanceHz)) +
+                " Hz: a coupling that stiff is rigid for any servo; leave the stiffness out");
+}
+}  // namespace
 
 void validate(const MotorParams& p) {
   const auto positive = [](double v) { return v > 0 && std::isfinite(v); };
@@ -81,6 +134,7 @@ void validate(const MotorParams& p) {
     require(p.encoder->counts_per_turn > 0, "encoder.counts_per_turn must be positive");
     require(p.encoder->direction == 1 || p.encoder->direction == -1, "encoder.direction must be 1 or -1");
   }
+  validate_machine(p);
   if (p.halls && p.halls->bldc_pattern)
     require(known_bldc_pattern(*p.halls->bldc_pattern),
             "halls.pattern " + std::to_string(*p.halls->bldc_pattern) +
@@ -98,7 +152,15 @@ Motor::Motor(MotorParams params, double pwm_hz, int substeps)
 
 void Motor::set_params(const MotorParams& params) {
   validate(params);
+  const bool was_compliant = compliant(params_);
   params_ = params;
+  if (was_compliant && !compliant(params_)) {
+    // The load locks onto the rotor with the momentum they had (the spring's energy is gone).
+    const double jm = params_.inertia_kgm2, jl = reflected_load_inertia(params_);
+    state_.speed_rad_s = (jm * state_.speed_rad_s + jl * load_speed_) / (jm + jl);
+    load_angle_rad_ = angle_rad_;
+    load_speed_ = state_.speed_rad_s;
+  }
   winding_.set_params(params_.winding, flux_linkage(params_));
   update_outputs();
 }
@@ -165,15 +227,59 @@ void Motor::substep(Dq voltage_ab, double h) {
   state_.voltage_v = v;
 }
 
+// The rotor and, on a compliant coupling, the load. A rigid load is part of the rotor.
 void Motor::advance_rotor(double torque_e, double h) {
-  const double inertia = params_.inertia_kgm2, viscous = params_.viscous_nm_per_rad_s;
+  state_.torque_nm = torque_e;
+  if (!compliant(params_)) {
+    const double before = angle_rad_;
+    advance_motor(torque_e, -params_.load_nm, total_inertia(params_), h);
+    state_.energy.load_work += params_.load_nm * (angle_rad_ - before);
+    load_angle_rad_ = angle_rad_;
+    load_speed_ = state_.speed_rad_s;
+    return;
+  }
+  // Two masses on a spring, in steps fine enough for the resonance and the damping. Over
+  // each, both feel the coupling's torque at the step's predicted midpoint twist, held: the
+  // rotor exactly under it (with its friction and stick), the load exactly under it and its
+  // weight. That step preserves the spring's energy (no drift, however long it rings) and
+  // depends only on the twist and the slip, not on how fast the axis travels.
+  const double mobility = coupled_mobility(params_);
+  const double turning =
+      std::sqrt(params_.machine.stiffness_nm_per_rad * mobility) * h / kCouplingStepRadians;
+  const double damping = params_.machine.damping_nm_per_rad_s * mobility * h / 0.01;
+  const int steps = std::max(1, static_cast<int>(std::ceil(std::max(turning, damping))));
+  const double hi = h / steps;
+  for (int k = 0; k < steps; ++k) {
+    const double slip_before = state_.speed_rad_s - load_speed_;
+    const double pull =
+        params_.machine.stiffness_nm_per_rad * (angle_rad_ - load_angle_rad_ + slip_before * hi / 2) +
+        params_.machine.damping_nm_per_rad_s * slip_before;
+    advance_motor(torque_e, -pull, params_.inertia_kgm2, hi);
+    advance_load(pull, hi);
+    const double slip = (slip_before + state_.speed_rad_s - load_speed_) / 2;
+    state_.energy.coupling_loss += params_.machine.damping_nm_per_rad_s * slip * slip * hi;
+  }
+}
+
+// The load under the coupling's pull and its weight, held over h.
+void Motor::advance_load(double pull, double h) {
+  const double acceleration = (pull - params_.load_nm) / reflected_load_inertia(params_);
+  const double travelled = load_speed_ * h + acceleration * h * h / 2;
+  load_speed_ += acceleration * h;
+  load_angle_rad_ += travelled;
+  state_.energy.load_work += params_.load_nm * travelled;
+}
+
+// The rotor under the electromagnetic torque and an `external` one held over h (the load, or
+// the coupling's pull), with its friction, cogging and brake.
+void Motor::advance_motor(double torque_e, double external, double inertia, double h) {
+  const double viscous = params_.viscous_nm_per_rad_s;
   const double coulomb = params_.coulomb_nm + (params_.brake_engaged ? params_.brake_torque_nm : 0);
   const double cogging = params_.cogging_nm > 0
                              ? -params_.cogging_nm * std::sin(params_.cogging_periods_per_turn * angle_rad_)
                              : 0;
-  const double applied = torque_e - params_.load_nm + cogging;
+  const double applied = torque_e + external + cogging;
   double w = state_.speed_rad_s;
-  state_.torque_nm = torque_e;
   if (w == 0 && std::abs(applied) <= coulomb) {  // static friction (and the brake) hold
     state_.stuck = true;
     return;
@@ -190,7 +296,6 @@ void Motor::advance_rotor(double torque_e, double h) {
   e.electromagnetic += torque_e * m.angle;
   e.friction_loss += coulomb * std::abs(m.angle);
   e.viscous_loss += m.viscous;
-  e.load_work += params_.load_nm * m.angle;
   e.cogging_work -= cogging * m.angle;
   angle_rad_ += m.angle;
   state_.speed_rad_s = m.speed;
@@ -199,6 +304,9 @@ void Motor::advance_rotor(double torque_e, double h) {
 
 void Motor::update_outputs() {
   state_.angle_turns = angle_rad_ / kTwoPi;
+  state_.load_angle_turns = load_angle_rad_ / kTwoPi;
+  state_.load_speed_rad_s = load_speed_;
+  state_.machine_position_m = state_.load_angle_turns * params_.machine.lead_m_per_turn;
   const double electrical = params_.pole_pairs * angle_rad_;
   state_.electrical_angle_rad = wrap(electrical);
   state_.current_a = winding_.current();
@@ -255,7 +363,15 @@ SensorReading Motor::read_sensors() const {
 }
 
 double Motor::kinetic_energy_j() const {
-  return 0.5 * params_.inertia_kgm2 * state_.speed_rad_s * state_.speed_rad_s;
+  // A rigid load turns with the rotor (load_speed_ is the rotor's then).
+  return 0.5 * params_.inertia_kgm2 * state_.speed_rad_s * state_.speed_rad_s +
+         0.5 * reflected_load_inertia(params_) * load_speed_ * load_speed_;
+}
+
+double Motor::spring_energy_j() const {
+  if (!compliant(params_)) return 0;
+  const double twist = angle_rad_ - load_angle_rad_;
+  return 0.5 * params_.machine.stiffness_nm_per_rad * twist * twist;
 }
 
 double Motor::magnetic_energy_j() const {

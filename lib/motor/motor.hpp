@@ -46,14 +46,20 @@ struct EnergyLedger {
   double electromagnetic = 0;  // torque times angle: electrical -> mechanical
   double friction_loss = 0;    // Coulomb friction and holding brake
   double viscous_loss = 0;
-  double load_work = 0;     // done against the load torque
-  double cogging_work = 0;  // done against the cogging torque (conservative)
+  double load_work = 0;      // done against the load torque
+  double cogging_work = 0;   // done against the cogging torque (conservative)
+  double coupling_loss = 0;  // in a compliant coupling's damping
 };
 
 struct MotorState {
   double time_s = 0;
-  double angle_turns = 0;           // mechanical, unwrapped; + is forward
-  double speed_rad_s = 0;           // mechanical
+  double angle_turns = 0;  // mechanical, unwrapped; + is forward
+  double speed_rad_s = 0;  // mechanical
+  // The load (machine:): on a compliant coupling it lags or leads the rotor; on a rigid one
+  // it is the rotor. Reflected to the motor shaft: turns and rad/s of the motor.
+  double load_angle_turns = 0;
+  double load_speed_rad_s = 0;
+  double machine_position_m = 0;    // load turns x machine.lead (0 without a lead)
   double electrical_angle_rad = 0;  // pole_pairs x mechanical, wrapped to [0, 2 pi)
   Dq current_a;                     // rotor frame
   Dq voltage_v;                     // rotor frame, as applied during the last sub-step
@@ -95,7 +101,10 @@ class Motor {
   unsigned take_overcurrent();
   // Whether the speed has exceeded max_speed since the last call.
   bool take_runaway();
+  // The rotor's and the load's.
   double kinetic_energy_j() const;
+  // Stored in a compliant coupling's spring: 1/2 k (angle - load angle)^2.
+  double spring_energy_j() const;
   // Sensor faults freeze the reading at the moment they are switched on.
   void set_sensor_faults(SensorFaults faults);
   const SensorFaults& sensor_faults() const { return sensor_faults_; }
@@ -112,6 +121,8 @@ class Motor {
   void run_period();
   void substep(Dq voltage_ab, double h);
   void advance_rotor(double torque_e, double h);
+  void advance_motor(double torque_e, double external, double inertia, double h);
+  void advance_load(double pull, double h);
   void update_outputs();
   void check_protection();
 
@@ -122,8 +133,10 @@ class Motor {
   PiCurrentLoop loop_;
   DriveCommand drive_;
   MotorState state_;
-  double angle_rad_ = 0;  // mechanical, unwrapped
-  Dq applied_ab_;         // the voltage the bridge applies this period (stationary frame)
+  double angle_rad_ = 0;       // mechanical, unwrapped
+  double load_angle_rad_ = 0;  // the load's, at the motor shaft; the rotor's when rigid
+  double load_speed_ = 0;
+  Dq applied_ab_;  // the voltage the bridge applies this period (stationary frame)
   double carry_s_ = 0;
   std::uint64_t periods_ = 0;
   unsigned overcurrent_ = 0;

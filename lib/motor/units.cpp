@@ -45,6 +45,15 @@ const std::vector<MechanicalUnit>& mechanical_units() {
       {"rev/s", Quantity::Speed, 2 * std::numbers::pi},
       {"deg", Quantity::Angle, std::numbers::pi / 180},
       {"rad", Quantity::Angle, 1},
+      {"Nm/rad", Quantity::Stiffness, 1},
+      {"kNm/rad", Quantity::Stiffness, 1e3},
+      {"Nm/deg", Quantity::Stiffness, 180 / std::numbers::pi},
+      {"mm", Quantity::Length, 1e-3},
+      {"um", Quantity::Length, 1e-6},
+      {"m", Quantity::Length, 1},
+      {"in", Quantity::Length, 0.0254},
+      {"kg", Quantity::Mass, 1},
+      {"g", Quantity::Mass, 1e-3},
   };
   return table;
 }
@@ -59,6 +68,9 @@ const char* name_of(Quantity kind) {
     case Quantity::Torque: return "a torque";
     case Quantity::Speed: return "a speed";
     case Quantity::Angle: return "an angle";
+    case Quantity::Stiffness: return "a stiffness";
+    case Quantity::Length: return "a length";
+    case Quantity::Mass: return "a mass";
   }
   return "";
 }

@@ -19,9 +19,12 @@ enum class Quantity {
   Torque,          // Nm, mNm
   Speed,           // rpm, rad/s, rev/s
   Angle,           // deg, rad
+  Stiffness,       // Nm/rad, kNm/rad, Nm/deg
+  Length,          // mm, um, m, in
+  Mass,            // kg, g
 };
 
-// The value in SI units (ohm, H, N m/A, kg m^2, N m s/rad, N m, rad/s, rad). A sign is
+// The value in SI units (ohm, H, N m/A, kg m^2, N m s/rad, N m, rad/s, rad, N m/rad, m, kg). A sign is
 // allowed (callers refuse what their key cannot be). Throws MotorError with one line:
 // "1.75mh: unit 'mh' is not known; did you mean 'mH'?", "0.6: a resistance needs its unit
 // (0.6ohm, 0.6mohm)".

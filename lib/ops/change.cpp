@@ -28,31 +28,45 @@ profile::Profile small_profile() {
   return profile;
 }
 
-}  // namespace
-
-profile::Profile profile_from_assignments(const std::vector<std::string>& assignments,
-                                          const params::ParamDb& db, ValueSyntax syntax) {
+profile::Profile change_profile(const std::vector<NamedValue>& values, const params::ParamDb& db,
+                                ValueSyntax syntax) {
   auto profile = small_profile();
   int position = 0;
-  for (const auto& a : assignments) {
+  for (const auto& v : values) {
     ++position;
-    const auto eq = a.find('=');
-    if (eq == std::string::npos || eq == 0 || eq + 1 == a.size())
-      throw UsageError("'" + a + "' is not NAME=VALUE (e.g. NVBRAKEONV=320V or NVMAXCURRENT=raw:750)");
-    const auto& p = db.get(a.substr(0, eq));
+    const auto& p = db.get(v.name);
     for (const auto& earlier : profile.settings)
       if (earlier.name == p.name) throw UsageError(p.name + " is given twice on the command line");
-    profile.settings.push_back(setting(p, a.substr(eq + 1), syntax, position));
+    profile.settings.push_back(setting(p, v.value, syntax, position));
   }
   if (profile.settings.empty()) throw UsageError("nothing to write: give NAME=VALUE pairs");
   return profile;
 }
 
-profile::Profile profile_from_value(const std::string& name, const std::string& value,
-                                    const params::ParamDb& db, ValueSyntax syntax) {
-  auto profile = small_profile();
-  profile.settings.push_back(setting(db.get(name), value, syntax, 1));
-  return profile;
+}  // namespace
+
+std::vector<NamedValue> named_values(const std::vector<std::string>& assignments) {
+  std::vector<NamedValue> values;
+  for (const auto& a : assignments) {
+    const auto eq = a.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == a.size())
+      throw UsageError("'" + a + "' is not NAME=VALUE (e.g. NVBRAKEONV=320V or NVMAXCURRENT=raw:750)");
+    values.push_back({a.substr(0, eq), a.substr(eq + 1)});
+  }
+  return values;
+}
+
+ValueChange::ValueChange(const ValueChangeRequest& request, const params::ParamDb& db)
+    : profile_(change_profile(request.values, db, request.syntax)),
+      job_(make_apply_job({.profile = &profile_,
+                           .db = &db,
+                           .force = request.force,
+                           .allow_unverified = request.allow_unverified,
+                           .dry_run = request.dry_run,
+                           .cancel = request.cancel})) {}
+
+TargetRun ValueChange::run_on(Amp& amp, const Activity& activity) const {
+  return run_apply_on(amp, job_, activity);
 }
 
 profile::Profile save_profile(Amp& amp, const std::vector<std::string>& names,

@@ -119,13 +119,13 @@ MaskResult set_fault_mask(Amp& amp, const std::string& key, bool masked, const d
                               now.front().reason);
   result.before = static_cast<std::uint16_t>(*now.front().raw);
   result.wanted = faults::set_fault_masked(result.before, key, masked);
-  const auto profile =
-      profile_from_value("FAULTMASK", std::to_string(result.wanted), amp.db(), ValueSyntax::Raw);
-  result.run = run_apply_on(amp, make_apply_job({.profile = &profile,
-                                                 .db = &amp.db(),
-                                                 .force = write.force,
-                                                 .allow_unverified = write.allow_unverified,
-                                                 .cancel = amp.cancel()}));
+  const ValueChange change({.values = {{"FAULTMASK", std::to_string(result.wanted)}},
+                            .syntax = ValueSyntax::Raw,
+                            .force = write.force,
+                            .allow_unverified = write.allow_unverified,
+                            .cancel = amp.cancel()},
+                           amp.db());
+  result.run = change.run_on(amp);
   return result;
 }
 

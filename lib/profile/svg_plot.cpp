@@ -6,32 +6,13 @@
 #include <sstream>
 
 #include "profile/plot_scale.hpp"
+#include "profile/svg_text.hpp"
 
 namespace i20::profile {
 namespace {
 
 constexpr double kLeft = 70, kRight = 24, kTop = 58, kBottom = 56;
 constexpr std::size_t kMaxPoints = 3000;
-
-std::string escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
-
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f", v);
-  return buf;
-}
 
 // Maps time (ms) and current (A) to pixels.
 struct Frame {
@@ -45,14 +26,14 @@ struct Frame {
 };
 
 void line(std::ostringstream& out, double x1, double y1, double x2, double y2, const std::string& style) {
-  out << "<line x1=\"" << num(x1) << "\" y1=\"" << num(y1) << "\" x2=\"" << num(x2) << "\" y2=\"" << num(y2)
-      << "\" " << style << "/>\n";
+  out << "<line x1=\"" << svg_coordinate(x1) << "\" y1=\"" << svg_coordinate(y1) << "\" x2=\""
+      << svg_coordinate(x2) << "\" y2=\"" << svg_coordinate(y2) << "\" " << style << "/>\n";
 }
 
 void text(std::ostringstream& out, double x, double y, const std::string& body,
           const std::string& attrs = "") {
-  out << "<text x=\"" << num(x) << "\" y=\"" << num(y) << "\"" << (attrs.empty() ? "" : " " + attrs) << ">"
-      << escape(body) << "</text>\n";
+  out << "<text x=\"" << svg_coordinate(x) << "\" y=\"" << svg_coordinate(y) << "\""
+      << (attrs.empty() ? "" : " " + attrs) << ">" << xml_escaped(body) << "</text>\n";
 }
 
 void grid_and_axes(std::ostringstream& out, const Frame& f) {
@@ -69,8 +50,8 @@ void grid_and_axes(std::ostringstream& out, const Frame& f) {
   line(out, f.x0(), f.y0(), f.x1(), f.y0(), "stroke=\"black\"");
   line(out, f.x0(), f.y0(), f.x0(), f.y1(), "stroke=\"black\"");
   text(out, (f.x0() + f.x1()) / 2, f.height - 14, "time (ms)", "text-anchor=\"middle\"");
-  out << "<text x=\"16\" y=\"" << num((f.y0() + f.y1()) / 2)
-      << "\" text-anchor=\"middle\" transform=\"rotate(-90 16 " << num((f.y0() + f.y1()) / 2)
+  out << "<text x=\"16\" y=\"" << svg_coordinate((f.y0() + f.y1()) / 2)
+      << "\" text-anchor=\"middle\" transform=\"rotate(-90 16 " << svg_coordinate((f.y0() + f.y1()) / 2)
       << ")\">current (A)</text>\n";
   out << "</g>\n";
 }
@@ -79,13 +60,15 @@ void traces(std::ostringstream& out, const Frame& f, const StepResponse& r) {
   const double end_ms = f.t_max_ms;
   out << "<polyline id=\"command\" fill=\"none\" stroke=\"#1f77b4\" stroke-width=\"1.5\" "
          "stroke-dasharray=\"6 4\" points=\""
-      << num(f.x(0)) << "," << num(f.y(0)) << " " << num(f.x(0)) << "," << num(f.y(r.step_a)) << " "
-      << num(f.x(end_ms)) << "," << num(f.y(r.step_a)) << "\"/>\n";
+      << svg_coordinate(f.x(0)) << "," << svg_coordinate(f.y(0)) << " " << svg_coordinate(f.x(0)) << ","
+      << svg_coordinate(f.y(r.step_a)) << " " << svg_coordinate(f.x(end_ms)) << ","
+      << svg_coordinate(f.y(r.step_a)) << "\"/>\n";
   const std::size_t stride = std::max<std::size_t>(1, r.samples.size() / kMaxPoints);
   out << "<polyline id=\"response\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"2\" points=\"";
   for (std::size_t k = 0; k < r.samples.size(); k += stride) {
     const auto& s = r.samples[k];
-    out << (k ? " " : "") << num(f.x(s.t_s * 1e3)) << "," << num(f.y(std::clamp(s.current_a, 0.0, f.i_max)));
+    out << (k ? " " : "") << svg_coordinate(f.x(s.t_s * 1e3)) << ","
+        << svg_coordinate(f.y(std::clamp(s.current_a, 0.0, f.i_max)));
   }
   out << "\"/>\n";
 }

@@ -365,7 +365,19 @@ std::string describe_motor(const motor::Motor& m) {
       halls.c_str(), s.phase_a[0], s.phase_a[1], s.phase_a[2], s.current_a.d, s.current_a.q, s.torque_nm,
       m.drive().output_on ? "on" : "off", m.params().load_nm,
       m.params().brake_engaged ? "engaged" : "released");
-  return buf;
+  std::string out = buf;
+  const auto& machine = m.params().machine;
+  if (motor::reflected_load_inertia(m.params()) > 0 || machine.lead_m_per_turn > 0) {
+    // The machine behind the motor: where its load is (it lags on a compliant coupling).
+    std::snprintf(buf, sizeof buf, " load_angle=%.6fturns load_speed=%.1frpm", s.load_angle_turns,
+                  s.load_speed_rad_s * kRadPerSToRpm);
+    out += buf;
+    if (machine.lead_m_per_turn > 0) {
+      std::snprintf(buf, sizeof buf, " position=%.4fmm", s.machine_position_m * 1e3);
+      out += buf;
+    }
+  }
+  return out;
 }
 
 }  // namespace i20::sim

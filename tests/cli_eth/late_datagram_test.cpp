@@ -273,7 +273,14 @@ TEST_F(LateDatagrams, HoldingProxyEndsWithinTheStatedBoundWithATrueExitCode) {
 }
 
 // Issue 40: mild faults (5% of datagrams lost, 20% repeated, 10% late, either way) are ridden
-// as before the deadline was one: at most 1 run in 10 ends without its change.
+// as before the deadline was one: at most 1 run in 10 ends without its change. How often a
+// run gets through is a figure of the host's speed as much as of the tool's (every reply
+// timeout, the fence's bound and the running-host watch are times): the sanitizer build,
+// several times slower, walks the same paths a few times with I20_JUDGE_SUCCESS_RATE=0 and
+// judges only what is never allowed (a false result, a mode left on, a run past the bound);
+// the Release suite judges the rate. Before the opening of the port was retried after a link
+// failure (PassthroughOptions::opening_attempts), a late or repeated datagram during it
+// ended `i20 set` with exit 1 in 2 of 20 runs under the sanitizers.
 TEST_F(LateDatagrams, MildFaultsRarelyEndWithoutTheChange) {
   const auto runs = runs_from("I20_MILD_RUNS", 10);
   const auto v = run_through(
@@ -286,6 +293,10 @@ TEST_F(LateDatagrams, MildFaultsRarelyEndWithoutTheChange) {
   EXPECT_EQ(v.false_results, 0u);
   EXPECT_EQ(v.modes_left, 0u);
   const unsigned changed = v.exits.count(0) ? v.exits.at(0) : 0u;
+  if (runs_from("I20_JUDGE_SUCCESS_RATE", 1) == 0) {
+    std::cout << changed << " of " << runs << " runs got their change; the rate is not judged in this build\n";
+    return;
+  }
   EXPECT_GE(changed * 10, runs * 9) << runs - changed << " of " << runs << " runs ended without their change";
 }
 

@@ -45,6 +45,54 @@ TEST(HalCli, WritesAFileThatItsOwnLintPasses) {
   EXPECT_EQ(lint.out, "");
 }
 
+// --notch: a biquad after the pid, its coefficients from the INI `i20 pid --notch` writes; the
+// file says how it was asked for, and its own lint passes it.
+TEST(HalCli, TheNotchIsWrittenAndLintsClean) {
+  TempDir dir;
+  const auto file = dir / "axis.hal";
+  const auto made = run("i20", with(kGood, {"--notch", "-o", file.string()}));
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  const std::string text = read(file);
+  for (const char* line :
+       {"loadrt biquad names=i20-notch-0\n", "net j0-torque-raw pid.0.output => i20-notch-0.in\n",
+        "net j0-torque i20-notch-0.out => bldc.0.value\n", "setp i20-notch-0.n0 [JOINT_0]NOTCH_N0\n",
+        " --notch\n"})
+    EXPECT_NE(text.find(line), std::string::npos) << line;
+  const auto lint = run("i20", {"hal", "lint", "--max-current", "12A", "--pattern", "17", file.string()});
+  EXPECT_EQ(lint.exit_code, 0) << lint.out << lint.err;
+}
+
+// hal lint --ini: the notch's keys must be in the INI when the file runs the notch (halcmd
+// stops at a missing one: exit 2), and a notch in the INI that the file does not run is said
+// (exit 1); the file with the INI it reads is clean.
+TEST(HalCli, LintHoldsTheFilesAgainstTheIni) {
+  TempDir dir;
+  const auto notched = dir / "notched.hal", plain = dir / "plain.hal";
+  ASSERT_EQ(run("i20", with(kGood, {"--notch", "-o", notched.string()})).exit_code, 0);
+  ASSERT_EQ(run("i20", with(kGood, {"-o", plain.string()})).exit_code, 0);
+  const std::string base =
+      "[KINS]\nKINEMATICS = trivkins\nJOINTS = 1\n[EMCMOT]\nEMCMOT = motmod\nSERVO_PERIOD = 1000000\n"
+      "[JOINT_0]\nENCODER_SCALE = 800\nP = 1\nI = 0\nD = 0\nFF0 = 0\nFF1 = 0\nFF2 = 0\nBIAS = 0\nDEADBAND = "
+      "0\n";
+  const auto with_notch = dir / "notch.ini", without = dir / "plain.ini";
+  write(with_notch,
+        base + "NOTCH_N0 = 0.8\nNOTCH_N1 = -0.7\nNOTCH_N2 = 0.8\nNOTCH_D1 = -0.7\nNOTCH_D2 = 0.63\n");
+  write(without, base);
+  const auto lint = [](const std::filesystem::path& hal, const std::filesystem::path& ini) {
+    return run("i20", {"hal", "lint", "--max-current", "12A", "--pattern", "17", "--ini", ini.string(),
+                       hal.string()});
+  };
+  EXPECT_EQ(lint(notched, with_notch).exit_code, 0) << lint(notched, with_notch).out;
+  EXPECT_EQ(lint(plain, without).exit_code, 0) << lint(plain, without).out;
+  const auto missing = lint(notched, without);
+  EXPECT_EQ(missing.exit_code, 2) << missing.out << missing.err;
+  EXPECT_NE(missing.out.find("[JOINT_0]NOTCH_N0 is not in " + without.string()), std::string::npos)
+      << missing.out;
+  const auto not_run = lint(plain, with_notch);
+  EXPECT_EQ(not_run.exit_code, 1) << not_run.out << not_run.err;
+  EXPECT_NE(not_run.out.find("[JOINT_0] has a notch"), std::string::npos) << not_run.out;
+}
+
 TEST(HalCli, RefusesToReplaceAFileWithoutOverwrite) {
   TempDir dir;
   const auto file = dir / "mine.hal";

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <filesystem>
@@ -25,11 +26,16 @@ namespace {
 
 const std::string kMotor = (i20::test::source_dir() / "motors/servo-halls-index.yaml").string();
 
-Result commission(const std::vector<std::string>& target, std::vector<std::string> args) {
-  args.insert(args.begin(), "commission");
+Result i20_command(const std::string& command, const std::vector<std::string>& target,
+                   std::vector<std::string> args) {
+  args.insert(args.begin(), command);
   args.insert(args.begin(), target.begin(), target.end());
   args.insert(args.begin(), "--no-user-params");
   return run("i20", args);
+}
+
+Result commission(const std::vector<std::string>& target, std::vector<std::string> args) {
+  return i20_command("commission", target, std::move(args));
 }
 
 // The run's worst DOIT gap in microseconds, from its report: JSON ("worst": N, in us) or
@@ -55,16 +61,21 @@ std::optional<double> worst_doit_gap_us(const std::string& out) {
 // measured the host, not the tool, so one that latched WATCHDOG with its own worst DOIT gap
 // at 40 ms or more is run again, up to 3 runs in all (the preflight accepts the WATCHDOG a
 // run leaves latched, as a host's start clears it).
-Result commission_kept_time(const std::vector<std::string>& target, const std::vector<std::string>& args) {
+Result kept_time(const std::string& command, const std::vector<std::string>& target,
+                 const std::vector<std::string>& args) {
   Result r;
   for (int attempt = 1; attempt <= 3; ++attempt) {
-    r = commission(target, args);
+    r = i20_command(command, target, args);
     const auto gap = worst_doit_gap_us(r.out);
     const bool watchdog = (r.out + r.err).find("WATCHDOG") != std::string::npos;
     if (r.exit_code == 0 || !watchdog || !gap || *gap < 40000) break;
     std::cout << "run " << attempt << ": the loop was starved (a DOIT gap of " << *gap << " us), run again\n";
   }
   return r;
+}
+
+Result commission_kept_time(const std::vector<std::string>& target, const std::vector<std::string>& args) {
+  return kept_time("commission", target, args);
 }
 
 std::string read(const std::filesystem::path& path) {
@@ -271,3 +282,66 @@ TEST_F(CommissionCliSim, KilledMidMoveTheWatchdogTurnsTheOutputOff) {
 }
 
 }  // namespace
+
+// `i20 tune-axis` (issue 43): refusals that come before the card is asked.
+TEST(TuneAxisCli, BadOptionsAreRefusedBeforeTheCardIsAsked) {
+  const std::vector<std::string> nowhere{"--eth", "127.0.0.1:1"};
+  const std::vector<std::string> good{"--yes",    "--travel",        "720deg",   "--torque-constant",
+                                      "0.45Nm/A", "--inertia-guess", "0.6kgcm^2"};
+  auto no_check = i20_command("tune-axis", nowhere, good);
+  EXPECT_EQ(no_check.exit_code, 2) << no_check.err;
+  EXPECT_NE(no_check.err.find("--check"), std::string::npos) << no_check.err;
+  TempDir dir;
+  const auto hal = (dir / "axis.hal").string();
+  std::ofstream(hal) << "loadrt bldc cfg=qhi\nsetp bldc.0.poles 8\nsetp bldc.0.scale 10000\n"
+                        "setp bldc.0.encoder-offset 100\n";
+  auto args = good;
+  args.insert(args.end(), {"--check", hal});
+  args[2] = "20deg";  // +-10 degrees: too short a window to tell the terms apart
+  const auto short_window = i20_command("tune-axis", nowhere, args);
+  EXPECT_EQ(short_window.exit_code, 2) << short_window.err;
+  EXPECT_NE(short_window.err.find("too short to identify in: the move needs at least"), std::string::npos)
+      << short_window.err;
+  std::ofstream(dir / "no-index.hal") << "loadrt bldc cfg=qh\nsetp bldc.0.poles 8\nsetp bldc.0.scale 10000\n"
+                                         "net rc hm2_7i92.0.encoder.00.rawcounts => bldc.0.rawcounts\n";
+  auto without_index = good;
+  without_index.insert(without_index.end(), {"--check", (dir / "no-index.hal").string()});
+  const auto qh = i20_command("tune-axis", nowhere, without_index);
+  EXPECT_EQ(qh.exit_code, 2) << qh.err;
+  EXPECT_NE(qh.err.find("needs a setup with an index"), std::string::npos) << qh.err;
+  args[2] = "10mm";  // a length without --lead
+  const auto no_lead = i20_command("tune-axis", nowhere, args);
+  EXPECT_EQ(no_lead.exit_code, 2) << no_lead.err;
+  EXPECT_NE(no_lead.err.find("--travel"), std::string::npos) << no_lead.err;
+}
+
+// On the virtual axis: i20 commission's fragment gives the commutation, and tune-axis finds the
+// motor file's mechanics (inertia 0.6 kg cm^2, Coulomb friction 0.02 Nm, no bias) within a
+// turn's window, the 8I20's default current-loop gains left as they are.
+TEST_F(CommissionCliSim, TuneAxisIdentifiesTheVirtualAxisWithinItsWindow) {
+  TempDir dir;
+  const auto hal = dir / "axis1.hal";
+  auto args = quick();
+  args.insert(args.end(), {"--yes", "-o", hal.string()});
+  ASSERT_EQ(commission_kept_time(target(), args).exit_code, 0);
+  const auto csv = dir / "move.csv";
+  auto json = target();
+  json.push_back("--json");
+  const auto r =
+      kept_time("tune-axis", json,
+                {"--yes", "--check", hal.string(), "--travel", "360deg", "--torque-constant", "0.45Nm/A",
+                 "--inertia-guess", "0.6kgcm^2", "--friction-guess", "0.02Nm", "--csv", csv.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto report = YAML::Load(r.out);
+  const auto m = report["mechanics"];
+  ASSERT_TRUE(m) << r.out;
+  EXPECT_NEAR(m["inertia_kgm2"]["value"].as<double>(), 0.6e-4, 0.1 * 0.6e-4) << r.out;
+  EXPECT_NEAR(m["coulomb_nm"]["value"].as<double>(), 0.02, 0.002) << r.out;
+  EXPECT_NEAR(m["bias_nm"]["value"].as<double>(), 0.0, 0.002) << r.out;
+  EXPECT_LE(m["widest_turns"].as<double>(), 0.5) << "the move left its window: " << r.out;
+  EXPECT_NE(r.out.find("lags the back-EMF"), std::string::npos)
+      << "the current loop's part, named: " << r.out;
+  const auto recorded = read(csv);
+  EXPECT_EQ(recorded.rfind("time_s,shaft_rad,torque_nm\n", 0), 0u) << recorded.substr(0, 80);
+  EXPECT_GT(std::count(recorded.begin(), recorded.end(), '\n'), 4000) << "one row per 1 ms cycle";
+}

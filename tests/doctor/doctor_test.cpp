@@ -251,11 +251,29 @@ TEST(DoctorText, PinsOfAConfiguredMachineReadWithTheirSignals) {
       "    20  bit   IN          FALSE  hm2_7i92.0.sserial.port-0.run <== i20-port-run\n"
       "    20  bit   OUT          TRUE  hm2_7i92.0.8i20.0.1.fault.bus-underv ==> j1-8i20-fault-bus-underv\n"
       "    20  bit   OUT          TRUE  hm2_7i92.0.8i20.0.1.fault.overcurrent-not ==> j1-ok\n"
-      "    20  bit   OUT          FALSE  hm2_7i92.0.8i20.0.1.fault.overcurrent ==> j1-8i20-fault-overcurrent\n");
+      "    20  bit   OUT          FALSE  hm2_7i92.0.8i20.0.1.fault.overcurrent ==> "
+      "j1-8i20-fault-overcurrent\n");
   ASSERT_TRUE(names(d, "pin-8i20-fault"));
   EXPECT_EQ(find(d, "pin-8i20-fault")->evidence, "hm2_7i92.0.8i20.0.1.fault.bus-underv is TRUE");
   EXPECT_EQ(find(d, "pin-8i20-fault")->count, 1u) << "the TRUE -not twin is not a fault";
   EXPECT_TRUE(names(d, "pin-fault-count"));
   EXPECT_TRUE(names(d, "pin-run-false"));
   EXPECT_TRUE(d.unrecognised.empty()) << d.unrecognised.size() << " pin lines not read";
+}
+
+// After a few lost replies the level falls back to 0; the total still tells of the link (the
+// 8I20's watchdog may have stopped the machine before the level reached its limit).
+TEST(DoctorText, LostRepliesSinceTheStartAreNamedAfterTheLevelFellBack) {
+  const auto d = of_text(
+      "Component Pins:\n"
+      "Owner   Type  Dir         Value  Name\n"
+      "    20  bit   OUT         FALSE  hm2_7i92.0.packet-error-exceeded ==> i20-link-failed\n"
+      "    20  s32   OUT             0  hm2_7i92.0.packet-error-level\n"
+      "    20  u32   I/O    0x00000007  hm2_7i92.0.packet-error-total\n");
+  ASSERT_TRUE(names(d, "pin-packet-error-total"));
+  EXPECT_EQ(find(d, "pin-packet-error-total")->evidence, "hm2_7i92.0.packet-error-total is 0x00000007");
+  EXPECT_FALSE(names(d, "pin-packet-error-level"));
+  EXPECT_FALSE(names(d, "pin-packet-error-exceeded"));
+  EXPECT_FALSE(names(of_text("    20  u32   I/O    0x00000000  hm2_7i92.0.packet-error-total\n"),
+                     "pin-packet-error-total"));
 }

@@ -65,6 +65,8 @@ ok = any(f["id"] == sys.argv[2] and sys.argv[3] in f["evidence"] for f in d["fin
 sys.exit(0 if ok else 1)
 PY
   cat "$work/$name.out" "$work/$name.txt"
+  echo "the virtual card's answers to the control lines (the injection's among them):"
+  cat "$work/sim.out" "$work/sim.err"
   fail "$name: i20 doctor did not name $id${text:+ ($text)}"
 }
 exit_is() {

@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include "eth/udp_client.hpp"
 #include "fixtures.hpp"
+#include "lbp16/lbp16.hpp"
+#include "link/link.hpp"
 #include "sim/error.hpp"
 
 using namespace i20;
@@ -79,4 +82,23 @@ TEST(EthBoardControl, TheHostStandInStartsRunsAndStops) {
   EXPECT_EQ(ethsim::apply_board_control(server, "host off"), "ok");
   server.with_card(
       [](ethsim::VirtualBoard& c) { EXPECT_EQ(c.sslbp(0).mode(0), ethsim::ChannelMode::Stopped); });
+}
+
+// A lossy link (card loss RATE [SEED]): the card never sees a lost datagram, so its sender
+// gets no reply; at 0 every datagram is answered again. Rates outside 0..1 are refused.
+TEST(EthBoardControl, ADatagramLostOnTheWayToTheCardGetsNoReply) {
+  test::RunningBoard card;
+  auto& server = card.server();
+  const lbp::lbp16::Command cookie = lbp::lbp16::read_hm2(0x0100);
+  const auto ask = [&](std::chrono::milliseconds wait) {
+    eth::UdpClient client(card.address().ip, card.address().port,
+                          eth::UdpOptions{.timeout = wait, .max_timeout = wait, .retries = 0});
+    return client.transact(std::span(&cookie, 1));
+  };
+  EXPECT_EQ(ethsim::apply_board_control(server, "card loss 1"), "ok");
+  EXPECT_THROW(ask(100ms), link::TimeoutError);
+  EXPECT_EQ(ethsim::apply_board_control(server, "card loss 0 7"), "ok");
+  EXPECT_EQ(ask(5000ms).size(), 1u);
+  EXPECT_THROW(ethsim::apply_board_control(server, "card loss 1.5"), sim::ControlError);
+  EXPECT_THROW(ethsim::apply_board_control(server, "card loss some"), sim::ControlError);
 }

@@ -11,6 +11,7 @@
 #include <deque>
 #include <map>
 #include <optional>
+#include <thread>
 
 #include "eth/errors.hpp"
 #include "eth/running_host.hpp"
@@ -161,6 +162,23 @@ TEST(FencedTransport, AFenceReportsWhetherTheUnansweredPacketArrived) {
   EXPECT_TRUE(r.needed);
   EXPECT_TRUE(r.all_arrived);
   EXPECT_EQ(f.bus->fence().needed, false) << "nothing is at risk any more";
+}
+
+// Our packets not yet counted by the card (the running-host watch counts them as ours if
+// they arrive): a held-back one while it may still come, and never one sent longer ago than
+// the bound, when a lost one is taken as lost.
+TEST(FencedTransport, UnarrivedCountsOnlyOurRecentPacketsTheCardHasNotCounted) {
+  eth::FenceOptions short_bound = programs_timing::fence();
+  short_bound.bound = std::chrono::milliseconds(50);
+  Fixture f(short_bound);
+  f.read();
+  EXPECT_EQ(f.bus->stats().unarrived, 0u);
+  f.card->plan(2, HeldBackBoard::Fate::Drop);  // lost on the way: never counted
+  EXPECT_THROW(f.read(), link::TimeoutError);
+  f.read();
+  EXPECT_EQ(f.bus->stats().unarrived, 1u) << "the lost read may be a late one, within the bound";
+  std::this_thread::sleep_for(std::chrono::milliseconds(60));  // the subject: the bound's passing
+  EXPECT_EQ(f.bus->stats().unarrived, 0u) << "older than the bound: lost, not still to come";
 }
 
 TEST(FencedTransport, ReadsNeedNoFence) {

@@ -6,30 +6,16 @@
 #include <gtest/gtest.h>
 
 #include "error/error.hpp"
+#include "hal_plans.hpp"
 #include "linuxcnc/hal_design.hpp"
 #include "linuxcnc/hal_lint.hpp"
-#include "ops/core/timing.hpp"
 
 using namespace i20::linuxcnc;
 
 namespace {
 
-// The power-up delays the program writes (ops/core/timing.hpp).
-const PowerUpDelays kProgramDelays{i20::ops::timing::kHalPortRunDelay, i20::ops::timing::kHalFaultWatchDelay};
-
-HalPlan hall_encoder_plan(int axes = 1) {
-  HalPlan p;
-  p.axes = axes;
-  p.cfg = "qh";
-  p.pattern = 17;
-  p.poles = 8;
-  p.counts_per_rev = 4000;
-  p.max_current = 12.0;
-  for (int k = 0; k < axes; ++k)
-    p.halls.push_back("hm2_7i96s.0.inm.00.input-0" + std::to_string(3 * k) + ",hm2_7i96s.0.inm.00.input-0" +
-                      std::to_string(3 * k + 1) + ",hm2_7i96s.0.inm.00.input-0" + std::to_string(3 * k + 2));
-  return p;
-}
+using test::hall_encoder_plan;
+using test::kProgramDelays;
 
 std::string bad(const HalPlan& p) {
   try {
@@ -56,6 +42,9 @@ TEST(HalGenerate, EveryPlanLintsCleanWithTheFactsItWasWrittenFrom) {
   halls_only.max_current = 5.0;
   halls_only.halls = {"a.in,b.in,c.in"};
   plans.push_back(halls_only);
+  auto notched = hall_encoder_plan(2);
+  notched.notch = true;
+  plans.push_back(notched);
   for (const auto& p : plans) {
     const auto text = generate_hal(p, kProgramDelays);
     const auto findings = lint(read_hal(text, "gen.hal"), {p.max_current, p.pattern});
@@ -88,6 +77,37 @@ TEST(HalGenerate, RotorAngleFeedsTheEightI20AndTheCurrentIsLimitedToMaxcurrent) 
   EXPECT_EQ(d.signal_of("hm2_7i96s.0.sserial.port-0.run"), d.signal_of("i20-port-run.out"));
 }
 
+// i20 hal --notch: the pid's output reaches bldc through a biquad per axis, which runs between
+// them in the servo thread with the INI's coefficients, type 0, enabled; the linter follows the
+// current command through it to the pid's maxoutput.
+TEST(HalGenerate, TheNotchSitsBetweenThePidAndBldc) {
+  auto plan = hall_encoder_plan(2);
+  plan.notch = true;
+  const std::string text = generate_hal(plan, kProgramDelays);
+  const HalDesign d(read_hal(text, "gen.hal"));
+  EXPECT_EQ(d.module("biquad")->args.at("names"), "i20-notch-0,i20-notch-1");
+  for (int k = 0; k < 2; ++k) {
+    const std::string n = std::to_string(k), notch = "i20-notch-" + n;
+    EXPECT_EQ(d.signal_of("pid." + n + ".output"), d.signal_of(notch + ".in"));
+    EXPECT_EQ(d.signal_of(notch + ".out"), d.signal_of("bldc." + n + ".value"));
+    EXPECT_NE(d.signal_of("pid." + n + ".output"), d.signal_of("bldc." + n + ".value"));
+    EXPECT_EQ(d.setting(notch + ".type")->value, "0");
+    EXPECT_EQ(d.setting(notch + ".enable")->value, "1");
+    EXPECT_EQ(d.setting(notch + ".n0")->value, "[JOINT_" + n + "]NOTCH_N0");
+    EXPECT_EQ(d.setting(notch + ".d2")->value, "[JOINT_" + n + "]NOTCH_D2");
+    const auto pid_at = text.find("addf pid." + n + ".do-pid-calcs"),
+               notch_at = text.find("addf " + notch + " ");
+    EXPECT_LT(pid_at, notch_at);
+    EXPECT_LT(notch_at, text.find("addf bldc." + n + " "));
+  }
+  EXPECT_NE(text.find("[JOINT_k]NOTCH_N0"), std::string::npos) << "the header names the INI values";
+  const auto findings = lint(read_hal(text, "gen.hal"), {6.0, plan.pattern});  // MAXCURRENT 6 < 12
+  EXPECT_TRUE(std::any_of(findings.begin(), findings.end(), [](const LintFinding& f) {
+    return f.rule == "current-above-max" && f.message.find("pid.0") != std::string::npos;
+  })) << "the limit is followed through the notch to pid.0";
+  EXPECT_EQ(generate_hal(hall_encoder_plan(1), kProgramDelays).find("biquad"), std::string::npos);
+}
+
 TEST(HalGenerate, EveryFaultPinOfEveryEightI20ReachesTheEstopChain) {
   const HalDesign d(read_hal(generate_hal(hall_encoder_plan(2), kProgramDelays), "gen.hal"));
   const auto& faults = HalNames::builtin().i20_fault_pins();
@@ -111,7 +131,8 @@ TEST(HalGenerate, EveryFaultPinOfEveryEightI20ReachesTheEstopChain) {
   // limit on both sides.
   EXPECT_EQ(d.signal_of("hm2_7i96s.0.sserial.port-0.fault-count"), d.signal_of("i20-port-errors.in"));
   EXPECT_EQ(d.signal_of("i20-port-errors.out"), d.signal_of("i20-port-stopped.in1"));
-  EXPECT_EQ(d.setting("hm2_7i96s.0.sserial.port-0.fault-lim")->value, d.setting("i20-port-stopped.in0")->value);
+  EXPECT_EQ(d.setting("hm2_7i96s.0.sserial.port-0.fault-lim")->value,
+            d.setting("i20-port-stopped.in0")->value);
   EXPECT_EQ(d.signal_of("i20-port-stopped.out"), d.signal_of("i20-link-ok.in-01"));
   EXPECT_EQ(d.signal_of("i20-link-ok.nor"), d.signal_of("i20-estop-ok.in-03"));
   EXPECT_EQ(d.signal_of("i20-estop-ok.and"), d.signal_of("iocontrol.0.emc-enable-in"));

@@ -11,9 +11,9 @@
 #include <sstream>
 
 #include "build_paths.hpp"
+#include "hal_plans.hpp"
 #include "linuxcnc/hal_generate.hpp"
 #include "linuxcnc/hal_lint.hpp"
-#include "ops/core/timing.hpp"
 
 using namespace i20::linuxcnc;
 namespace fs = std::filesystem;
@@ -21,7 +21,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // The power-up delays the program writes (ops/core/timing.hpp).
-const PowerUpDelays kProgramDelays{i20::ops::timing::kHalPortRunDelay, i20::ops::timing::kHalFaultWatchDelay};
+using test::kProgramDelays;
 
 std::string data_text(const std::string& name) {
   std::ifstream in(i20::test::source_dir() / "tests/linuxcnc/data" / name);
@@ -145,13 +145,7 @@ TEST(HalLintBroken, EveryNameHostmot2MakesForAnEightI20IsKnown) {
 // `i20 hal`'s file and `i20 commission -o`'s fragment are each clean, and halcmd refuses
 // them sourced together: bldc loaded twice, its pins netted twice, its function added twice.
 TEST(HalLintBroken, TheGeneratedFileWithACommissionFragmentIsRefused) {
-  HalPlan p;
-  p.cfg = "qh";
-  p.pattern = 17;
-  p.poles = 8;
-  p.counts_per_rev = 4000;
-  p.max_current = 12.0;
-  p.halls = {"hm2_7i96s.0.inm.00.input-00,hm2_7i96s.0.inm.00.input-01,hm2_7i96s.0.inm.00.input-02"};
+  const HalPlan p = test::hall_encoder_plan(1);
   auto statements = read_hal(generate_hal(p, kProgramDelays), "axis.hal");
   const auto fragment_text = data_text("commission-fragment.hal");
   const auto fragment = read_hal(fragment_text, "x-axis.hal");

@@ -131,3 +131,30 @@ TEST(HalLoad, RealtimeThatDidNotStartIsQuotedAtItsCause) {
             (std::vector<std::string>{"hm2_eth: loading", "hm2_eth: timeout reading the IDROM",
                                       "/tmp/x/0-axis.hal:2: waitpid failed /usr/bin/rtapi_app hm2_eth"}));
 }
+
+// A line both the lint and halcmd refuse (an INI key missing) is one finding, in the lint's
+// words with its fix; halcmd's complaints about other lines are added.
+TEST(HalLoad, ALineTheLintFoundRefusedIsNotReportedAgainInHalcmdsWords) {
+  // Built field by field: GCC 12 at -O3 takes a braced list of these for uninitialized.
+  std::vector<LintFinding> findings(2);
+  findings[0].at = {"axis.hal", 7};
+  findings[0].rule = "ini-missing";
+  findings[0].refused_by_halcmd = true;
+  findings[1].at = {"axis.hal", 9};
+  findings[1].severity = LintSeverity::Warning;
+  findings[1].rule = "pid-maxoutput";
+  const auto halrun = read_halrun_output(
+      "/tmp/x/0-axis.hal:7: Ini variable '[JOINT_0]P' not found.\n"
+      "/tmp/x/0-axis.hal:9: Pin 'pid.0.maxoutput' does not exist\n"
+      "/tmp/x/0-axis.hal:12: Pin 'foo.bar' does not exist\n",
+      {{"/tmp/x/0-axis.hal", "axis.hal"}});
+  ASSERT_EQ(halrun.findings.size(), 3u);
+  add_halrun_findings(findings, halrun.findings);
+  ASSERT_EQ(findings.size(), 4u);
+  EXPECT_EQ(findings[0].rule, "ini-missing");
+  EXPECT_EQ(std::count_if(findings.begin(), findings.end(), [](const auto& f) { return f.at.line == 7; }), 1);
+  // A warning on a line is no refusal: halcmd's own words about that line are kept.
+  EXPECT_EQ(std::count_if(findings.begin(), findings.end(), [](const auto& f) { return f.at.line == 9; }), 2);
+  EXPECT_EQ(findings.back().at.line, 12);
+  EXPECT_EQ(findings.back().rule, "halrun");
+}

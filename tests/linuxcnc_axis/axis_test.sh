@@ -29,8 +29,7 @@ I20=${3:-}
 source "$(dirname "${BASH_SOURCE[0]}")/rig.sh"
 TORQUE_A=0.08 # 36 mNm with Kt 0.45 Nm/A against 20 mNm of Coulomb friction
 
-# A reading in halrun's output as "NAME=value": a pin or parameter (getp), a signal (gets).
-report() { printf 'loadusr -w %s %s\ngetp %s\n' "$work/label" "$1" "$2"; }
+# A signal's reading in halrun's output as "NAME=value" (rig.sh's report reads a pin).
 report_signal() { printf 'loadusr -w %s %s\ngets %s\n' "$work/label" "$1" "$2"; }
 
 # The experiment as one HAL file: the axis with the motor's true configuration (`extra`
@@ -39,10 +38,8 @@ report_signal() { printf 'loadusr -w %s %s\ngets %s\n' "$work/label" "$1" "$2"; 
 # "NAME=value" lines in halrun's output.
 write_axis_hal() {
   local extra=$1 rawcounts=$BOARD.encoder.$ENC.rawcounts
-  # shellcheck disable=SC2016  # $1 is the label script's own argument
-  printf '#!/bin/sh\nprintf "%%s=" "$1"\n' >"$work/label"
   printf '#!/bin/sh\nread line < %s\n' "$work/release" >"$work/hold"
-  chmod 755 "$work/label" "$work/hold"
+  chmod 755 "$work/hold"
   rm -f "$work/release"
   mkfifo -m 666 "$work/release"
   torque_for() { printf 'sets torque-cmd %s\nloadusr -w sleep %s\n' "$1" "$2"; }
@@ -135,7 +132,7 @@ run_axis_once() {
     fail "$label: halrun did not run the experiment"
   fi
   run_seconds=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
-  sim_turns=$(sim_angle) # the rotor is at rest now
+  sim_angle sim_turns # the rotor is at rest now
   echo >"$work/release"
   timeout 20 tail --pid="$hal_pid" -f /dev/null || fail "halrun did not exit"
   hal_pid=""

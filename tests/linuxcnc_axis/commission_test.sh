@@ -11,7 +11,9 @@
 #     is within 2 electrical degrees of the motor's truth: the angle of the current the virtual
 #     8I20 drives at standstill, from the model's own i_d and i_q, and bldc's stored index
 #     position equals hostmot2's (rawcounts - count); with bldc reading rawcounts directly (the
-#     arrangement before the index capture) the same measurement shows the late read's error.
+#     arrangement before the index capture) the same measurement shows the late read's error;
+#   - the same first moves with the whole file `i20 hal --cfg qhi` writes (pid, E-stop chain,
+#     power-up) with the encoder-offset `i20 commission` found: within 2 degrees too.
 #
 # usage: commission_test.sh I20SIM MOTOR_FILE I20     exit 0 pass, 1 fail, 77 skipped
 set -u
@@ -47,10 +49,6 @@ chmod 644 "$work/axis.hal"
 
 # --- 2. LinuxCNC loads the fragment as written and turns the motor with it ----------------
 # Readings come out as "NAME=value" lines in halrun's output.
-# shellcheck disable=SC2016  # $1 is the label script's own argument
-printf '#!/bin/sh\nprintf "%%s=" "$1"\n' >"$work/label"
-chmod 755 "$work/label"
-reading() { printf 'loadusr -w %s %s\ngetp %s\n' "$work/label" "$1" "$2"; }
 counts=$BOARD.encoder.$ENC.rawcounts
 # with_fragment REWIRE: the HAL lines that run the fragment as written (REWIRE after it)
 # against the virtual card in a 1 ms servo thread, up to `start`; torque-cmd into bldc.
@@ -74,15 +72,15 @@ with_fragment() {
 {
   with_fragment ""
   printf '%s\n' "loadusr -w sleep 0.5"
-  reading start "$counts"
+  report start "$counts"
   printf 'sets torque-cmd %s\nloadusr -w sleep 0.6\n' "$TORQUE_A"
-  reading forward "$counts"
+  report forward "$counts"
   printf 'sets torque-cmd -%s\nloadusr -w sleep 1.2\n' "$TORQUE_A"
-  reading back "$counts"
+  report back "$counts"
   printf 'sets torque-cmd 0\n'
-  reading hall_error bldc.0.hall-error
-  reading watchdog "$AMP.fault.watchdog"
-  reading period_max timedelta.0.max
+  report hall_error bldc.0.hall-error
+  report watchdog "$AMP.fault.watchdog"
+  report period_max timedelta.0.max
 } >"$work/run.hal"
 chmod 644 "$work/run.hal"
 for ((try = 1; ; try++)); do
@@ -129,26 +127,42 @@ mkdir -m 1777 "$work/marks"
 printf '#!/bin/sh\ntouch %s/at-"$1"\nread line < %s\n' "$work/marks" "$work/release" >"$work/hold"
 chmod 755 "$work/hold"
 sim_motor() { sim_ask "ch $CHANNEL motor $*" >/dev/null; }
-sim_reading() { sim_ask "ch $CHANNEL motor" | sed -n "s/.* $1=\\([-0-9.]*\\).*/\\1/p"; }
-# The HAL file of one first move; `rewire` replaces the capture (the control run).
+# The HAL file of one first move; `rewire` replaces the capture (the control run), or is
+# "generated": the file `i20 hal` wrote (generated_hal_files), whose pid (gains 0) puts out
+# its bias, a current in amps, and whose port runs 1 s after machine-on.
 write_first_move_hal() {
-  local rewire=$1
+  local rewire=$1 bldc=bldc.0 current="sets torque-cmd"
   {
-    with_fragment "$rewire"
+    if [[ $rewire == generated ]]; then
+      bldc=bldc.$CHANNEL current="setp pid.$CHANNEL.bias"
+      generated_preamble tolerant
+      printf '%s\n' "start" "loadusr -w sleep 2"
+    else
+      with_fragment "$rewire"
+      printf '%s\n' "loadusr -w sleep 0.3"
+    fi
     printf '%s\n' \
-      "loadusr -w sleep 0.3" \
       "loadusr -w $work/hold spin" \
-      "sets torque-cmd $TEST_CURRENT_A" \
+      "$current $TEST_CURRENT_A" \
       "loadusr -w sleep 0.4"
-    reading index_enable bldc.0.index-enable
-    reading offset bldc.0.offset-measured
-    reading rawcounts "$counts"
-    reading count "$BOARD.encoder.$ENC.count"
-    reading watchdog "$AMP.fault.watchdog"
-    reading period_max timedelta.0.max
-    printf '%s\n' "loadusr -w $work/hold measure" "sets torque-cmd 0"
+    report index_enable "$bldc.index-enable"
+    report offset "$bldc.offset-measured"
+    report rawcounts "$counts"
+    report count "$BOARD.encoder.$ENC.count"
+    report watchdog "$AMP.fault.watchdog"
+    report period_max timedelta.0.max
+    printf '%s\n' "loadusr -w $work/hold measure" "$current 0"
   } >"$work/first.hal"
   chmod 644 "$work/first.hal"
+}
+# The first move's halrun, in the background (hal_pid).
+start_first_move_hal() {
+  if [[ $1 == generated ]]; then
+    hal env INI_FILE_NAME="$work/axis.ini" timeout 60 halrun -i "$work/axis.ini" -f "$work/first.hal" >"$work/hal.out" 2>&1 &
+  else
+    hal timeout 60 halrun -f "$work/first.hal" >"$work/hal.out" 2>&1 &
+  fi
+  hal_pid=$!
 }
 # until_seen FILE: waits (up to 30 s) for halrun's hold script to have created FILE.
 until_seen() {
@@ -161,13 +175,13 @@ until_seen() {
 }
 # first_move LABEL RPM REWIRE TRY: one run; sets error_deg, stored_error_deg, index_rpm.
 first_move() {
-  local label=$1 rpm=$2 rewire=$3 try=$4 load
+  local label=$1 rpm=$2 rewire=$3 try=$4 load index_pin=bldc.0.index-enable
+  [[ $rewire == generated ]] && index_pin=bldc.$CHANNEL.index-enable
   write_first_move_hal "$rewire"
   rm -f "$work/release" "$work"/marks/at-*
   mkfifo -m 666 "$work/release"
   sim_motor brake.engaged false
-  hal timeout 60 halrun -f "$work/first.hal" >"$work/hal.out" 2>&1 &
-  hal_pid=$!
+  start_first_move_hal "$rewire"
   if ! until_seen "$work/marks/at-spin"; then
     wait "$hal_pid"
     hal_pid=""
@@ -179,10 +193,10 @@ first_move() {
   sim_motor friction.viscous "${VISCOUS}Nm/(rad/s)"
   sim_motor load "${load}Nm"
   for _ in $(seq 200); do
-    [[ $(hal halcmd getp bldc.0.index-enable 2>/dev/null) == FALSE ]] && break
+    [[ $(hal halcmd getp "$index_pin" 2>/dev/null) == FALSE ]] && break
     sleep 0.02
   done
-  index_rpm=$(sim_reading speed)
+  sim_reading index_rpm speed
   sim_motor load 0Nm
   sim_motor brake.engaged true
   sim_motor friction.viscous 0.05mNm/\(rad/s\)
@@ -192,12 +206,13 @@ first_move() {
     fail "$label: halrun did not reach the measurement"
   }
   local id iq
-  id=$(sim_reading id)
-  iq=$(sim_reading iq)
+  sim_reading id id
+  sim_reading iq iq
   echo >"$work/release"
   timeout 20 tail --pid="$hal_pid" -f /dev/null || fail "halrun did not exit"
   hal_pid=""
   error_deg=$(awk -v d="$id" -v q="$iq" 'BEGIN { printf "%.2f", atan2(d, q) * 45 / atan2(1, 1) }')
+  current_a=$(awk -v d="$id" -v q="$iq" 'BEGIN { printf "%.3f", sqrt(d * d + q * q) }')
   # bldc's stored index position against hostmot2's, in electrical degrees.
   stored_error_deg=$(awk -v o="$(value offset)" -v r="$(value rawcounts)" -v c="$(value count)" \
     -v p=$((POLES / 2)) -v n="$COUNTS" 'BEGIN { printf "%.2f", (o - (r - c)) * 360 * p / n }')
@@ -208,11 +223,15 @@ first_move() {
 }
 abs() { awk -v x="$1" 'BEGIN { print (x < 0 ? -x : x) }'; }
 within() { awk -v x="$1" -v limit="$2" 'BEGIN { exit !((x < 0 ? -x : x) <= limit) }'; }
+# driven: the 8I20 drove at least half of bldc's test current (bldc's amplitude is its command).
+driven() { awk -v i="$current_a" -v want="$TEST_CURRENT_A" 'BEGIN { exit !(i >= want / 2) }'; }
 judge_capture() {
   if [[ $(value index_enable) != FALSE ]]; then
     echo "bldc's index-enable still TRUE: the rotor did not pass the index"
   elif [[ $(value watchdog) != FALSE ]]; then
     echo "the 8I20's watchdog bit: no current was driven"
+  elif ! driven; then
+    echo "the 8I20 drove $current_a A at standstill for bldc's $TEST_CURRENT_A A: its angle means nothing"
   elif ! within "$error_deg" 2; then
     echo "the current stands $error_deg electrical degrees off the torque axis (more than 2)"
   elif ! within "$stored_error_deg" 0.5; then
@@ -227,7 +246,7 @@ for rpm in "${speeds[@]}"; do
     judged "first move at $rpm rpm" "$try" "$(judge_capture)" && break
   done
 done
-# The control: bldc reading rawcounts itself (unlinked from the capture) at the top speed.
+# The control: bldc reads rawcounts itself (unlinked from the capture) at the top speed.
 # The same measurement must see the late read: the current's angle agrees with the error of
 # bldc's stored index, whatever it came to this time.
 judge_control() {
@@ -235,14 +254,32 @@ judge_control() {
     echo "bldc's index-enable still TRUE: the rotor did not pass the index"
   elif [[ $(value watchdog) != FALSE ]]; then
     echo "the 8I20's watchdog bit: no current was driven"
+  elif ! driven; then
+    echo "the 8I20 drove $current_a A at standstill for bldc's $TEST_CURRENT_A A: its angle means nothing"
   elif ! awk -v a="$(abs "$error_deg")" -v b="$(abs "$stored_error_deg")" 'BEGIN { d = a - b; exit !(d < 1 && d > -1) }'; then
     echo "the current's angle ($error_deg degrees) does not show bldc's late index ($stored_error_deg degrees): the measurement cannot tell"
   fi
 }
 for ((try = 1; ; try++)); do
-  first_move "control, bldc reading rawcounts itself, at 1000 rpm" 1000 \
+  first_move "control, bldc report rawcounts itself, at 1000 rpm" 1000 \
     "unlinkp bldc.0.rawcounts
 net bldc0-rawcounts bldc.0.rawcounts" "$try" || continue
   judged "control at 1000 rpm" "$try" "$(judge_control)" && break
+done
+
+# --- 4. the same first moves with the file `i20 hal --cfg qhi` writes ------------------------
+# The whole file as LinuxCNC runs it (motion, pid, the E-stop chain, the power-up), with the
+# encoder-offset the fragment carries (i20 commission found it), at the top speed and one
+# random speed.
+offset=$(sed -n 's/^setp bldc\.0\.encoder-offset \(-\{0,1\}[0-9][0-9]*\).*/\1/p' "$work/axis.hal")
+[[ -n $offset ]] || fail "the fragment has no encoder-offset: $(cat "$work/axis.hal")"
+HAL_CFG=qhi HAL_ARGS=(--encoder-offset "$offset")
+generated_hal_files
+grep -q "^loadrt bldc cfg=qhi" "$work/generated.hal" || fail "i20 hal --cfg qhi wrote no bldc with the index"
+for rpm in 1000 $((60 + RANDOM % 940)); do
+  for ((try = 1; ; try++)); do
+    first_move "i20 hal --cfg qhi, first move at $rpm rpm" "$rpm" generated "$try" || continue
+    judged "i20 hal --cfg qhi, first move at $rpm rpm" "$try" "$(judge_capture)" && break
+  done
 done
 note "PASS"

@@ -31,11 +31,11 @@ printf '[JOINT_0]\nENCODER_SCALE = 10000\nP = 0\nI = 0\nD = 0\nFF0 = 0\nFF1 = 0\
 # it in time, as a sanitizer build under CI once was) judged nothing, and the tool says so:
 # it is run again, up to 3 runs in all, each re-run noted; a card hm2_eth never loads still
 # fails after the third.
-lint_load() { # OUT ERR FILE...
+lint_load() { # OUT ERR FILE... (the INI: $ini, by default the axis's)
   local out=$1 err=$2 try
   shift 2
   for try in 1 2 3; do
-    "$I20" hal lint --load --ini "$work/axis.ini" "$@" >"$out" 2>"$err"
+    "$I20" hal lint --load --ini "${ini:-$work/axis.ini}" "$@" >"$out" 2>"$err"
     status=$?
     grep -q "realtime (rtapi_app) did not start, so nothing was judged" "$err" || return 0
     echo "lint_load_test: run $try: LinuxCNC's realtime did not start ($(tail -1 "$err")); running it again"
@@ -63,7 +63,27 @@ grep -q "^$work/bad.hal:$bad_line: error: halcmd: .*hm2_7i96s.0.encoder.07.posit
 chmod 644 "$work"/*
 (($(wc -l <"$work/bad.out") == 1)) || fail "more findings than the one wrong name"
 
-# 3. Without root's namespaces it says why, exit 2. The user runs a copy in the work folder:
+# 3. The same axis with bldc's index (cfg qhi, the index taken from hostmot2's latch:
+# docs/linuxcnc-hal.md): every name real too.
+"$I20" hal --board 7i96s --axes 1 --board-ip $ip --cfg qhi --pattern 25 --poles 8 --counts-per-rev 10000 \
+  --encoder-offset 120 --max-current 10A \
+  --halls hm2_7i96s.0.inm.00.input-00,hm2_7i96s.0.inm.00.input-01,hm2_7i96s.0.inm.00.input-02 \
+  -o "$work/qhi.hal" 2>/dev/null || fail "i20 hal --cfg qhi failed"
+lint_load "$work/qhi.out" "$work/qhi.err" "$work/qhi.hal"
+((status == 0)) || fail "the generated qhi HAL did not load clean (exit $status): $(cat "$work/qhi.out" "$work/qhi.err")"
+grep -q "0 names halcmd rejected" "$work/qhi.err" || fail "qhi: no load summary: $(cat "$work/qhi.err")"
+
+# 4. A key the file reads missing from the INI: halcmd refuses the line, and the lint says
+# so once (its own finding, with the fix), exit 2.
+grep -v '^FF2 = ' "$work/axis.ini" >"$work/partial.ini"
+ini=$work/partial.ini lint_load "$work/partial.out" "$work/partial.err" "$work/axis.hal"
+cat "$work/partial.out"
+((status == 2)) || fail "a missing INI key: exit $status, not 2"
+(($(grep -c 'JOINT_0\]FF2' "$work/partial.out") == 1)) || fail "the missing key is not reported once"
+grep -q "FF2 is not in $work/partial.ini.*fix: add FF2 = VALUE under \[JOINT_0\]" "$work/partial.out" ||
+  fail "the missing key is not the INI check's finding, with its fix"
+
+# 5. Without root's namespaces it says why, exit 2. The user runs a copy in the work folder:
 # the checkout may sit in a folder only root can enter (a clone under mktemp -d, root's home).
 mkdir -m 755 "$work/bin"
 cp "$I20" "$work/bin/i20"

@@ -5,7 +5,44 @@
 # shellcheck source=../../apps/halrun-virtual/rig.sh
 source "$(dirname "${BASH_SOURCE[0]}")/../../apps/halrun-virtual/rig.sh"
 
-# The last reading NAME from halrun's output ($work/hal.out): a label prints "NAME=" and
+# Scripts halrun runs between its own lines, as the HAL user (loadusr -w $work/NAME ...):
+#   label NAME          prints "NAME=" (the next getp prints the value: see report, value)
+#   until PIN VALUE N   waits, polling halcmd every 0.1 s up to N times, until PIN reads VALUE
+#   inject LINE...      one control line to the virtual card (its answer goes to its log)
+#   stall SECONDS       stops LinuxCNC's realtime process (its servo thread) that long
+#   dump FILE           writes every sample halsampler's sampler.0 holds to FILE
+cat >"$work/label" <<'SH'
+#!/bin/sh
+printf "%s=" "$1"
+SH
+cat >"$work/until" <<'SH'
+#!/bin/sh
+i=0
+while [ "$i" -lt "$3" ] && [ "$(halcmd getp "$1")" != "$2" ]; do
+  sleep 0.1
+  i=$((i + 1))
+done
+SH
+cat >"$work/inject" <<SH
+#!/bin/sh
+echo "\$*" > $work/ctl
+SH
+cat >"$work/stall" <<'SH'
+#!/bin/sh
+pkill -STOP -x rtapi_app
+sleep "$1"
+pkill -CONT -x rtapi_app
+SH
+cat >"$work/dump" <<'SH'
+#!/bin/sh
+n=$(halcmd getp sampler.0.curr-depth)
+halsampler -c 0 -n "$n" "$1"
+SH
+chmod 755 "$work/label" "$work/until" "$work/inject" "$work/stall" "$work/dump"
+# report NAME PIN: the halrun lines that print the pin's or parameter's value as "NAME=value".
+report() { printf 'loadusr -w %s %s\ngetp %s\n' "$work/label" "$1" "$2"; }
+
+# value NAME [FILE]: the last reading NAME from halrun's output (FILE, by default $work/hal.out): a label prints "NAME=" and
 # halcmd's getp/gets the value after it. hostmot2 prints its own lines into the same
 # output ("error finishing read" on a loaded host), and one can land between the two, which
 # leaves "NAME=hm2/..." and the value on the next line: take the first value-shaped line then.
@@ -17,7 +54,7 @@ value() {
       rest = substr($0, length(key) + 1)
       if (reading(rest)) { last = rest; pending = 0 } else pending = 1
     }
-    END { print last }' "$work/hal.out"
+    END { print last }' "${2:-$work/hal.out}"
 }
 
 # The 8I20 turns its output off when no command reaches it for 40 ms (its watchdog, set by
@@ -78,7 +115,8 @@ realtime_started() {
 # 0: the pid's output is its bias, a torque command in amps), and $work/loadable.hal, the file
 # less its iocontrol lines: iocontrol needs a running LinuxCNC's NML buffers, so its lines (E-stop
 # out, tool change loop) are left out of the load and counted in io_lines. Sets estop_pin, the
-# E-stop input the file was given.
+# E-stop input the file was given. HAL_CFG: bldc's cfg (default qh); HAL_ARGS (an array, if
+# set): more `i20 hal` options.
 generated_hal_files() {
   local -a axes_args
   if [[ $CARD == 7i96s ]]; then
@@ -89,8 +127,8 @@ generated_hal_files() {
       --halls "$(IFS=,; echo "${HALL_NETS[*]}")" --estop-in "$BOARD.gpio.016.in")
   fi
   rm -f "$work/generated.hal" # a run again writes it anew
-  "$I20" hal "${axes_args[@]}" --board-ip "$CARD_IP" --cfg qh --pattern 25 --poles $POLES \
-    --counts-per-rev $COUNTS --max-current 10A -o "$work/generated.hal" 2>"$work/i20.err" ||
+  "$I20" hal "${axes_args[@]}" --board-ip "$CARD_IP" --cfg "${HAL_CFG:-qh}" --pattern 25 --poles $POLES \
+    --counts-per-rev $COUNTS --max-current 10A ${HAL_ARGS[@]+"${HAL_ARGS[@]}"} -o "$work/generated.hal" 2>"$work/i20.err" ||
     fail "i20 hal failed: $(cat "$work/i20.err")"
   {
     printf '[KINS]\nKINEMATICS = trivkins coordinates=%s\nJOINTS = %s\n' "$( ((CHANNELS == 1)) && echo X || echo XY)" "$CHANNELS"

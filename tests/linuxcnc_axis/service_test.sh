@@ -11,7 +11,7 @@
 # still low when the port starts; every one of the 8I20's 13 fault bits held in turn (one
 # halrun: each fault trips, machine off resets E-stop, machine on with the cause gone runs
 # again); the enable input off; the servo thread stalled past the 8I20's watchdog; half the
-# 8I20's replies lost, which stops the port.
+# 8I20's replies lost, which stops the port; 40% of the Ethernet link's datagrams lost.
 #
 # usage: service_test.sh I20SIM MOTOR_FILE I20     exit 0 pass, 1 fail, 77 skipped
 set -u
@@ -23,35 +23,6 @@ RIG_NAME=linuxcnc_service
 # shellcheck source=rig.sh
 source "$(dirname "${BASH_SOURCE[0]}")/rig.sh"
 
-# Scripts halrun runs (as the HAL user) between its own lines:
-#   label NAME          prints "NAME=" (the next getp prints the value)
-#   inject LINE...      one control line to the virtual card (its answer goes to the card's log)
-#   until PIN VALUE N   waits, polling halcmd every 0.1 s up to N times, until PIN reads VALUE
-#   stall SECONDS       stops LinuxCNC's realtime process (its servo thread) that long
-cat >"$work/label" <<'SH'
-#!/bin/sh
-printf "%s=" "$1"
-SH
-cat >"$work/inject" <<SH
-#!/bin/sh
-echo "\$*" > $work/ctl
-SH
-cat >"$work/until" <<'SH'
-#!/bin/sh
-i=0
-while [ "$i" -lt "$3" ] && [ "$(halcmd getp "$1")" != "$2" ]; do
-  sleep 0.1
-  i=$((i + 1))
-done
-SH
-cat >"$work/stall" <<'SH'
-#!/bin/sh
-pkill -STOP -x rtapi_app
-sleep "$1"
-pkill -CONT -x rtapi_app
-SH
-chmod 755 "$work/label" "$work/inject" "$work/until" "$work/stall"
-report() { printf 'loadusr -w %s %s\ngetp %s\n' "$work/label" "$1" "$2"; }
 # A scenario's part of LinuxCNC's output starts at its marker line (part, below).
 marker() { printf 'loadusr -w echo ==== scenario %s\n' "$1"; }
 # The pins a user pastes for the doctor.
@@ -65,11 +36,13 @@ generated_hal_files
 ESTOP=i20-estop-ok.and
 FAULT_PIN=$BOARD.8i20.0.$CHANNEL.fault
 
-# run_scenarios NAME [TOLERANT] < BODY: one halrun of the generated file, machine on from its
-# start, BODY's HAL lines after `start`. LinuxCNC's output in $work/NAME.out.
+# run_scenarios NAME TOLERANCE JUDGE [LIMIT_NS] < BODY: one halrun of the generated file,
+# machine on from its start, BODY's HAL lines after `start`; LinuxCNC's output in
+# $work/NAME.out. JUDGE prints what failed (nothing when all passed). This host's servo
+# thread is not realtime: a failure in a run whose longest period passed LIMIT_NS (rig.sh's
+# STALL_NS unless given: a run that stalled by itself measured the host) is run again.
 run_scenarios() {
-  local name=$1 tolerance=${2:-tolerant} try
-  local body
+  local name=$1 tolerance=$2 judge=$3 limit=${4:-$STALL_NS} try body why
   body=$(cat)
   for ((try = 1; ; try++)); do
     {
@@ -90,7 +63,8 @@ run_scenarios() {
       grep -v "IO Pin" "$work/$name.out" | tail -20
       fail "$name: halrun stopped before the end of its run"
     }
-    return 0
+    why=$($judge)
+    judged "$name" "$try" "$why" "$(reading "$name" period_max)" "$limit" && return 0
   done
 }
 
@@ -101,30 +75,71 @@ part() {
     >"$work/$2.txt"
 }
 
-# doctor_names SCENARIO ID [TEXT]: i20 doctor, given the scenario's part of LinuxCNC's output,
-# names finding ID (with TEXT in its evidence).
-doctor_names() {
+# doctor_says SCENARIO ID [TEXT]: i20 doctor, given the scenario's part of LinuxCNC's output,
+# names finding ID (one of ID|ID..., with TEXT in its evidence). Otherwise prints what it was given and said.
+doctor_says() {
   local scenario=$1 id=$2 text=${3:-}
   "$I20" doctor --json "$work/$scenario.txt" >"$work/$scenario.json"
   python3 - "$work/$scenario.json" "$id" "$text" <<'PY' && return 0
 import json, sys
 d = json.load(open(sys.argv[1]))
-ok = any(f["id"] == sys.argv[2] and sys.argv[3] in f["evidence"] for f in d["findings"])
+ok = any(f["id"] in sys.argv[2].split("|") and sys.argv[3] in f["evidence"] for f in d["findings"])
 sys.exit(0 if ok else 1)
 PY
-  cat "$work/$scenario.txt"
-  "$I20" doctor "$work/$scenario.txt"
-  fail "$scenario: i20 doctor did not name $id${text:+ ($text)}"
+  {
+    cat "$work/$scenario.txt"
+    "$I20" doctor "$work/$scenario.txt"
+  } >&2
+  return 1
+}
+# no_fault_named SCENARIO: the doctor names no 8I20 fault in the scenario's part.
+no_fault_named() {
+  "$I20" doctor --json "$work/$1.txt" >"$work/$1.json"
+  python3 - "$work/$1.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+sys.exit(1 if any(f["id"] == "pin-8i20-fault" for f in d["findings"]) else 0)
+PY
 }
 
-# A reading of run NAME: "LABEL=value".
-reading() { awk -v key="$2=" 'index($0, key) == 1 { v = substr($0, length(key) + 1) } END { print v }' "$work/$1.out"; }
-tripped=0 stayed_up=0
+# reading RUN LABEL: the value printed as "LABEL=value" in run RUN's output (rig.sh's value: a
+# hostmot2 message that lands between the label and its value, as "DoIt not cleared" did on a
+# loaded host, is stepped over).
+reading() { value "$2" "$work/$1.out"; }
+# trips RUN LABEL SCENARIO ID TEXT: the judge of one real fault: reading LABEL is FALSE (the
+# machine dropped out of E-stop) and the doctor names ID with TEXT in SCENARIO's part.
+trips() {
+  local run=$1 label=$2 scenario=$3 id=$4 text=${5:-}
+  [[ $(reading "$run" "$label") == FALSE ]] || {
+    echo "$scenario: the machine stayed out of E-stop ($ESTOP $(reading "$run" "$label"))"
+    return
+  }
+  part "$run" "$scenario"
+  doctor_says "$scenario" "$id" "$text" || echo "$scenario: i20 doctor did not name $id${text:+ ($text)}"
+}
+# stays_up RUN LABEL: the judge of a normal power-up.
+stays_up() {
+  [[ $(reading "$1" "$2") == TRUE ]] || {
+    echo "$1: a normal power-up dropped the machine out of E-stop"
+    return
+  }
+  part "$1" "$1"
+  no_fault_named "$1" || echo "$1: i20 doctor named an 8I20 fault on a normal power-up"
+}
 
 # --- normal power-ups: nothing trips -------------------------------------------------------
-# 1. The bus is up before the machine is switched on.
-# 2. The bus rises with the machine, reaching its level 0.6 s later: the port starts at 1 s.
-PRE="ch $CHANNEL busv 20" run_scenarios power-up-ramp <<HAL
+# The bus is up before the machine is switched on.
+judge_power_up() { stays_up power-up ok_normal; }
+run_scenarios power-up tolerant judge_power_up <<HAL
+$(marker power-up)
+$(watched)
+loadusr -w sleep 0.3
+$(report ok_normal $ESTOP)
+$(show_pins)
+HAL
+# The bus rises with the machine, reaching its level 0.6 s later: the port starts at 1 s.
+judge_power_up_ramp() { stays_up power-up-ramp ok_ramp; }
+PRE="ch $CHANNEL busv 20" run_scenarios power-up-ramp tolerant judge_power_up_ramp <<HAL
 $(marker power-up-ramp)
 loadusr -w sleep 0.2
 loadusr -w $work/inject ch $CHANNEL busv 120
@@ -135,47 +150,19 @@ loadusr -w $work/inject ch $CHANNEL busv 320
 $(watched)
 loadusr -w sleep 0.3
 $(report ok_ramp $ESTOP)
-$(report fault_ramp "$FAULT_PIN.bus-underv")
 $(show_pins)
 HAL
-run_scenarios power-up <<HAL
-$(marker power-up)
-$(watched)
-loadusr -w sleep 0.3
-$(report ok_normal $ESTOP)
-$(show_pins)
-HAL
-for run in power-up:ok_normal power-up-ramp:ok_ramp; do
-  [[ $(reading "${run%%:*}" "${run#*:}") == TRUE ]] || {
-    cat "$work/${run%%:*}.out"
-    fail "${run%%:*}: a normal power-up dropped the machine out of E-stop"
-  }
-  stayed_up=$((stayed_up + 1))
-done
-for scenario in power-up power-up-ramp; do
-  part "$scenario" "$scenario"
-  "$I20" doctor --json "$work/$scenario.txt" >"$work/$scenario.json"
-  python3 - "$work/$scenario.json" <<'PY' || { cat "$work/$scenario.txt"; fail "$scenario: i20 doctor named an 8I20 fault on a normal power-up"; }
-import json, sys
-d = json.load(open(sys.argv[1]))
-sys.exit(1 if any(f["id"] == "pin-8i20-fault" for f in d["findings"]) else 0)
-PY
-done
 note "normal power-ups (bus up; bus rising over 0.6 s): E-stop held by neither, no 8I20 fault named"
 
 # --- the bus still low when the port starts (a supply slower than the start delay) ---------
-PRE="ch $CHANNEL busv 20" run_scenarios bus-late <<HAL
+judge_bus_late() { trips bus-late ok_bus_late bus-late pin-8i20-fault "fault.bus-underv is TRUE"; }
+PRE="ch $CHANNEL busv 20" run_scenarios bus-late tolerant judge_bus_late <<HAL
 $(marker bus-late)
 $(watched)
 loadusr -w $work/until $ESTOP FALSE 20
 $(report ok_bus_late $ESTOP)
 $(show_pins)
-loadusr -w $work/inject ch $CHANNEL busv 320
 HAL
-[[ $(reading bus-late ok_bus_late) == FALSE ]] || fail "bus-late: the bus under-voltage did not drop the machine"
-part bus-late bus-late
-doctor_names bus-late pin-8i20-fault "fault.bus-underv is TRUE"
-tripped=$((tripped + 1))
 note "bus still low at the port's start: E-stop, named"
 
 # --- every fault bit of the 8I20, in turn, in one run ---------------------------------------
@@ -183,6 +170,16 @@ note "bus still low at the port's start: E-stop, named"
 FAULTS=(watchdog:watchdog noenable:no-enable overtemp:overtemp overcurrent:overcurrent
   uloop:U-current vloop:V-current wloop:W-current buslow:bus-underv bushigh:bus-high
   busmax:bus-overv module:module overrun:overrun framing:framingr)
+judge_fault_bits() {
+  local f cause
+  for f in "${FAULTS[@]}"; do
+    cause=${f%%:*}
+    trips fault-bits "ok_$cause" "$cause" pin-8i20-fault "fault.${f#*:} is TRUE"
+    [[ $(reading fault-bits "off_$cause") == TRUE ]] || echo "fault $cause: machine off did not let E-stop be reset"
+    [[ $(reading fault-bits "again_$cause") == TRUE ]] ||
+      echo "fault $cause: machine on, the cause gone, did not run again"
+  done
+}
 {
   watched
   for f in "${FAULTS[@]}"; do
@@ -203,20 +200,12 @@ FAULTS=(watchdog:watchdog noenable:no-enable overtemp:overtemp overcurrent:overc
     report "again_$cause" "$ESTOP"
   done
 } >"$work/fault-bits.body"
-run_scenarios fault-bits <"$work/fault-bits.body"
-for f in "${FAULTS[@]}"; do
-  cause=${f%%:*} pin=${f#*:}
-  [[ $(reading fault-bits "ok_$cause") == FALSE ]] || fail "fault $cause: the machine stayed out of E-stop ($ESTOP $(reading fault-bits "ok_$cause"))"
-  [[ $(reading fault-bits "off_$cause") == TRUE ]] || fail "fault $cause: machine off did not let E-stop be reset"
-  [[ $(reading fault-bits "again_$cause") == TRUE ]] || fail "fault $cause: machine on, the cause gone, did not run again"
-  part fault-bits "$cause"
-  doctor_names "$cause" pin-8i20-fault "fault.$pin is TRUE"
-  tripped=$((tripped + 1))
-done
+run_scenarios fault-bits tolerant judge_fault_bits <"$work/fault-bits.body"
 note "each of the ${#FAULTS[@]} fault bits: E-stop, reset by machine off and on, named"
 
 # --- the enable input off (the E-stop chain's contactor, a cut cable) -----------------------
-run_scenarios enable-off <<HAL
+judge_enable_off() { trips enable-off ok_enable_off enable-off pin-8i20-fault "fault.no-enable is TRUE"; }
+run_scenarios enable-off tolerant judge_enable_off <<HAL
 $(watched)
 $(marker enable-off)
 loadusr -w $work/inject ch $CHANNEL enable off
@@ -224,14 +213,12 @@ loadusr -w $work/until $ESTOP FALSE 20
 $(report ok_enable_off $ESTOP)
 $(show_pins)
 HAL
-[[ $(reading enable-off ok_enable_off) == FALSE ]] || fail "enable-off: the machine stayed out of E-stop"
-part enable-off enable-off
-doctor_names enable-off pin-8i20-fault "fault.no-enable is TRUE"
-tripped=$((tripped + 1))
 note "enable input off: E-stop, named"
 
 # --- the servo thread stalled past the 8I20's 40 ms watchdog --------------------------------
-run_scenarios thread-stalled <<HAL
+# The stall is the subject: only a longer one than injected (0.4 s) measured the host.
+judge_thread_stalled() { trips thread-stalled ok_stalled thread-stalled pin-8i20-fault "fault.watchdog is TRUE"; }
+run_scenarios thread-stalled tolerant judge_thread_stalled 400000000 <<HAL
 $(watched)
 $(marker thread-stalled)
 loadusr -w $work/stall 0.15
@@ -239,14 +226,11 @@ loadusr -w $work/until $ESTOP FALSE 20
 $(report ok_stalled $ESTOP)
 $(show_pins)
 HAL
-[[ $(reading thread-stalled ok_stalled) == FALSE ]] || fail "thread-stalled: the machine stayed out of E-stop"
-part thread-stalled thread-stalled
-doctor_names thread-stalled pin-8i20-fault "fault.watchdog is TRUE"
-tripped=$((tripped + 1))
 note "servo thread stalled 150 ms: E-stop, named"
 
 # --- half the 8I20's replies lost: hostmot2 stops the port (its own fault-lim) --------------
-run_scenarios lossy-8i20 strict <<HAL
+judge_lossy() { trips lossy-8i20 ok_lossy lossy-8i20 sserial-port-stopped; }
+run_scenarios lossy-8i20 strict judge_lossy <<HAL
 $(watched)
 $(marker lossy-8i20)
 loadusr -w $work/inject ch $CHANNEL drop 0.5
@@ -255,12 +239,30 @@ $(report ok_lossy $ESTOP)
 $(report count_lossy "$BOARD.sserial.port-0.fault-count")
 $(show_pins)
 HAL
-[[ $(reading lossy-8i20 ok_lossy) == FALSE ]] || fail "lossy-8i20: the port was stopped but the machine stayed out of E-stop (fault-count $(reading lossy-8i20 count_lossy))"
-part lossy-8i20 lossy-8i20
-doctor_names lossy-8i20 sserial-port-stopped
-tripped=$((tripped + 1))
 note "half the 8I20's replies lost: the port stopped (fault-count $(reading lossy-8i20 count_lossy)), E-stop, named"
 
+# --- the Ethernet link itself losing datagrams -------------------------------------------
+# 40% of the datagrams to the card lost: packet-error-level reaches its limit, hm2_eth sets
+# packet-error-exceeded (its io-error state), and the file's link gate drops the machine. Each
+# lost reply holds hm2_eth's read for its timeout (about 20 ms seen here), so a long period
+# is the injection's doing, not the host's: judged against 0.4 s, as the stall is. Two such
+# holds in a row starve the 8I20 past its watchdog, which may drop the machine before the
+# level reaches its limit (seen 2 runs in 3): either way the doctor names the link's lost
+# replies (packet-error-exceeded, or packet-error-total when the level had not reached it).
+judge_link_failing() {
+  trips link-failing ok_link_failing link-failing "pin-packet-error-exceeded|pin-packet-error-total"
+}
+run_scenarios link-failing tolerant judge_link_failing 400000000 <<HAL
+$(watched)
+$(marker link-failing)
+loadusr -w $work/inject card loss 0.4 1
+loadusr -w $work/until $ESTOP FALSE 50
+$(report ok_link_failing $ESTOP)
+loadusr -w $work/inject card loss 0
+$(show_pins)
+HAL
+note "40% of the link's datagrams lost: E-stop, the lost replies named"
+
 total=$(awk -v a="$started" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
-echo "PASS: $tripped injected faults each dropped the machine out of E-stop and i20 doctor named each from LinuxCNC's output; $stayed_up normal power-ups tripped nothing ($total s)"
+echo "PASS: $((${#FAULTS[@]} + 5)) injected faults each dropped the machine out of E-stop and i20 doctor named each from LinuxCNC's output; 2 normal power-ups tripped nothing ($total s)"
 exit 0

@@ -26,6 +26,24 @@ TEST(I20simMotor, TheShippedMotorIsDrivenAndShown) {
   EXPECT_NE(sim.control("show").find("motor_angle="), std::string::npos);
 }
 
+// The shipped vertical axis: its head hangs on the coupling, and the `motor` line shows where
+// the load and the machine are; a machine key changes live like any other.
+TEST(I20simMotor, TheShippedVerticalAxisShowsItsLoadAndPosition) {
+  SimProcess sim({"--operate", "--motor", shipped("vertical-screw-axis.yaml")});
+  const std::string state = sim.control("motor");
+  for (const char* field : {"load=0.312Nm", "load_angle=", "load_speed=", "position="})
+    EXPECT_NE(state.find(field), std::string::npos) << field << " in " << state;
+  // Cross-key rules hold live too: a damping without a stiffness is refused, and the motor
+  // is left as it was.
+  EXPECT_EQ(sim.control("motor machine.stiffness 0Nm/rad")
+                .rfind("error: machine.damping belongs to a compliant coupling", 0),
+            0u);
+  EXPECT_EQ(sim.control("motor machine.damping 0Nm/(rad/s)"), "ok");
+  EXPECT_EQ(sim.control("motor machine.stiffness 0Nm/rad"), "ok");
+  EXPECT_EQ(sim.control("motor machine.lead 5").rfind("error: machine.lead: 5: a length needs its unit", 0),
+            0u);
+}
+
 TEST(I20simMotor, ABadMotorFileIsOneLineAndExitCode2) {
   TempDir dir;
   const auto path = dir / "bad.yaml";

@@ -12,9 +12,9 @@
 #include "lbp/header.hpp"
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
+#include "ops/core/read.hpp"
 #include "ops/discover.hpp"
 #include "ops/faults.hpp"
-#include "ops/core/read.hpp"
 #include "sim_rig.hpp"
 
 using namespace i20;
@@ -33,19 +33,17 @@ SetResult set(Amp& amp, const std::vector<std::string>& assignments,
               ValueSyntax syntax = ValueSyntax::Engineering, device::WriteOptions write = {},
               Cancel cancel = {}) {
   SetResult r;
-  const auto profile = profile_from_assignments(assignments, amp.db(), syntax);
-  std::optional<ApplyJob> job;
   try {
-    job = make_apply_job({.profile = &profile,
-                          .db = &amp.db(),
-                          .force = write.force,
-                          .allow_unverified = write.allow_unverified,
-                          .cancel = cancel});
+    const ValueChange change({.values = named_values(assignments),
+                              .syntax = syntax,
+                              .force = write.force,
+                              .allow_unverified = write.allow_unverified,
+                              .cancel = cancel},
+                             amp.db());
+    r.run = change.run_on(amp);
   } catch (const device::SafetyError& e) {
-    r.refused = e.what();
-    return r;
+    r.refused = e.what();  // judged before anything was sent
   }
-  r.run = run_apply_on(amp, *job);
   return r;
 }
 

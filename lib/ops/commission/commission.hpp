@@ -31,6 +31,7 @@
 #include "commission/sample.hpp"
 #include "eth/drive_loop.hpp"
 #include "eth/target.hpp"
+#include "mechanics/identify.hpp"
 #include "ops/core/outcome.hpp"
 #include "ops/core/session.hpp"
 #include "ops/core/timing.hpp"
@@ -56,6 +57,19 @@ struct BldcSetup {
 struct CheckFile {
   std::string text;
   std::string file;
+};
+
+// `i20 tune-axis` (issue 43): the axis's mechanics identified by a gentle back-and-forth
+// move within a travel window, commutated with the --check file's setup (its index and
+// encoder-offset, as LinuxCNC's bldc would). The move follows mechanics::Excitation under a
+// position loop of the tool's own (3 to 4 Hz for the inertia guess, or stiffer against the
+// friction guess); mechanics::identify fits the record.
+struct AxisIdentification {
+  double half_window_turns = 0;  // motor turns, +- about where the index search ends
+  double duration_s = 8;
+  double torque_constant_nm_per_a = 0;
+  double inertia_guess_kgm2 = 0;  // sets the loop's gain only; the result replaces it
+  double friction_guess_nm = 0;
 };
 
 struct CommissionOptions {
@@ -88,6 +102,8 @@ struct CommissionOptions {
   // -o: a HAL fragment is wanted. Refused before anything moves where none could be written
   // (no Halls, or --check, whose setup is the file checked).
   bool hal_fragment = false;
+  // tune-axis: identify the mechanics (with check_file's commutation) instead of the check.
+  std::optional<AxisIdentification> identify;
 };
 
 struct Preflight {
@@ -97,6 +113,7 @@ struct Preflight {
   double max_current_a = 0;
   double bus_v = 0;
   std::uint16_t fault = 0;
+  std::int64_t kqp = 0, kqi = 0;  // the current loop's gains (card counts): tune-axis's correction
   std::string note;
 };
 
@@ -119,6 +136,9 @@ struct CommissionPlan {
   double time_limit_s = 0;
   // --check: the file's setup with the options merged in; the run is only the closed-loop check.
   std::optional<BldcSetup> check;
+  // tune-axis: the move within the window after the index search, with the check's setup.
+  std::optional<AxisIdentification> identify;
+  double identify_peak_turns_per_s = 0;  // the move's top speed, motor turns per second
   // The plan as lines for the user.
   std::vector<std::string> lines() const;
 };
@@ -176,6 +196,11 @@ struct CommissionReport {
   std::string zero_note;        // why not, when not
   std::vector<std::string> notes;
   std::vector<commission::Sample> recorded;  // the sweep's samples (tests, --verbose)
+  // tune-axis: what the move identified (at the motor shaft), and how far it went from where
+  // it started (motor turns).
+  std::optional<mechanics::Mechanics> mechanics;
+  std::vector<mechanics::MotionSample> motion;  // the move as recorded: time, shaft angle, torque
+  double widest_turns = 0;
 
   Outcome outcome() const;
 };

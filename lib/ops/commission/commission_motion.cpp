@@ -89,7 +89,13 @@ void Motion::guard(const eth::DriveReading& reading, const Tick& tick) {
     throw Abort(StopReason::OtherHost,
                 "the 8I20's channel was started again under this run (INTERFACE1 reads its name, "
                 "\"8I20\"): another host (LinuxCNC?) took the card");
-  if (reading.fresh && reading.fault != 0)
+  // The WATCHDOGFAULT the preflight found latched (how the last session ended) is cleared by
+  // the normal start on the card a few milliseconds after it: a fast loop reads it in its first
+  // cycles. Only that, only until the first clean reading and at most kClearFaultWait.
+  if (reading.fresh && reading.fault == 0) start_fault_clearing_ = false;
+  const bool clearing = start_fault_clearing_ && reading.fault == plan_.preflight.fault &&
+                        tick.t_s < std::chrono::duration<double>(timing::kClearFaultWait).count();
+  if (reading.fresh && reading.fault != 0 && !clearing)
     throw Abort(StopReason::Fault, std::string("the 8I20 latched FAULT ") + lbp::hex_value(reading.fault, 4) +
                                        " (" + fault_names(reading.fault) + ") " + fixed(tick.t_s, 2) +
                                        " s into the run; it disabled its output");

@@ -11,10 +11,15 @@
 #include <vector>
 
 #include "eth/drive_loop.hpp"
-#include "ops/core/cancel.hpp"
+#include "mechanics/excitation.hpp"
 #include "ops/commission/commission.hpp"
+#include "ops/core/cancel.hpp"
 
 namespace i20::ops::commission_detail {
+
+// tune-axis's path for its window (the plan's and the run's one construction). Throws
+// UsageError naming the least window that would do.
+mechanics::Excitation identification_path(const AxisIdentification& id);
 
 // Why the motion stopped early: caught by run_commission, which zeroes the current.
 class Abort : public std::runtime_error {
@@ -81,6 +86,7 @@ class Motion {
   std::vector<Tick> ticks_;
   std::vector<std::uint16_t> last16_;
   std::uint32_t foreign_at_start_ = 0;
+  bool start_fault_clearing_ = true;  // the preflight's WATCHDOGFAULT may read on until cleared
   std::uint64_t cycles_ = 0;
   std::optional<Scale> scale_;
   bool follow_ = false;

@@ -2,13 +2,16 @@
 // The read-only half of `i20 commission`: the preflight and the plan the user confirms.
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "commission/format.hpp"
 #include "eth/anything_io.hpp"
 #include "eth/udp_client.hpp"
 #include "faults/decode.hpp"
 #include "lbp/bytes.hpp"
+#include "mechanics/excitation.hpp"
 #include "ops/commission/commission.hpp"
+#include "ops/commission/commission_motion.hpp"
 #include "ops/core/read.hpp"
 #include "ops/core/timing.hpp"
 
@@ -46,6 +49,19 @@ void check_options(const CommissionOptions& o) {
         "without h align the rotor through its own A/B/C outputs, which the 8I20 does not take)");
   if (o.hal_fragment && o.check_file)
     throw UsageError("-o with --check: the setup checked is the file's own; nothing new would be written");
+  if (o.identify) {
+    const auto& id = *o.identify;
+    if (!o.check_file)
+      throw UsageError(
+          "tune-axis needs the axis's commutation: --check FILE.hal (what i20 commission -o wrote)");
+    positive(id.half_window_turns, "--travel");
+    positive(id.duration_s, "--duration");
+    positive(id.torque_constant_nm_per_a, "--torque-constant");
+    positive(id.inertia_guess_kgm2, "--inertia-guess");
+    if (id.friction_guess_nm < 0 || !std::isfinite(id.friction_guess_nm))
+      throw UsageError("--friction-guess must be 0 or more");
+    (void)commission_detail::identification_path(id);  // a window too short: refused before the card is asked
+  }
 }
 
 double reading_of(const std::vector<Reading>& readings, std::size_t i, const char* name) {
@@ -67,10 +83,13 @@ Preflight read_preflight(Session& session) {
   {
     Amp& amp = session.amp();  // the passthrough open refuses a running host
     p.card = amp.describe();
-    const auto readings = read_values(amp, std::vector<std::string>{"FAULT", "BUSV", "MAXCURRENT"});
+    const auto readings =
+        read_values(amp, std::vector<std::string>{"FAULT", "BUSV", "MAXCURRENT", "KQP", "KQI"});
     p.fault = static_cast<std::uint16_t>(reading_of(readings, 0, "FAULT"));
     p.bus_v = reading_of(readings, 1, "BUSV") / 100.0;                // 10 mV
     p.max_current_a = reading_of(readings, 2, "MAXCURRENT") / 100.0;  // 10 mA
+    p.kqp = static_cast<std::int64_t>(reading_of(readings, 3, "KQP"));
+    p.kqi = static_cast<std::int64_t>(reading_of(readings, 4, "KQI"));
   }
   session.reconnect();  // the passthrough is closed before normal mode starts
   // WATCHDOGFAULT alone is how every normal-mode session ends (the host stops its DOITs: an
@@ -112,6 +131,24 @@ Preflight read_preflight(Session& session) {
 
 }  // namespace
 
+namespace commission_detail {
+
+// The identification's path for the window, or UsageError naming the least window that would
+// do, in motor turns as the plan speaks.
+mechanics::Excitation identification_path(const AxisIdentification& id) {
+  try {
+    return mechanics::Excitation(
+        {.half_travel_rad = id.half_window_turns * 2 * std::numbers::pi, .duration_s = id.duration_s});
+  } catch (const mechanics::IdentifyError&) {
+    const double least = mechanics::Excitation::least_half_travel_rad() / (2 * std::numbers::pi);
+    throw UsageError(std::string("--travel: +-") + fixed(id.half_window_turns, 3) +
+                     " motor turns is too short to identify in: the move needs at least +-" +
+                     fixed(least, 3) + " motor turns (" + fixed(2 * least, 3) + " turns of travel in all)");
+  }
+}
+
+}  // namespace commission_detail
+
 CommissionPlan prepare_commission(Session& session, const CommissionOptions& options) {
   check_options(options);
   CommissionPlan plan;
@@ -121,6 +158,10 @@ CommissionPlan prepare_commission(Session& session, const CommissionOptions& opt
     const auto channel = eth::parse_target(session.endpoint().eth_url).channel;
     plan.check = merge_check_options(read_bldc_setup(f.text, f.file, channel), options, f.file);
   }
+  if (options.identify && (!plan.check || !plan.check->has_index))
+    throw UsageError(
+        "tune-axis needs a setup with an index (bldc cfg qi or qhi: encoder-offset) to know the "
+        "rotor angle exactly");
   plan.preflight = read_preflight(session);
   const double max = plan.preflight.max_current_a;
   plan.current_a = std::min(options.current_amps.value_or(options.current_fraction * max), max);
@@ -138,7 +179,20 @@ CommissionPlan prepare_commission(Session& session, const CommissionOptions& opt
   // Align: at most half a turn; sweep: out and back; the check: about two turns each way.
   constexpr double kCheckTurns = 2.5;
   const double check_s = 2.4;
-  if (plan.check) {
+  if (options.identify) {
+    const auto path = commission_detail::identification_path(*options.identify);
+    const double pole_pairs = plan.check->poles / 2.0;
+    plan.identify = options.identify;
+    plan.identify_peak_turns_per_s = path.peak_speed_rad_s() / (2 * std::numbers::pi);
+    // The index search (up to a mechanical turn and one electrical more), then the window,
+    // with room for the loop's following error; faster than twice the move's top: runaway.
+    plan.max_electrical_turns = 1.0 + pole_pairs * (1.0 + 1.25 * options.identify->half_window_turns) +
+                                options.follow_tolerance_turns;
+    plan.max_mechanical_turns = plan.max_electrical_turns / pole_pairs;
+    plan.runaway_turns_per_s =
+        std::max(plan.runaway_turns_per_s, 2 * pole_pairs * plan.identify_peak_turns_per_s);
+    plan.estimated_s = options.align_s + (1.0 + pole_pairs) / options.turns_per_s + path.duration_s();
+  } else if (plan.check) {
     plan.max_electrical_turns = kCheckTurns + 1.0 + plan.check->poles / 2.0;  // + finding the index
     plan.estimated_s = check_s + 1.0 + plan.check->poles / 2.0 / options.turns_per_s;
     plan.max_mechanical_turns = plan.max_electrical_turns / (plan.check->poles / 2.0);
@@ -188,8 +242,20 @@ std::vector<std::string> CommissionPlan::lines() const {
                     std::to_string(static_cast<int>(search_turns / 2)) +
                     " pole pairs: for more, give --poles (and --counts-per-rev)");
   }
-  out.push_back(std::string("check: closed loop at ") + fixed(check_current_a, 2) +
-                " A, one to two electrical turns each way, then two holds");
+  if (identify) {
+    out.push_back("find the index: forward at " + fixed(current_a, 2) +
+                  " A, at most one motor turn (the axis moves: give it room)");
+    out.push_back("identify: back and forth within +-" + fixed(identify->half_window_turns, 3) +
+                  " motor turns about where the index was found, for " + fixed(identify->duration_s, 1) +
+                  " s, at most " + fixed(identify_peak_turns_per_s, 2) +
+                  " motor turns/s, under a position loop of its own; torque at most " + fixed(current_a, 2) +
+                  " A (--current)");
+    out.push_back(
+        "afterwards the current is 0: a vertical axis must be held by its brake or a counterweight");
+  } else {
+    out.push_back(std::string("check: closed loop at ") + fixed(check_current_a, 2) +
+                  " A, one to two electrical turns each way, then two holds");
+  }
   std::string travel =
       std::string("the rotor may turn at most ") + fixed(max_electrical_turns, 1) + " electrical turns";
   travel += max_mechanical_turns ? std::string(" (") + fixed(*max_mechanical_turns, 2) + " mechanical turns)"

@@ -83,6 +83,7 @@ eth::PassthroughOptions passthrough(const LinkSettings& settings, const RetryPol
       .gather_window = kPassthroughGatherWindow,
       .max_replays = kMaxReplays,
       .close_budget = kPortCloseBudget,
+      .opening_attempts = retry.attempts,
   };
 }
 

@@ -170,6 +170,10 @@ inline constexpr double kCheckRampS = 1.0;
 inline constexpr double kCheckRestS = 0.3;
 inline constexpr double kHoldRampS = 0.15;
 inline constexpr double kHoldS = 0.4;
+// tune-axis: its drive loop's period. The 8I20 keeps a DOIT's ANGLE until the next one, so at
+// the identification move's speed a 10 ms period would commutate tens of electrical degrees
+// off and the torque asked for would not be the torque given (LinuxCNC runs bldc every 1 ms).
+inline constexpr std::chrono::milliseconds kIdentifyPeriod{1};
 // Another host's packets commissioning tolerates in all (a stray mesaflash query; LinuxCNC
 // sends one every servo period), the drive-loop cycles between two checks for one (each
 // costs a read-only packet), and the cycles over which the rotor's speed is measured.
