@@ -15,7 +15,7 @@
 # halrun, runuser or the HAL user. Gives: skip, fail, note;
 # CARD, BOARD, CHANNEL, CHANNELS, ENC, AMP, HALL_NETS, CARD_IP; POLES, COUNTS (the motor
 # file's axis); $work (a folder the HAL user can read); start_sim, stop_sim, sim_ask,
-# sim_reading, sim_angle; hal (a command in the host namespace as the HAL user); RT.
+# sim_reading, sim_field, sim_angle; hal (a command in the host namespace as the HAL user); RT.
 set -u
 
 SKIP=77
@@ -192,12 +192,15 @@ sim_ask() {
 # sim_reading VAR FIELD: sets VAR to the number the motor's reading gives as FIELD=value
 # (its unit cut off); fails, showing the answer, when there is none. Called as a command, not
 # in $(...), so that a failure ends the test.
-sim_reading() {
-  local answer number
+sim_reading() { sim_field "$1" "$2" '-\{0,1\}[0-9][0-9.]*'; }
+# sim_field VAR FIELD [PATTERN]: sets VAR to FIELD's value in the motor's reading, the part
+# that matches PATTERN (a sed pattern; by default a word, as output=on).
+sim_field() {
+  local answer value
   answer=$(sim_ask "ch $CHANNEL motor")
-  number=$(sed -n "s/.* $2=\\(-\\{0,1\\}[0-9][0-9.]*\\).*/\\1/p" <<<" $answer")
-  [[ -n $number ]] || fail "i20sim's motor reading has no $2: '$answer'"
-  printf -v "$1" '%s' "$number"
+  value=$(sed -n "s/.* $2=\\(${3:-[a-z]*}\\).*/\\1/p" <<<" $answer")
+  [[ -n $value ]] || fail "i20sim's motor reading has no $2: '$answer'"
+  printf -v "$1" '%s' "$value"
 }
 sim_angle() { sim_reading "$1" motor_angle; }
 

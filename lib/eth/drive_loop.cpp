@@ -31,6 +31,9 @@ std::string padded(unsigned value, int digits) {
 
 // Arms one index event (hostmot2's own way: LatchOnIndex with JustOnce, falling edge).
 constexpr std::uint32_t kArmIndex = hm2::encoder_bit::kLatchOnIndex | hm2::encoder_bit::kJustOnce;
+// Space 4's uSTimeStamp register: "the free running hardware microsecond timer" (7I92T and
+// 7I96S manuals, SPACE 4 LBP TIMER/UTILITY AREA), 16 bits.
+constexpr std::uint16_t kMicrosecondTimerAddress = 0x0000;
 
 }  // namespace
 
@@ -126,6 +129,8 @@ std::vector<lbp16::Command> DriveLoop::packet(DriveSetpoint setpoint) const {
   p.push_back(lbp16::read_hm2(regs.data));
   p.push_back(lbp16::read_hm2(regs.interface0(channel_)));
   p.push_back(lbp16::read_hm2(regs.interface1(channel_)));
+  // The card's own time of the readings below (DriveReading::card_microseconds).
+  p.push_back(lbp16::read(lbp16::space::kTimers, kMicrosecondTimerAddress, lbp16::Width::Bits16));
   for (const auto& e : map_.encoders) {
     p.push_back(lbp16::read_hm2(e.count));
     p.push_back(lbp16::read_hm2(e.latch_control));
@@ -144,12 +149,14 @@ DriveReading DriveLoop::decode(const std::vector<lbp::Bytes>& parts) {
   DriveReading r;
   r.taken = Clock::now();
   r.fresh = (word(parts[0]) & 0xFFFF) == 0;
+  r.command_taken = r.fresh;  // the packet writes its DOIT after this read
   r.transfer_failed = (word(parts[1]) & (1u << channel_)) != 0;
   const std::uint32_t if0 = word(parts[2]), if1 = word(parts[3]);
   r.bus_voltage = static_cast<std::uint16_t>(if0 >> 16);
   r.fault = static_cast<std::uint16_t>(if1 >> 16);
   r.status = static_cast<std::uint16_t>(if1);
-  std::size_t i = 4;
+  r.card_microseconds = static_cast<std::uint16_t>(lbp::read_le(parts[4]));
+  std::size_t i = 5;
   for (std::size_t e = 0; e < map_.encoders.size(); ++e) {
     EncoderReading reading;
     reading.count = static_cast<std::uint16_t>(word(parts[i++]));
@@ -175,6 +182,7 @@ DriveReading DriveLoop::cycle(DriveSetpoint setpoint) {
     next_ = now;  // fell behind: do not burst to catch up
   const auto commands = packet(setpoint);
   std::vector<lbp::Bytes> parts;
+  const auto sent = Clock::now();
   try {
     parts = bus_->transact(commands, Resend::Never);
   } catch (const link::TimeoutError&) {
@@ -185,11 +193,14 @@ DriveReading DriveLoop::cycle(DriveSetpoint setpoint) {
                                " in a row); the 8I20 watchdog has likely bitten");
     DriveReading lost;
     lost.taken = Clock::now();
+    lost.sent = sent;
     lost.fresh = false;
+    lost.command_taken = false;  // unknown: the request may have arrived; the caller sends it again
     return lost;
   }
   consecutive_missed_ = 0;
   DriveReading reading = decode(parts);
+  reading.sent = sent;
   latches_armed_ = true;
   if (!reading.fresh) {
     ++stats_.late;

@@ -67,9 +67,18 @@ struct EncoderReading {
 
 struct DriveReading {
   std::chrono::steady_clock::time_point taken{};
+  // When the packet was sent: the card reads its registers as the packet arrives, so on a
+  // host that was put aside while the reply waited this is the closer time of the readings.
+  std::chrono::steady_clock::time_point sent{};
+  // The card's free-running microsecond timer as it read the encoders (wraps every 65.536 ms):
+  // the readings' own time, whatever the host or the network did with the packet.
+  std::uint16_t card_microseconds = 0;
   // false: INTERFACE0/1 are not this DOIT's (the previous DOIT had not finished, or this is
   // the first one); the feedback registers are current either way.
   bool fresh = true;
+  // This cycle's QSETPOINT and ANGLE reach the 8I20: the card's previous DOIT had finished
+  // when the packet came (a busy card ignores the DOIT; the last one taken stays in effect).
+  bool command_taken = true;
   std::uint16_t bus_voltage = 0;  // 10 mV
   std::uint16_t fault = 0;
   std::uint16_t status = 0;

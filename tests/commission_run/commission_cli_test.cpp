@@ -60,7 +60,9 @@ std::optional<double> worst_doit_gap_us(const std::string& out) {
 // stops honestly (CommissionRun.AFaultLatchedMidRunStopsIt tests a latched fault). That run
 // measured the host, not the tool, so one that latched WATCHDOG with its own worst DOIT gap
 // at 40 ms or more is run again, up to 3 runs in all (the preflight accepts the WATCHDOG a
-// run leaves latched, as a host's start clears it).
+// run leaves latched, as a host's start clears it). tune-axis judges its own 1 ms loop (the
+// angle the 8I20 held against the rotor's) and refuses to fit a record the host starved; that
+// run is run again too. A fit it did make is judged in full.
 Result kept_time(const std::string& command, const std::vector<std::string>& target,
                  const std::vector<std::string>& args) {
   Result r;
@@ -68,8 +70,12 @@ Result kept_time(const std::string& command, const std::vector<std::string>& tar
     r = i20_command(command, target, args);
     const auto gap = worst_doit_gap_us(r.out);
     const bool watchdog = (r.out + r.err).find("WATCHDOG") != std::string::npos;
-    if (r.exit_code == 0 || !watchdog || !gap || *gap < 40000) break;
-    std::cout << "run " << attempt << ": the loop was starved (a DOIT gap of " << *gap << " us), run again\n";
+    const bool starved = watchdog && gap && *gap >= 40000;
+    // tune-axis's own verdict on its 1 ms loop (commission_run.cpp's torque_in_effect)
+    const bool loop_not_kept = r.out.find("this host did not keep the") != std::string::npos;
+    if (r.exit_code == 0 || !(starved || loop_not_kept)) break;
+    std::cout << "run " << attempt << ": the loop was starved (worst DOIT gap " << gap.value_or(0)
+              << " us; the tool: " << (loop_not_kept ? "host did not keep its loop" : "watchdog") << "), run again\n";
   }
   return r;
 }

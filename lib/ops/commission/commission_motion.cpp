@@ -8,6 +8,7 @@
 #include "faults/decode.hpp"
 #include "hostmot2/hostmot2.hpp"
 #include "lbp/bytes.hpp"
+#include "link/link.hpp"
 #include "ops/core/timing.hpp"
 
 namespace i20::ops::commission_detail {
@@ -39,8 +40,27 @@ Motion::Motion(eth::DriveLoop& loop, const CommissionPlan& plan, const Commissio
   foreign_at_start_ = loop_.foreign_packets();
 }
 
-double Motion::elapsed_s() const {
-  return std::chrono::duration<double>(Clock::now() - start_).count();
+double Motion::elapsed_s(Clock::time_point at) const {
+  return std::chrono::duration<double>(at - start_).count();
+}
+
+// The readings' time on the card's microsecond timer, unwrapped and placed on the run's clock
+// at the first reading. Neither end of the host's round trip is that time: a host put aside
+// while a reply waited, or a card's packet that waited in the network, shows as a burst of
+// speed on the host's clock (a 1 ms loop's runaway guard once tripped on one). The host's clock
+// resolves the timer's wraps (a gap past 65.536 ms wraps it).
+double Motion::card_time_s(const eth::DriveReading& reading, double host_s) {
+  constexpr double kWrapS = 65536e-6;
+  if (!last_card_us_) {
+    card_s_ = host_s;
+  } else {
+    const double on_timer = static_cast<std::uint16_t>(reading.card_microseconds - *last_card_us_) * 1e-6;
+    const double wraps = std::max(0.0, std::round((host_s - last_host_s_ - on_timer) / kWrapS));
+    card_s_ += on_timer + wraps * kWrapS;
+  }
+  last_card_us_ = reading.card_microseconds;
+  last_host_s_ = host_s;
+  return card_s_;
 }
 
 const Tick& Motion::drive(double amps, double angle_turns, double command_turns) {
@@ -53,8 +73,10 @@ const Tick& Motion::drive(double amps, double angle_turns, double command_turns)
     if (cancel_.requested()) throw Abort(StopReason::Signal, "stopped by " + cancel_.cause());
   } while (reading.encoders.empty());  // a lost reply: the next cycle sends the same again
   Tick tick;
-  tick.t_s = elapsed_s();
+  tick.host_s = elapsed_s(reading.sent);
+  tick.t_s = card_time_s(reading, tick.host_s);
   tick.command_turns = command_turns;
+  tick.command_taken = reading.command_taken;
   unwrap(reading, tick);
   ticks_.push_back(std::move(tick));
   guard(reading, ticks_.back());
@@ -94,23 +116,36 @@ void Motion::guard(const eth::DriveReading& reading, const Tick& tick) {
   // cycles. Only that, only until the first clean reading and at most kClearFaultWait.
   if (reading.fresh && reading.fault == 0) start_fault_clearing_ = false;
   const bool clearing = start_fault_clearing_ && reading.fault == plan_.preflight.fault &&
-                        tick.t_s < std::chrono::duration<double>(timing::kClearFaultWait).count();
+                        tick.host_s < std::chrono::duration<double>(timing::kClearFaultWait).count();
   if (reading.fresh && reading.fault != 0 && !clearing)
     throw Abort(StopReason::Fault, std::string("the 8I20 latched FAULT ") + lbp::hex_value(reading.fault, 4) +
-                                       " (" + fault_names(reading.fault) + ") " + fixed(tick.t_s, 2) +
+                                       " (" + fault_names(reading.fault) + ") " + fixed(tick.host_s, 2) +
                                        " s into the run; it disabled its output");
-  if (tick.t_s > plan_.time_limit_s)
+  if (tick.host_s > plan_.time_limit_s)
     throw Abort(StopReason::TimeLimit,
                 std::string("the time limit (") + fixed(plan_.time_limit_s, 0) + " s) ran out");
-  if (++cycles_ % timing::kCommissionHostCheckEvery == 0) {
-    const auto foreign = loop_.foreign_packets();
-    if (foreign > foreign_at_start_ + timing::kCommissionForeignPackets)
-      throw Abort(StopReason::OtherHost,
-                  std::string("another host sent the card ") + std::to_string(foreign - foreign_at_start_) +
-                      " packet(s) during the run (LinuxCNC?): stopped so that two hosts do "
-                      "not drive one 8I20");
-  }
+  if (++cycles_ % timing::kCommissionHostCheckEvery == 0) check_for_other_host();
   guard_motion(tick);
+}
+
+// The card's packet counters, between DOITs. A read that goes unanswered (a host's hiccup of a
+// few milliseconds outlasts a 1 ms loop's reply wait) is tried again at the next check; the
+// DOITs' own missed replies tell a card that stopped. kCommissionHostCheckMisses in a row end
+// the run: another host could then go unseen.
+void Motion::check_for_other_host() {
+  std::uint32_t foreign = 0;
+  try {
+    foreign = loop_.foreign_packets();
+    unanswered_host_checks_ = 0;
+  } catch (const link::TimeoutError&) {
+    if (++unanswered_host_checks_ >= timing::kCommissionHostCheckMisses) throw;
+    return;
+  }
+  if (foreign > foreign_at_start_ + timing::kCommissionForeignPackets)
+    throw Abort(StopReason::OtherHost, std::string("another host sent the card ") +
+                                           std::to_string(foreign - foreign_at_start_) +
+                                           " packet(s) during the run (LinuxCNC?): stopped so that two hosts do "
+                                           "not drive one 8I20");
 }
 
 void Motion::guard_motion(const Tick& tick) {
@@ -138,8 +173,10 @@ void Motion::guard_motion(const Tick& tick) {
     throw Abort(StopReason::TravelLimit, std::string("the rotor turned ") + fixed(travel, 2) +
                                              " electrical turns, beyond the plan's " +
                                              fixed(plan_.max_electrical_turns, 1));
-  if (ticks_.size() > timing::kCommissionSpeedWindow) {
-    const auto& then = ticks_[ticks_.size() - 1 - timing::kCommissionSpeedWindow];
+  const auto window = static_cast<std::size_t>(
+      std::max<std::int64_t>(1, timing::kCommissionSpeedSpan / loop_.period()));
+  if (ticks_.size() > window) {
+    const auto& then = ticks_[ticks_.size() - 1 - window];
     const double speed =
         std::abs(static_cast<double>(count - then.counts[s.encoder])) / cpe / (tick.t_s - then.t_s);
     if (speed > plan_.runaway_turns_per_s)

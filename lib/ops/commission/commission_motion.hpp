@@ -33,11 +33,13 @@ class Abort : public std::runtime_error {
 
 // One recorded cycle.
 struct Tick {
-  double t_s = 0;
+  double t_s = 0;     // the readings' time, on the card's clock (Motion::card_time_s)
+  double host_s = 0;  // when the host sent the packet: the run's limits count this
   double command_turns = 0;          // where the current vector holds the rotor (the analysis' frame)
   std::vector<std::int64_t> counts;  // per encoder instance, unwrapped
   std::vector<std::optional<std::int64_t>> index_latch;  // per encoder instance
   std::vector<std::uint32_t> input_words;
+  bool command_taken = true;  // the 8I20 took this cycle's current and angle (eth::DriveReading)
 };
 
 // The rotor's scale, once known: which encoder, which way, counts per electrical turn.
@@ -68,7 +70,8 @@ class Motion {
 
   const std::vector<Tick>& ticks() const { return ticks_; }
   const eth::DriveLoop& loop() const { return loop_; }
-  double elapsed_s() const;
+  double elapsed_s(std::chrono::steady_clock::time_point at) const;
+  double card_time_s(const eth::DriveReading& reading, double host_s);
   // Changes of each candidate input (FeedbackMap::inputs) between ticks [from, to).
   std::vector<unsigned> input_changes(std::size_t from, std::size_t to) const;
   bool input_bit(const Tick& tick, std::size_t input) const;
@@ -77,6 +80,7 @@ class Motion {
   void unwrap(const eth::DriveReading& reading, Tick& tick);
   void guard(const eth::DriveReading& reading, const Tick& tick);
   void guard_motion(const Tick& tick);
+  void check_for_other_host();
 
   eth::DriveLoop& loop_;
   const CommissionPlan& plan_;
@@ -88,11 +92,14 @@ class Motion {
   std::uint32_t foreign_at_start_ = 0;
   bool start_fault_clearing_ = true;  // the preflight's WATCHDOGFAULT may read on until cleared
   std::uint64_t cycles_ = 0;
+  unsigned unanswered_host_checks_ = 0;
   std::optional<Scale> scale_;
   bool follow_ = false;
   std::int64_t follow_count_ = 0;
   double follow_command_ = 0;
   std::int64_t start_count_ = 0;
+  std::optional<std::uint16_t> last_card_us_;  // card_time_s's timer, as last read
+  double last_host_s_ = 0, card_s_ = 0;
 };
 
 }  // namespace i20::ops::commission_detail

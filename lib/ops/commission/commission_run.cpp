@@ -36,9 +36,31 @@ constexpr double kCheckEnoughTurns = 0.5;
 constexpr double kCheckMinTurns = 0.25;
 // Hall codes off the pattern's sector tolerated in the check (edges blur by hysteresis).
 constexpr double kHallMismatchLimit = 0.02;
+// tune-axis: a period whose held angle gave under this share of the command's torque is one
+// the loop did not keep (an angle 37 electrical degrees stale); more than this share of such
+// periods and the record is not fitted.
+constexpr double kLeastTorqueShare = 0.8;
+constexpr double kMostWeakShare = 0.02;
 
 double wrap_turns(double t) {  // to [-0.5, 0.5)
   return t - std::floor(t + 0.5);
+}
+
+// The identification's record of what the 8I20 held: the ANGLE it took last (electrical
+// turns) and where the rotor was when the period began.
+struct HeldAngle {
+  double angle = 0;
+  double rotor = 0;
+  bool taken = true;  // this period's command reached the 8I20
+};
+
+// The share of a command's torque the 8I20 gave over one period: its current lies along the
+// ANGLE it holds while the rotor turns on from `from` to `to`, so the torque is the command
+// times the mean cosine of the angle between them.
+double share_in_effect(double held, double from, double to) {
+  const double a = 2 * std::numbers::pi * (held - from), b = 2 * std::numbers::pi * (held - to);
+  if (std::abs(b - a) < 1e-9) return std::cos(a);
+  return (std::sin(a) - std::sin(b)) / (a - b);
 }
 
 std::size_t encoder_index(const eth::DriveLoop& loop, unsigned instance) {
@@ -107,6 +129,7 @@ class Procedure {
   ClosedLoopCheck closed_loop(const Rotor& rotor);
   double push(const Rotor& rotor, int sign, ClosedLoopCheck& check);
   double hold_error(const Rotor& rotor, double at_turns);
+  bool torque_in_effect(const std::vector<HeldAngle>& held);
 
   Motion& m_;
   const CommissionPlan& plan_;
@@ -394,6 +417,8 @@ void Procedure::identify_axis(const BldcSetup& setup) {
   const double t0 = m_.ticks().back().t_s;
   double integral = 0, previous = 0, speed = 0, torque = 0, previous_t = t0;
   bool first = true;
+  double torque_held = 0, angle_held = rotor->angle(m_.ticks().back().counts[e]);
+  std::vector<HeldAngle> held;
   for (;;) {
     const Tick& now = m_.ticks().back();
     const double t = now.t_s - t0;
@@ -419,9 +444,15 @@ void Procedure::identify_axis(const BldcSetup& setup) {
     // from that moment on, where the shaft was then.
     const Tick& applied = m_.drive(torque / id.torque_constant_nm_per_a, theta, theta);
     const double there = shaft_rad(applied) - origin;
-    report_.motion.push_back({applied.t_s, there, torque});
+    if (applied.command_taken) {  // a busy card keeps the last command it took
+      torque_held = torque;
+      angle_held = theta;
+    }
+    report_.motion.push_back({applied.t_s, there, torque_held});
+    held.push_back({angle_held, rotor->angle(applied.counts[e]), applied.command_taken});
     report_.widest_turns = std::max(report_.widest_turns, std::abs(there) / (2 * std::numbers::pi));
   }
+  if (!torque_in_effect(held)) return;
   say("fitting the mechanics to " + std::to_string(report_.motion.size()) + " samples");
   try {
     // Windows of several periods: the fit's speeds and integrals need samples in them.
@@ -443,6 +474,36 @@ void Procedure::identify_axis(const BldcSetup& setup) {
     report_.stop = StopReason::CouldNotTell;
     report_.message = std::string("the move did not identify the mechanics: ") + e.what();
   }
+}
+
+// The record's torques as the 8I20 gave them: each command times its share along the angle
+// the card held while the rotor turned on (share_in_effect). On a host that keeps the 1 ms
+// loop the shares are near 1 (the angle is carried to the period's middle); a stalled loop or
+// a busy card (the last command stays in effect) holds a stale angle, and a fit of the
+// commanded torque would read the lost torque as inertia. A record that lost too much is not
+// fitted: the host did not keep the loop. Returns false (report_ says why) then.
+bool Procedure::torque_in_effect(const std::vector<HeldAngle>& held) {
+  auto& motion = report_.motion;
+  std::size_t weak = 0;
+  double lowest = 1;
+  const auto not_taken = std::count_if(held.begin(), held.end(), [](const HeldAngle& h) { return !h.taken; });
+  for (std::size_t j = 0; j < motion.size(); ++j) {
+    const double to = j + 1 < held.size() ? held[j + 1].rotor : held[j].rotor;
+    const double share = share_in_effect(held[j].angle, held[j].rotor, to);
+    motion[j].torque_nm *= share;
+    lowest = std::min(lowest, share);
+    if (share < kLeastTorqueShare) ++weak;
+  }
+  report_.notes.push_back("the loop: " + std::to_string(not_taken) + " of " + std::to_string(held.size()) +
+                          " commands a busy card did not take; the torque in effect at least " + fixed(100 * lowest, 1) +
+                          "% of the command along the angle the 8I20 held");
+  if (static_cast<double>(weak) <= kMostWeakShare * static_cast<double>(motion.size())) return true;
+  report_.stop = StopReason::CouldNotTell;
+  report_.message = "this host did not keep the " + fixed(timing::kIdentifyPeriod.count(), 0) +
+                    " ms loop: in " + std::to_string(weak) + " of " + std::to_string(motion.size()) +
+                    " periods the angle the 8I20 held gave under " + fixed(100 * kLeastTorqueShare, 0) +
+                    "% of the torque; run it again on a quieter host (the fit was not made)";
+  return false;
 }
 
 // The 8I20's current loop is a PI in the ANGLE frame (docs/motor-model.md) with nothing fed

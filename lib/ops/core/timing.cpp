@@ -105,6 +105,17 @@ eth::PassiveOptions passive(const LinkSettings& settings) {
   };
 }
 
+namespace {
+// kNormalModeMissedCycles, or as many cycles (each its period and its reply's longest wait) as
+// the 8I20's watchdog lasts, whichever is more: a session gives up only once the card has
+// likely stopped its output.
+unsigned missed_cycles(milliseconds period, milliseconds reply) {
+  const auto cycle = period + reply;
+  const auto fill = static_cast<unsigned>((kEightI20Watchdog + cycle - milliseconds(1)) / cycle);
+  return std::max(kNormalModeMissedCycles, fill);
+}
+}  // namespace
+
 eth::NormalModeOptions normal_mode(const LinkSettings& settings, milliseconds period,
                                    std::optional<milliseconds> reply) {
   eth::UdpOptions reply_wait = udp(settings, RetryPolicy{});
@@ -115,7 +126,7 @@ eth::NormalModeOptions normal_mode(const LinkSettings& settings, milliseconds pe
       .sslbp = sslbp(RetryPolicy{}),
       .running_host = running_host(settings),
       .period = period,
-      .max_missed_cycles = kNormalModeMissedCycles,
+      .max_missed_cycles = missed_cycles(period, reply.value_or(kUdpMaxTimeout)),
       .zero_cycles_before_stop = kZeroCyclesBeforeStop,
   };
 }

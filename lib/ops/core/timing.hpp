@@ -130,8 +130,12 @@ inline constexpr std::chrono::milliseconds kPassiveReadFloor{200};
 // Normal mode for watch and the console: the DOIT period and its reply timeout.
 inline constexpr std::chrono::milliseconds kNormalModePeriod{10};
 inline constexpr std::chrono::milliseconds kNormalModeReply{20};
-// Cycles in a row without a reply before a normal-mode session gives up.
+// Cycles in a row without a reply before a normal-mode session gives up: at least these, and
+// at a short period as many as fill the 8I20's watchdog (below), so that a 1 ms loop does not
+// give up on a card that a 6 ms hiccup of the host kept from answering.
 inline constexpr unsigned kNormalModeMissedCycles = 3;
+// The 8I20's watchdog in normal mode: "40 mS" (manual, 8I20 DEVICE SPECIFIC SETUP).
+inline constexpr std::chrono::milliseconds kEightI20Watchdog{40};
 // Commissioning's drive loop: cycles of QSETPOINT 0 it sends before it stops the port.
 inline constexpr unsigned kZeroCyclesBeforeStop = 3;
 // The time between two samples of `i20 watch` (also --passive) and of the console's live
@@ -176,10 +180,13 @@ inline constexpr double kHoldS = 0.4;
 inline constexpr std::chrono::milliseconds kIdentifyPeriod{1};
 // Another host's packets commissioning tolerates in all (a stray mesaflash query; LinuxCNC
 // sends one every servo period), the drive-loop cycles between two checks for one (each
-// costs a read-only packet), and the cycles over which the rotor's speed is measured.
+// costs a read-only packet).
 inline constexpr unsigned kCommissionForeignPackets = 2;
 inline constexpr unsigned kCommissionHostCheckEvery = 20;
-inline constexpr unsigned kCommissionSpeedWindow = 5;
+inline constexpr unsigned kCommissionHostCheckMisses = 3;
+// The rotor's speed (the runaway guard) is measured over this span: five of commissioning's
+// 10 ms periods, fifty of tune-axis's 1 ms ones (over five, a host's 5 ms hiccup doubled it).
+inline constexpr std::chrono::milliseconds kCommissionSpeedSpan{50};
 // How long an 8I20 may take to answer again after a reset, and to clear CLEARFAULT.
 inline constexpr std::chrono::milliseconds kResetWait{3000};
 inline constexpr std::chrono::milliseconds kClearFaultWait{1000};
