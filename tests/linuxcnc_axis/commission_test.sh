@@ -228,7 +228,7 @@ first_move() {
   # bite is a gap of at least the watchdog, a run that measured the host.
   longest=$(value period_max)
   [[ $(value watchdog) == FALSE ]] || {
-    longest=$WATCHDOG_NS
+    [[ $longest =~ ^[0-9]+$ ]] && ((longest > WATCHDOG_NS)) || longest=$WATCHDOG_NS
     note "$label: the 8I20's watchdog bit, a gap of at least $((WATCHDOG_NS / 1000000)) ms at the card"
   }
   note "$label: index passed at $index_rpm rpm; current at standstill id $id A, iq $iq A, output $output:" \
