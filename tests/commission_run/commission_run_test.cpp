@@ -13,8 +13,10 @@
 #include <random>
 #include <thread>
 
+#include "eth/drive_loop.hpp"
 #include "eventually.hpp"
 #include "ops/core/outcome.hpp"
+#include "ops/core/timing.hpp"
 #include "sim/amplifier.hpp"
 #include "sim/bits.hpp"
 #include "virtual_axis.hpp"
@@ -304,6 +306,35 @@ TEST(CommissionRun, ASignalStopsItAndSaysSo) {
   expect_stopped(axis, r, ops::StopReason::Signal, "SIGTERM");
   EXPECT_EQ(r.outcome(), ops::Outcome::Interrupted);
   EXPECT_EQ(ops::exit_code(r.outcome()), 130);
+}
+
+// The drive loop dates its readings by the card's microsecond timer (space 4's uSTimeStamp),
+// read in the DOIT packet: the card read it between the packet's send and its reply's arrival,
+// whatever the host did in between, so the card's time between two readings lies between the
+// host's tightest and loosest bounds.
+TEST(CommissionRun, TheDriveLoopReadsTheCardsOwnTimeOfItsReadings) {
+  VirtualAxis axis(MotorSpec{});
+  const auto target = eth::EthTarget{.host_port = {.ip = "127.0.0.1", .port = axis.server().address().port}};
+  const auto loop = eth::DriveLoop::open(target, ops::timing::normal_mode(ops::LinkSettings{}, 10ms, 20ms));
+  std::optional<eth::DriveReading> last;
+  int judged = 0;
+  for (int i = 0; i < 20; ++i) {
+    const auto reading = loop->cycle(eth::DriveSetpoint{});
+    if (reading.encoders.empty()) {  // a lost reply: no bounds for the next one
+      last.reset();
+      continue;
+    }
+    if (last) {
+      const auto us = [](auto d) { return std::chrono::duration_cast<std::chrono::microseconds>(d).count(); };
+      const auto on_card = static_cast<std::uint16_t>(reading.card_microseconds - last->card_microseconds);
+      EXPECT_GE(on_card + 1, us(reading.sent - last->taken)) << "cycle " << i;
+      EXPECT_LE(on_card, us(reading.taken - last->sent) + 1) << "cycle " << i;
+      EXPECT_GT(on_card, 0) << "the timer runs";
+      ++judged;
+    }
+    last = reading;
+  }
+  EXPECT_GE(judged, 10);
 }
 
 TEST(CommissionRun, ASerialTargetIsRefusedBeforeAnythingMoves) {

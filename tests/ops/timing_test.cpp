@@ -87,6 +87,18 @@ TEST(Timing, ARunningHostShowsWithinOneWatchAndAStartedAmpStaysFed) {
   EXPECT_EQ(loop.udp.max_timeout, milliseconds(40));
 }
 
+TEST(Timing, ASessionGivesUpOnMissedRepliesOnlyOnceTheyFillTheWatchdog) {
+  // tune-axis's 1 ms loop, replies waited 2 ms: 14 cycles (42 ms) before it gives up; 3 (6 ms)
+  // gave up on a card that a host's hiccup kept from answering.
+  const auto fast = timing::normal_mode(LinkSettings{}, milliseconds(1), milliseconds(2));
+  EXPECT_EQ(fast.max_missed_cycles.get(), 14u);
+  EXPECT_GE(fast.max_missed_cycles.get() * (fast.period.get() + milliseconds(2)), kWatchdog);
+  // Commissioning's 10 ms loop and the watch: never fewer than kNormalModeMissedCycles.
+  EXPECT_EQ(timing::normal_mode(LinkSettings{}, milliseconds(10), milliseconds(20)).max_missed_cycles.get(),
+            timing::kNormalModeMissedCycles);
+  EXPECT_EQ(timing::normal_mode(LinkSettings{}).max_missed_cycles.get(), timing::kNormalModeMissedCycles);
+}
+
 TEST(Timing, OnlyATakeOverTriesASetupStartMoreThanOnce) {
   EXPECT_EQ(timing::running_host(with_timeout(50, false)).setup_start_attempts(), 1u);
   EXPECT_FALSE(timing::passthrough(with_timeout(50, false), {}).running_host.take_over);
