@@ -67,8 +67,8 @@ struct EncoderReading {
 
 struct DriveReading {
   std::chrono::steady_clock::time_point taken{};
-  // When the packet was sent: the card reads its registers as the packet arrives, so on a
-  // host that was put aside while the reply waited this is the closer time of the readings.
+  // When the host sent the packet, on its own clock (a run's time limits count from it; the
+  // readings' time is the card's, below).
   std::chrono::steady_clock::time_point sent{};
   // The card's free-running microsecond timer as it read the encoders (wraps every 65.536 ms):
   // the readings' own time, whatever the host or the network did with the packet.

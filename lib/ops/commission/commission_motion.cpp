@@ -130,8 +130,9 @@ void Motion::guard(const eth::DriveReading& reading, const Tick& tick) {
 
 // The card's packet counters, between DOITs. A read that goes unanswered (a host's hiccup of a
 // few milliseconds outlasts a 1 ms loop's reply wait) is tried again at the next check; the
-// DOITs' own missed replies tell a card that stopped. kCommissionHostCheckMisses in a row end
-// the run: another host could then go unseen.
+// DOITs' own missed replies tell a card that stopped, and the counters count from the run's
+// start, so a check tried again misses nothing. kCommissionHostCheckMisses in a row end the
+// run: the card's counters could not be read to see another host.
 void Motion::check_for_other_host() {
   std::uint32_t foreign = 0;
   try {
