@@ -86,8 +86,18 @@ names remote-fault pin-8i20-fault "fault.overcurrent is TRUE"
 note "remote fault: named"
 
 # 3. Half the 8I20's replies lost: the card's link errors, the error counter, the port stopped.
+#    Whether LinuxCNC prints a "local error" line before the port stops depends on the host's
+#    timing (a DOIT the lost replies delayed is found unfinished, "DoIt not cleared", and
+#    counted without its error bits). This step failed once in 11 runs here with no "local
+#    error" named and its output not kept; the doctor is now held to name one whenever LinuxCNC
+#    printed one (a line it cannot name fails as before, with the output), and a run without
+#    one says so. tests/doctor/data holds printed ones, named by the unit tests.
 run lossy-8i20 4000000 "" "ch 0 drop 0.5"
-names lossy-8i20 local-link-error
+if grep -q "Smart serial card .* error = " "$work/lossy-8i20.out"; then
+  names lossy-8i20 local-link-error
+else
+  note "8I20 replies lost: LinuxCNC printed no local error line this run: $(grep -c "DoIt not cleared" "$work/lossy-8i20.out") DoIt-not-cleared line(s)"
+fi
 names lossy-8i20 sserial-comms-error
 names lossy-8i20 sserial-port-stopped "smart-serial port 0 of $BOARD was stopped"
 note "8I20 replies lost: named, port stopped"
@@ -124,8 +134,17 @@ PY
 #    itself shows the bus now up and BUSLOVFAULT still latched. hm2_eth's firewall refuses
 #    other programs' packets to the card on the LinuxCNC host (hm2_eth(9)); root's are let
 #    through here, as a user runs i20 from another machine or lets it through likewise.
+#    Each step waits for its event (CI's sanitizer run once read the card before hm2_eth had
+#    started the port, after fixed waits of 2.5 s and 0.5 s): halrun's hold script marks that
+#    the thread runs, the 8I20's bus-underv pin that the port runs, and the doctor is asked
+#    again (each ask is one observation) until it reads the bus LinuxCNC's cycles refreshed.
 start_sim
 sim_ask "ch 0 busv 20" >/dev/null
+mkdir -m 1777 "$work/marks"
+mkfifo -m 666 "$work/release"
+# shellcheck disable=SC2016  # $1 is the hold script's own argument
+printf '#!/bin/sh\ntouch %s/at-"$1"\nread line < %s\n' "$work/marks" "$work/release" >"$work/hold"
+chmod 755 "$work/hold"
 cat >"$work/passive.hal" <<HAL
 loadrt hostmot2
 loadrt hm2_eth board_ip=$CARD_IP
@@ -134,17 +153,35 @@ setp $BOARD.sserial.port-0.fault-lim 1000000
 addf $BOARD.read servo-thread
 addf $BOARD.write servo-thread
 start
-loadusr -w sleep 6
+loadusr -w $work/hold running
 HAL
 chmod 644 "$work/passive.hal"
-hal halrun -f "$work/passive.hal" >"$work/passive.out" 2>&1 &
+hal timeout 120 halrun -f "$work/passive.hal" >"$work/passive.out" 2>&1 &
 hal_pid=$!
-sleep 2.5
+# until TRIES COMMAND...: COMMAND succeeds within TRIES tries 0.1 s apart while halrun runs.
+until_true() {
+  local tries=$1
+  shift
+  for _ in $(seq "$tries"); do
+    "$@" && return 0
+    kill -0 "$hal_pid" 2>/dev/null || return 1
+    sleep 0.1
+  done
+  return 1
+}
+until_true 600 test -e "$work/marks/at-running" || { cat "$work/passive.out"; fail "--passive: halrun did not start its thread"; }
+port_shows_bus_fault() { [[ $(hal halcmd getp "$AMP.fault.bus-underv" 2>/dev/null) == TRUE ]]; }
+until_true 600 port_shows_bus_fault || { cat "$work/passive.out"; fail "--passive: LinuxCNC's port never showed the 8I20's latched bus under-voltage"; }
 sim_ask "ch 0 busv 320" >/dev/null
-sleep 0.5
 ip netns exec "$ns_host" iptables -I OUTPUT 1 -m owner --uid-owner 0 -j ACCEPT
-ip netns exec "$ns_host" "$I20" --eth "$CARD_IP" doctor --passive --json >"$work/passive.json"
-status=$?
+doctor_reads_bus_up() {
+  ip netns exec "$ns_host" "$I20" --eth "$CARD_IP" doctor --passive --json >"$work/passive.json"
+  status=$?
+  python3 -c 'import json, sys; a = json.load(open(sys.argv[1]))["card"]["amplifiers"][0]; sys.exit(0 if a["busv_v"] > 300 else 1)' \
+    "$work/passive.json" 2>/dev/null
+}
+until_true 100 doctor_reads_bus_up
+echo >"$work/release"
 wait "$hal_pid"
 hal_pid=""
 stop_sim
