@@ -336,7 +336,8 @@ TEST_F(CommissionCliSim, TuneAxisIdentifiesTheVirtualAxisWithinItsWindow) {
   const auto r =
       kept_time("tune-axis", json,
                 {"--yes", "--check", hal.string(), "--travel", "360deg", "--torque-constant", "0.45Nm/A",
-                 "--inertia-guess", "0.6kgcm^2", "--friction-guess", "0.02Nm", "--csv", csv.string()});
+                 "--inertia-guess", "0.6kgcm^2", "--friction-guess", "0.02Nm", "--csv", csv.string(),
+                 "--overwrite"});  // a run again after a starved one writes its own move
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const auto report = YAML::Load(r.out);
   const auto m = report["mechanics"];

@@ -229,7 +229,20 @@ HAL
 note "servo thread stalled 150 ms: E-stop, named"
 
 # --- half the 8I20's replies lost: hostmot2 stops the port (its own fault-lim) --------------
-judge_lossy() { trips lossy-8i20 ok_lossy lossy-8i20 sserial-port-stopped; }
+# The file's own comparison drops the machine the cycle fault-count passes fault-lim; hostmot2
+# stops the port and says so on its own check of the same count, which can come after the HAL
+# run has ended (CI once: the machine dropped at a count of 207 and LinuxCNC printed no stop).
+# The doctor is held to name the stop whenever LinuxCNC printed it, and the counter past its
+# limit otherwise.
+judge_lossy() {
+  if grep -q "Smart Serial Port 0 will be stopped" "$work/lossy-8i20.out"; then
+    trips lossy-8i20 ok_lossy lossy-8i20 sserial-port-stopped
+  elif (($(reading lossy-8i20 count_lossy) > 200)); then
+    trips lossy-8i20 ok_lossy lossy-8i20 pin-fault-count
+  else
+    echo "lossy-8i20: the machine dropped with fault-count $(reading lossy-8i20 count_lossy), not past the limit of 200, and no port stopped"
+  fi
+}
 run_scenarios lossy-8i20 strict judge_lossy <<HAL
 $(watched)
 $(marker lossy-8i20)
