@@ -15,7 +15,7 @@
 # halrun, runuser or the HAL user. Gives: skip, fail, note;
 # CARD, BOARD, CHANNEL, CHANNELS, ENC, AMP, HALL_NETS, CARD_IP; POLES, COUNTS (the motor
 # file's axis); $work (a folder the HAL user can read); start_sim, stop_sim, sim_ask,
-# sim_reading, sim_field, sim_angle; hal (a command in the host namespace as the HAL user); RT.
+# sim_reading, sim_field, sim_angle, make_hold; hal (a command in the host namespace as the HAL user); RT.
 set -u
 
 SKIP=77
@@ -203,6 +203,15 @@ sim_field() {
   printf -v "$1" '%s' "$value"
 }
 sim_angle() { sim_reading "$1" motor_angle; }
+# make_hold: writes $work/hold, a script halrun runs as `loadusr -w $work/hold NAME`: it marks
+# where halrun waits ($work/marks/at-NAME, in a folder the HAL user may write), then waits for
+# a line on the fifo $work/release (the caller makes it). The test waits for the mark, its event.
+make_hold() {
+  mkdir -p -m 1777 "$work/marks"
+  # shellcheck disable=SC2016  # $1 is the hold script's own argument
+  printf '#!/bin/sh\ntouch %s/at-"$1"\nread line < %s\n' "$work/marks" "$work/release" >"$work/hold"
+  chmod 755 "$work/hold"
+}
 
 # --- LinuxCNC -------------------------------------------------------------------------------
 hal() { $RT ip netns exec "$ns_host" runuser -u "$HAL_USER" -- env HOME="$hal_home" "$@"; }

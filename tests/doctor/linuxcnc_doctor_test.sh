@@ -140,11 +140,8 @@ PY
 #    again (each ask is one observation) until it reads the bus LinuxCNC's cycles refreshed.
 start_sim
 sim_ask "ch 0 busv 20" >/dev/null
-mkdir -m 1777 "$work/marks"
+make_hold
 mkfifo -m 666 "$work/release"
-# shellcheck disable=SC2016  # $1 is the hold script's own argument
-printf '#!/bin/sh\ntouch %s/at-"$1"\nread line < %s\n' "$work/marks" "$work/release" >"$work/hold"
-chmod 755 "$work/hold"
 cat >"$work/passive.hal" <<HAL
 loadrt hostmot2
 loadrt hm2_eth board_ip=$CARD_IP

@@ -120,12 +120,7 @@ SEED=${I20_TEST_SEED:-$(date +%s)}
 RANDOM=$SEED
 TEST_CURRENT_A=1.0
 VISCOUS=0.012 # Nm/(rad/s): with the motor's 0.6 kgcm^2, a 5 ms time constant
-# The hold script marks where halrun waits (in a folder the HAL user may write), then waits
-# for a line.
-mkdir -m 1777 "$work/marks"
-# shellcheck disable=SC2016  # $1 is the hold script's own argument
-printf '#!/bin/sh\ntouch %s/at-"$1"\nread line < %s\n' "$work/marks" "$work/release" >"$work/hold"
-chmod 755 "$work/hold"
+make_hold
 sim_motor() { sim_ask "ch $CHANNEL motor $*" >/dev/null; }
 # The HAL file of one first move; `rewire` replaces the capture (the control run), or is
 # "generated": the file `i20 hal` wrote (generated_hal_files), whose pid (gains 0) puts out
