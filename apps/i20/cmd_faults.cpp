@@ -19,9 +19,9 @@
 #include "faults_render.hpp"
 #include "lbp/bytes.hpp"
 #include "ops/core/errors.hpp"
+#include "ops/core/timing.hpp"
 #include "ops/faults.hpp"
 #include "ops/watch/live_source.hpp"
-#include "ops/core/timing.hpp"
 #include "passive.hpp"
 
 namespace i20::cli {
@@ -193,18 +193,18 @@ void run_mask_set(Context& ctx, const MaskOptions& o) {
   const F::BitInfo* bit = nullptr;
   with_fault_errors_mapped([&] { bit = &F::maskable_fault(o.key); });
   const bool masked = o.state == "on";
-  // Refuse before the link opens whatever the rules already know (address, range).
-  ops::check_offline(ctx.session().db().get("FAULTMASK"), F::kNothingMasked, o.write);
+  // Refused before the link opens: what the rules already know (address, range).
+  const ops::FaultMaskChange change(ctx.session().db(), o.key, masked, o.write);
   auto& amp = ctx.amp();
   ops::MaskResult m;
-  with_fault_errors_mapped([&] { m = ops::set_fault_mask(amp, o.key, masked, o.write); });
+  with_fault_errors_mapped([&] { m = change.run_on(amp); });
   ctx.record(m.run.outcome);
   if (!m.run.ok()) {
     app::render::print_run(std::cout, m.run, amp.db(), "command line");
     std::cerr << "i20: " << app::render::error_line(m.run) << "\n";
     return;
   }
-  const Readings after = ops::read_fault_registers(amp);
+  const Readings& after = *m.after;
   if (ctx.options.json) {
     auto j = app::Json::object();
     j.set("bit", bit->bit).set("name", bit->name).set("slug", bit->slug).set("masked", masked);
@@ -271,8 +271,8 @@ app::Json clear_json(const ops::ClearResult& res, const F::Report& cleared, cons
 }
 
 void run_clear(Context& ctx, const ClearOptions& o) {
-  const auto job = ops::make_clear_job(ctx.session().db(), o.write, std::chrono::milliseconds(o.wait_ms));
-  const auto res = ops::clear_faults(ctx.amp(), job);
+  const ops::FaultClear clear(ctx.session().db(), o.write, std::chrono::milliseconds(o.wait_ms));
+  const auto res = clear.run_on(ctx.amp());
   const Readings& r = res.after;
   const auto cleared = res.cleared();
   const auto remaining = res.remaining();

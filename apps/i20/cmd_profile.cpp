@@ -17,10 +17,11 @@
 #include "lbp/bytes.hpp"
 #include "ops/apply_run.hpp"
 #include "ops/change.hpp"
-#include "ops/fleet.hpp"
-#include "ops/profile_diff.hpp"
 #include "ops/core/read.hpp"
 #include "ops/core/signals.hpp"
+#include "ops/fleet.hpp"
+#include "ops/profile_apply.hpp"
+#include "ops/profile_diff.hpp"
 #include "ops/undo.hpp"
 #include "output_file.hpp"
 #include "profile/backup.hpp"
@@ -106,14 +107,6 @@ ops::ApplyRequest apply_request(Context& ctx, const Profile& profile, const para
           .allow_unverified = allow_unverified,
           .cancel = ctx.session().cancel(),
           .open = ctx.session().open_options()};
-}
-
-// One run per target: one card directly, several as the fleet (concurrent across lines).
-std::vector<ops::TargetRun> run_on_targets(const std::vector<ops::Endpoint>& targets,
-                                           const ops::ApplyJob& job,
-                                           const ops::FleetActivity& activity = {}) {
-  if (targets.size() == 1) return {ops::run_apply(targets.front(), job)};
-  return ops::run_fleet(targets, job, activity);
 }
 
 // ------------------------------------------------------------------ validate
@@ -213,14 +206,14 @@ app::Json validate_on_cards(Context& ctx, const params::ParamDb& db,
   if (!loaded.profile) return validate_offline(ctx, db, file, o.force, outcome);  // reports the load error
   auto request = apply_request(ctx, *loaded.profile, db, o.force, o.allow_unverified);
   request.dry_run = true;
-  std::optional<ops::ApplyJob> job;
+  std::optional<ops::ProfileApply> apply;
   try {
-    job = ops::make_apply_job(request);
+    apply.emplace(request);
   } catch (const Error& e) {
     outcome = ops::outcome_of(e.kind());
     return refused_offline(ctx, *loaded.profile, db, file, o.force, e);
   }
-  const auto runs = run_on_targets(targets, *job);
+  const auto runs = apply->run_on(targets);
   outcome = ops::fleet_outcome(runs);
   auto j = app::Json::object();
   j.set("file", file).set("valid", outcome == ops::Outcome::DryRun);
@@ -431,32 +424,33 @@ void print_many(Context& ctx, const Profile& profile, const std::string& file,
 }
 
 // One card: the plan as soon as it is known, each write as it happens, then the report.
-// `run` runs the job (on a target it opens, or on a card already open).
-using RunJob = std::function<ops::TargetRun(const ops::ApplyJob&, const ops::Activity&)>;
+// `run` runs the apply (on a target it opens, or on a card already open).
+using RunOne = std::function<ops::TargetRun(const ops::Activity&, const ops::PlanShown&)>;
 
-void apply_single(Context& ctx, const Profile& profile, const std::string& file, ops::ApplyJob job,
-                  const std::string& target, const RunJob& run_job) {
+void apply_single(Context& ctx, const Profile& profile, const std::string& file, const params::ParamDb& db,
+                  const std::string& target, const RunOne& run_one) {
   const bool text = !ctx.options.json;
   if (text)
     std::cout << "Profile " << profile.name << " (" << file << ") -> " << target << "\n" << std::flush;
   bool plan_shown = false;
-  job.transaction.on_plan = [&](const profile::Plan& plan) {
+  const auto show_plan = [&](const profile::Plan& plan) {
     if (!text || plan.empty()) return;
     render::print_plan(std::cout, plan);
     std::cout << std::flush;
     plan_shown = true;
   };
-  const auto run = run_job(job, [text](const std::string& what) {
+  const auto show_write = [text](const std::string& what) {
     if (text && (what.rfind("writing", 0) == 0 || what.rfind("restoring", 0) == 0 || what == "resetting"))
       std::cout << "  " << what << "\n" << std::flush;
-  });
+  };
+  const auto run = run_one(show_write, show_plan);
   ctx.record(run.outcome);
   if (!text) {
     auto j = render::run_json(run);
     j.set("profile", profile.name).set("file", file);
     return ctx.print_json(j);
   }
-  render::print_run(std::cout, run, *job.db, file, plan_shown);
+  render::print_run(std::cout, run, db, file, plan_shown);
   if (!run.ok()) std::cerr << "i20: " << render::error_line(run) << "\n";
 }
 
@@ -484,16 +478,16 @@ void run_apply_command(Context& ctx, const ApplyCliOptions& o) {
   auto request = apply_request(ctx, *profile, db, o.force, o.allow_unverified);
   set_change_options(request, o);
   // The rules that need no card: nothing is sent when they refuse.
-  const auto job = ops::make_apply_job(request);
+  const ops::ProfileApply apply(request);
   require_reset_confirmed(ctx, o, targets);
   if (targets.size() == 1) {
     const auto& target = targets.front();
     return apply_single(
-        ctx, *profile, o.file, job, target.text,
-        [&](const ops::ApplyJob& j, const ops::Activity& a) { return ops::run_apply(target, j, a); });
+        ctx, *profile, o.file, db, target.text,
+        [&](const ops::Activity& a, const ops::PlanShown& p) { return apply.run_on(target, a, p); });
   }
   FleetProgress progress(targets, !ctx.options.json && isatty(STDERR_FILENO));
-  const auto runs = ops::run_fleet(targets, job, progress.activity());
+  const auto runs = apply.run_on(targets, progress.activity());
   progress.stop();
   print_many(ctx, *profile, o.file, runs, db, {o.reset, o.dry_run});
   ctx.record(ops::fleet_outcome(runs));
@@ -535,15 +529,15 @@ void run_undo(Context& ctx, const UndoOptions& o) {
   backup.name = "undo";  // names the backup this change takes in turn: "...-undo-unit00012345.yaml"
   auto request = apply_request(ctx, backup, db, o.apply.force, o.apply.allow_unverified);
   set_change_options(request, o.apply);
-  const auto job = ops::make_apply_job(request);
+  const ops::ProfileApply apply(request);
   if (!ctx.options.json) {
     for (const auto& s : choice.skipped) std::cerr << "i20: note: passed over " << s << "\n";
     for (const auto& f : forced) std::cerr << "i20: warning: restoring anyway (--force): " << f << "\n";
     std::cout << "Undo: restoring the values saved in " << file << "\n";
   }
-  apply_single(ctx, backup, file, job, target.text, [&](const ops::ApplyJob& j, const ops::Activity& a) {
+  apply_single(ctx, backup, file, db, target.text, [&](const ops::Activity& a, const ops::PlanShown& p) {
     if (a) a("connecting");
-    return ops::run_apply_on(*amp, j, a);
+    return apply.run_on(*amp, a, p);
   });
 }
 

@@ -345,9 +345,9 @@ console::Response ConsoleApi::apply(const console::Request& request) {
 }
 
 console::Response ConsoleApi::clear(const console::Request& request) {
-  preview_.reset();                                         // the card is not the one previewed any more
-  const auto job = ops::make_clear_job(session_.db(), {});  // refused before anything is sent
-  const auto res = ops::clear_faults(session_.amp(), job);
+  preview_.reset();                                // the card is not the one previewed any more
+  const ops::FaultClear clear(session_.db(), {});  // refused before anything is sent
+  const auto res = clear.run_on(session_.amp());
   const auto& r = res.after;
   auto j = app::Json::object();
   j.set("outcome", ops::to_string(res.outcome())).set("fault_before", lbp::hex_value(res.fault_before, 4));

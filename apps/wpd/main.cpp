@@ -26,8 +26,8 @@ using namespace i20;
 namespace {
 
 int clear_faults(ops::Session& session, const ops::WriteOptions& write) {
-  const auto job = ops::make_clear_job(session.db(), write);  // judged before the link opens
-  const auto result = ops::clear_faults(session.amp(), job);
+  const ops::FaultClear clear(session.db(), write);  // judged before the link opens
+  const auto result = clear.run_on(session.amp());
   std::cout << "FAULT cleared through CLEARFAULT: was " << lbp::hex_value(result.fault_before, 4) << ", now "
             << lbp::hex_value(result.after.fault, 4) << "\n";
   if (result.faults_remain())

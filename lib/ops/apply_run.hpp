@@ -54,9 +54,10 @@ struct ApplyJob {
 
 // The job for a request: the only place a job's settings are assembled, and the only way to
 // a job. Every rule that needs no card is judged here, for every cell of the profile
-// (read-only, known address, range, guard, the card's fixed limits, the cross-parameter
-// rules): a front end makes the job before it opens a link, so a refusal (SafetyError,
-// exit 3, naming the first broken rule) comes with nothing sent.
+// (read-only, known address, range, guard, the card's fixed limits): a front end makes the
+// job before it opens a link, so a refusal (SafetyError, exit 3, naming the first broken
+// rule) comes with nothing sent. The cross-parameter rules compare with the card's own
+// values and its measured bus, so the transaction judges them, before its first write.
 ApplyJob make_apply_job(const ApplyRequest& request);
 
 struct TargetRun {

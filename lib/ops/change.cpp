@@ -58,15 +58,15 @@ std::vector<NamedValue> named_values(const std::vector<std::string>& assignments
 
 ValueChange::ValueChange(const ValueChangeRequest& request, const params::ParamDb& db)
     : profile_(change_profile(request.values, db, request.syntax)),
-      job_(make_apply_job({.profile = &profile_,
-                           .db = &db,
-                           .force = request.force,
-                           .allow_unverified = request.allow_unverified,
-                           .dry_run = request.dry_run,
-                           .cancel = request.cancel})) {}
+      apply_({.profile = &profile_,
+              .db = &db,
+              .force = request.force,
+              .allow_unverified = request.allow_unverified,
+              .dry_run = request.dry_run,
+              .cancel = request.cancel}) {}
 
 TargetRun ValueChange::run_on(Amp& amp, const Activity& activity) const {
-  return run_apply_on(amp, job_, activity);
+  return apply_.run_on(amp, activity);
 }
 
 profile::Profile save_profile(Amp& amp, const std::vector<std::string>& names,

@@ -10,6 +10,7 @@
 #include "device/amp.hpp"
 #include "ops/apply_run.hpp"
 #include "ops/core/amp.hpp"
+#include "ops/profile_apply.hpp"
 #include "params/param_db.hpp"
 #include "profile/profile.hpp"
 #include "profile/save.hpp"
@@ -42,14 +43,14 @@ struct ValueChangeRequest {
 };
 
 // The use case: the values as a profile whose entries target the space each name names,
-// judged by every rule that needs no card (make_apply_job) when it is made, so a front end
-// makes it before it opens a link and a refusal comes with nothing sent. Throws UsageError
-// / UnknownParameter / ValueError (bad input) or SafetyError (a rule). run_on() runs the
-// one write transaction on the opened card: the same job a dry run plans.
+// applied as a profile is (ProfileApply): judged by every rule that needs no card when it is made, so a front
+// end makes it before it opens a link and a refusal comes with nothing sent. Throws UsageError /
+// UnknownParameter / ValueError (bad input) or SafetyError (a rule). run_on() runs the one write transaction
+// on the opened card: the same job a dry run plans.
 class ValueChange {
  public:
   ValueChange(const ValueChangeRequest& request, const params::ParamDb& db);
-  ValueChange(const ValueChange&) = delete;  // the job points at the profile held here
+  ValueChange(const ValueChange&) = delete;  // the apply's job points at the profile held here
   ValueChange& operator=(const ValueChange&) = delete;
 
   const profile::Profile& profile() const { return profile_; }
@@ -57,7 +58,7 @@ class ValueChange {
 
  private:
   profile::Profile profile_;
-  ApplyJob job_;
+  ProfileApply apply_;
 };
 
 // Reads `names` (if empty: profile::save_candidates(), keeping profile::names_to_save()) into a profile

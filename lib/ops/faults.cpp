@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "ops/faults.hpp"
 
+#include <utility>
+
 #include "device/errors.hpp"
 #include "faults/fault_mask.hpp"
 #include "lbp/bytes.hpp"
@@ -72,10 +74,10 @@ FaultReadings read_fault_registers(Amp& amp) {
   return r;
 }
 
-ClearJob make_clear_job(const params::ParamDb& db, const device::WriteOptions& write,
-                        std::chrono::milliseconds wait) {
+FaultClear::FaultClear(const params::ParamDb& db, const device::WriteOptions& write,
+                       std::chrono::milliseconds wait)
+    : write_(write), wait_(wait) {
   device::check_offline(db.get("CLEARFAULT"), 1, write);
-  return {write, wait};
 }
 
 faults::Report ClearResult::cleared() const {
@@ -86,9 +88,9 @@ faults::Report ClearResult::remaining() const {
   return faults::fault_report(after.fault, after.faultmask);
 }
 
-ClearResult clear_faults(Amp& amp, const ClearJob& job) {
-  const auto& write = job.write;
-  const auto wait = job.wait;
+ClearResult FaultClear::run_on(Amp& amp) const {
+  const auto& write = write_;
+  const auto wait = wait_;
   amp.device().check_write(amp.db().get("CLEARFAULT"), 1, write);
   fact_required(amp, "FAULT");
   ClearResult result;
@@ -106,10 +108,18 @@ ClearResult clear_faults(Amp& amp, const ClearJob& job) {
   return result;
 }
 
-MaskResult set_fault_mask(Amp& amp, const std::string& key, bool masked, const device::WriteOptions& write) {
-  faults::maskable_fault(key);  // unknown or unmaskable: refused before anything is read
+FaultMaskChange::FaultMaskChange(const params::ParamDb& db, std::string key, bool masked,
+                                 const device::WriteOptions& write)
+    : key_(std::move(key)), masked_(masked), write_(write) {
+  faults::maskable_fault(key_);  // unknown or unmaskable: refused before anything is read
+  device::check_offline(db.get("FAULTMASK"), faults::kNothingMasked, write_);
+}
+
+MaskResult FaultMaskChange::run_on(Amp& amp) const {
+  const auto& key = key_;
+  const bool masked = masked_;
+  const auto& write = write_;
   const auto& param = amp.db().get("FAULTMASK");
-  device::check_offline(param, faults::kNothingMasked, write);
   amp.device().check_write(param, faults::kNothingMasked, write);
   MaskResult result;
   const auto unconfirmed = write.allow_unverified ? Unconfirmed::Read : Unconfirmed::Skip;
@@ -126,6 +136,7 @@ MaskResult set_fault_mask(Amp& amp, const std::string& key, bool masked, const d
                             .cancel = amp.cancel()},
                            amp.db());
   result.run = change.run_on(amp);
+  if (result.run.ok()) result.after = read_fault_registers(amp);
   return result;
 }
 

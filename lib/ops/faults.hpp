@@ -12,8 +12,8 @@
 
 #include "device/amp.hpp"
 #include "faults/report.hpp"
-#include "ops/core/amp.hpp"
 #include "ops/apply_run.hpp"
+#include "ops/core/amp.hpp"
 #include "ops/core/timing.hpp"
 
 namespace i20::ops {
@@ -39,17 +39,24 @@ struct FaultReadings {
 // faults" from some other register. The rest are read where confirmed.
 FaultReadings read_fault_registers(Amp& amp);
 
-// A fault clear, judged by the rules that need no card when it is made: `i20 clear-faults`,
-// `wpd FAULT 0` and the console's button make it before they open (or use) a link, so a
-// refusal comes with nothing sent.
-struct ClearJob {
-  device::WriteOptions write;
-  std::chrono::milliseconds wait;  // how long CLEARFAULT may stay set
+struct ClearResult;
+
+// A fault clear (`i20 clear-faults`, `wpd FAULT 0`, the console's button), judged by the
+// rules that need no card when it is made, so a front end makes it before it opens (or
+// uses) a link and a refusal comes with nothing sent: SafetyError when CLEARFAULT's address
+// is not confirmed and `write.allow_unverified` is not given. run_on() sets CLEARFAULT,
+// waits until the card acts on it (bounded by `wait`), and reads the registers again; the
+// card's own copy of the database judges the write again.
+class FaultClear {
+ public:
+  FaultClear(const params::ParamDb& db, const device::WriteOptions& write,
+             std::chrono::milliseconds wait = timing::kClearFaultWait);
+  ClearResult run_on(Amp& amp) const;
+
+ private:
+  device::WriteOptions write_;
+  std::chrono::milliseconds wait_;  // how long CLEARFAULT may stay set
 };
-// Throws SafetyError when CLEARFAULT's address is not confirmed and `write.allow_unverified`
-// is not given.
-ClearJob make_clear_job(const params::ParamDb& db, const device::WriteOptions& write,
-                        std::chrono::milliseconds wait = timing::kClearFaultWait);
 
 struct ClearResult {
   std::uint16_t fault_before = 0;
@@ -62,18 +69,27 @@ struct ClearResult {
   faults::Report remaining() const;
 };
 
-// Sets CLEARFAULT, waits until the card acts on it (bounded by the job's wait), and reads
-// the registers again. The card's own copy of the database judges the write again.
-ClearResult clear_faults(Amp& amp, const ClearJob& job);
-
 struct MaskResult {
   std::uint16_t before = 0;  // FAULTMASK as read
   std::uint16_t wanted = 0;
-  TargetRun run;  // the transaction (nothing to do when already as asked)
+  TargetRun run;                       // the transaction (nothing to do when already as asked)
+  std::optional<FaultReadings> after;  // the registers once the change ended well
 };
 
-// Masks (or unmasks) the maskable FAULT bit named by `key`, keeping every other bit as
-// read. Throws faults::UnknownBit / NotMaskable (bad input / refused) before any write.
-MaskResult set_fault_mask(Amp& amp, const std::string& key, bool masked, const device::WriteOptions& write);
+// Masks (or unmasks) the maskable FAULT bit named by `key` (`i20 faults mask`), keeping every
+// other bit as read. Made before the link opens: an unknown or unmaskable bit
+// (faults::UnknownBit / NotMaskable) and what the rules already know of FAULTMASK (address,
+// range) are refused with nothing sent. run_on() reads FAULTMASK, writes it through the one
+// write transaction (ValueChange) and reads the fault registers again.
+class FaultMaskChange {
+ public:
+  FaultMaskChange(const params::ParamDb& db, std::string key, bool masked, const device::WriteOptions& write);
+  MaskResult run_on(Amp& amp) const;
+
+ private:
+  std::string key_;
+  bool masked_;
+  device::WriteOptions write_;
+};
 
 }  // namespace i20::ops

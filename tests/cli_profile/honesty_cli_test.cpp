@@ -8,13 +8,13 @@
 //  5. `watch | head -1` ends, and frees the port;
 //  7. a leading zero is refused as ambiguous; control characters never reach the terminal.
 #include <gtest/gtest.h>
-#include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <fstream>
 
 #include "cli_profile_util.hpp"
+#include "small_disk.hpp"
 
 using namespace i20::test;
 namespace fs = std::filesystem;
@@ -43,36 +43,6 @@ std::string quoted(const std::string& s) {
 std::string i20_path() {
   return program("i20").string();
 }
-
-// A folder on a tmpfs of `kib` KiB, so a write can meet a full disk for real. Needs root
-// (CI runs as root); skipped otherwise.
-class SmallDisk {
- public:
-  explicit SmallDisk(const fs::path& where, int kib) : path_(where) {
-    fs::create_directories(path_);
-    const std::string options = "size=" + std::to_string(kib) + "k";
-    mounted_ = ::mount("tmpfs", path_.c_str(), "tmpfs", 0, options.c_str()) == 0;
-  }
-  ~SmallDisk() {
-    if (mounted_) ::umount2(path_.c_str(), MNT_DETACH);
-  }
-  SmallDisk(const SmallDisk&) = delete;
-  SmallDisk& operator=(const SmallDisk&) = delete;
-  bool mounted() const { return mounted_; }
-  const fs::path& path() const { return path_; }
-  // Fills the disk up, leaving nothing free.
-  void fill() const {
-    std::ofstream filler(path_ / "filler", std::ios::binary);
-    const std::string block(1024, 'x');
-    while (filler.write(block.data(), static_cast<std::streamsize>(block.size()))) {
-    }
-  }
-  void free_space() const { fs::remove(path_ / "filler"); }
-
- private:
-  fs::path path_;
-  bool mounted_ = false;
-};
 
 class Honesty : public ::testing::Test {
  protected:

@@ -18,6 +18,7 @@
 
 #include "build_paths.hpp"
 #include "harness.hpp"
+#include "small_disk.hpp"
 #include "spawn.hpp"
 
 using namespace i20::test;
@@ -75,7 +76,8 @@ Result kept_time(const std::string& command, const std::vector<std::string>& tar
     const bool loop_not_kept = r.out.find("this host did not keep the") != std::string::npos;
     if (r.exit_code == 0 || !(starved || loop_not_kept)) break;
     std::cout << "run " << attempt << ": the loop was starved (worst DOIT gap " << gap.value_or(0)
-              << " us; the tool: " << (loop_not_kept ? "host did not keep its loop" : "watchdog") << "), run again\n";
+              << " us; the tool: " << (loop_not_kept ? "host did not keep its loop" : "watchdog")
+              << "), run again\n";
   }
   return r;
 }
@@ -118,7 +120,81 @@ class CommissionCliSim : public ::testing::Test {
   std::vector<std::string> quick() const {
     return {"--poles", "8", "--counts-per-rev", "10000", "--sweep-turns", "2", "--turns-per-second", "4"};
   }
+
+  // Asks the simulator `line` every 20 ms until its answer satisfies `done` or `limit` passes.
+  template <typename Done>
+  std::string until(const std::string& line, const Done& done, std::chrono::milliseconds limit) {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    std::string answer = card.control(line);
+    while (!done(answer) && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      answer = card.control(line);
+    }
+    return answer;
+  }
+
+  // The current the virtual motor carries now (its d and q parts, from `ch 1 motor`).
+  static double motor_current(const std::string& motor) {
+    const auto part = [&](const std::string& key) {
+      const auto at = motor.find(key);
+      return at == std::string::npos ? 0.0 : std::stod(motor.substr(at + key.size()));
+    };
+    return std::hypot(part(" id="), part(" iq="));
+  }
+
+  // Starts `i20 ARGS` and waits while it lives for the current to flow (0.5 A). A run the host
+  // starved (the watchdog bit with its own worst DOIT gap at 40 ms or more, as kept_time
+  // judges) ended before it drove: that measured the host, so it is run again, 3 runs in all.
+  // Null if no run drove; `ended` then holds the last run's result.
+  std::unique_ptr<Spawned> start_driving(const std::vector<std::string>& args, Result& ended) {
+    for (int attempt = 1; attempt <= 3; ++attempt) {
+      auto run = std::make_unique<Spawned>("i20", args);
+      // The run's own time limits end it; a minute bounds a run that hangs, which fails.
+      const auto hung = std::chrono::steady_clock::now() + std::chrono::minutes(1);
+      std::string motor = card.control("ch 1 motor");
+      while (motor_current(motor) < 0.5 && run->running(std::chrono::milliseconds(20)) &&
+             std::chrono::steady_clock::now() < hung)
+        motor = card.control("ch 1 motor");
+      if (motor_current(motor) >= 0.5) return run;
+      ended = run->finish(SIGKILL);
+      const auto gap = worst_doit_gap_us(ended.out);
+      const bool starved =
+          (ended.out + ended.err).find("WATCHDOG") != std::string::npos && gap && *gap >= 40000;
+      if (!starved) break;
+      std::cout << "run " << attempt << ": the loop was starved (a DOIT gap of " << *gap
+                << " us), run again\n";
+    }
+    return nullptr;
+  }
+
+  // The fragment `i20 commission` writes for the virtual motor, into `dir` (tune-axis checks it).
+  std::filesystem::path commissioned(const TempDir& dir) {
+    const auto hal = dir / "axis1.hal";
+    auto args = quick();
+    args.insert(args.end(), {"--yes", "-o", hal.string()});
+    const auto r = commission_kept_time(target(), args);
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    return hal;
+  }
+
+  // The whole command line of `i20 COMMAND OPTIONS` on the virtual card (a spawned run).
+  std::vector<std::string> command_line(const std::string& command,
+                                        const std::vector<std::string>& options) const {
+    std::vector<std::string> args{"--no-user-params"};
+    for (const auto& a : target()) args.push_back(a);
+    args.push_back(command);
+    args.insert(args.end(), options.begin(), options.end());
+    return args;
+  }
 };
+
+// tune-axis over the virtual axis's one-turn window, the motor file's constants as guesses.
+std::vector<std::string> tune_axis_options(const std::filesystem::path& hal,
+                                           const std::filesystem::path& csv) {
+  return {"--yes",     "--check",         hal.string(), "--travel",         "360deg", "--torque-constant",
+          "0.45Nm/A",  "--inertia-guess", "0.6kgcm^2",  "--friction-guess", "0.02Nm", "--csv",
+          csv.string()};
+}
 
 TEST_F(CommissionCliSim, WithoutATerminalItAsksAndDrivesNothing) {
   const auto r = commission(target(), quick());
@@ -231,48 +307,10 @@ TEST_F(CommissionCliSim, AFrozenSensorIsNeverFoundAndChecked) {
 // turns its output off and latches WATCHDOG, and no NV access or RPC memory mode is left on
 // (normal mode never enters them).
 TEST_F(CommissionCliSim, KilledMidMoveTheWatchdogTurnsTheOutputOff) {
-  std::vector<std::string> args{"--no-user-params"};
-  for (const auto& a : target()) args.push_back(a);
-  args.push_back("commission");
-  for (const auto& a : quick()) args.push_back(a);
-  args.push_back("--yes");
-  // Asks the simulator `line` every 20 ms until its answer satisfies `done` or `limit` passes.
-  const auto until = [&](const std::string& line, const auto& done, std::chrono::milliseconds limit) {
-    const auto deadline = std::chrono::steady_clock::now() + limit;
-    std::string answer = card.control(line);
-    while (!done(answer) && std::chrono::steady_clock::now() < deadline) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-      answer = card.control(line);
-    }
-    return answer;
-  };
-  // Driving: the align current flows (the idle card's output is on with no current).
-  const auto current_d = [](const std::string& motor) {
-    const auto at = motor.find(" id=");
-    return at == std::string::npos ? 0.0 : std::stod(motor.substr(at + 4));
-  };
-  // Starts the run and waits while it lives for the current to flow. A run the host starved
-  // (the watchdog bit with its own worst DOIT gap at 40 ms or more, as commission_kept_time
-  // judges) ended before it drove: that measured the host, so it is run again, 3 runs in all.
-  std::unique_ptr<Spawned> run;
+  auto options = quick();
+  options.push_back("--yes");
   Result ended;
-  for (int attempt = 1; attempt <= 3; ++attempt) {
-    run = std::make_unique<Spawned>("i20", args);
-    // The run's own time limits end it; a minute bounds a run that hangs, which fails.
-    const auto hung = std::chrono::steady_clock::now() + std::chrono::minutes(1);
-    std::string motor = card.control("ch 1 motor");
-    while (std::abs(current_d(motor)) < 0.5 && run->running(std::chrono::milliseconds(20)) &&
-           std::chrono::steady_clock::now() < hung)
-      motor = card.control("ch 1 motor");
-    if (std::abs(current_d(motor)) >= 0.5) break;
-    ended = run->finish(SIGKILL);
-    run.reset();
-    const auto gap = worst_doit_gap_us(ended.out);
-    const bool starved =
-        (ended.out + ended.err).find("WATCHDOG") != std::string::npos && gap && *gap >= 40000;
-    if (!starved) break;
-    std::cout << "run " << attempt << ": the loop was starved (a DOIT gap of " << *gap << " us), run again\n";
-  }
+  const auto run = start_driving(command_line("commission", options), ended);
   ASSERT_TRUE(run) << "the run ended before it drove: exit " << ended.exit_code << "\n"
                    << ended.out << ended.err;
   const auto killed = run->finish(SIGKILL);
@@ -326,10 +364,8 @@ TEST(TuneAxisCli, BadOptionsAreRefusedBeforeTheCardIsAsked) {
 // turn's window, the 8I20's default current-loop gains left as they are.
 TEST_F(CommissionCliSim, TuneAxisIdentifiesTheVirtualAxisWithinItsWindow) {
   TempDir dir;
-  const auto hal = dir / "axis1.hal";
-  auto args = quick();
-  args.insert(args.end(), {"--yes", "-o", hal.string()});
-  ASSERT_EQ(commission_kept_time(target(), args).exit_code, 0);
+  const auto hal = commissioned(dir);
+  ASSERT_FALSE(HasFailure());
   const auto csv = dir / "move.csv";
   auto json = target();
   json.push_back("--json");
@@ -351,4 +387,57 @@ TEST_F(CommissionCliSim, TuneAxisIdentifiesTheVirtualAxisWithinItsWindow) {
   const auto recorded = read(csv);
   EXPECT_EQ(recorded.rfind("time_s,shaft_rad,torque_nm\n", 0), 0u) << recorded.substr(0, 80);
   EXPECT_GT(std::count(recorded.begin(), recorded.end(), '\n'), 4000) << "one row per 1 ms cycle";
+}
+
+// Ctrl-C mid-move: tune-axis sets the current to 0 and stops the port (the 8I20's watchdog
+// then holds its output off), says the signal stopped it with exit 130, leaves no NV access
+// or RPC memory mode on, and the record it says it wrote is whole.
+TEST_F(CommissionCliSim, TuneAxisStoppedByCtrlCZeroesTheCurrentAndSaysSo) {
+  TempDir dir;
+  const auto hal = commissioned(dir);
+  ASSERT_FALSE(HasFailure());
+  const auto csv = dir / "move.csv";
+  Result ended;
+  const auto run = start_driving(command_line("tune-axis", tune_axis_options(hal, csv)), ended);
+  ASSERT_TRUE(run) << "the run ended before it drove: exit " << ended.exit_code << "\n"
+                   << ended.out << ended.err;
+  const auto stopped = run->finish(SIGINT);
+  EXPECT_EQ(stopped.exit_code, 130) << stopped.out << stopped.err;
+  EXPECT_NE(stopped.out.find("stopped by SIGINT"), std::string::npos) << stopped.out << stopped.err;
+  EXPECT_NE(stopped.out.find("QSETPOINT 0 sent and the port stopped"), std::string::npos) << stopped.out;
+  EXPECT_EQ(stopped.err.find("i20: next, the gains"), std::string::npos) << "no gains from a stopped run";
+  const auto after = until(
+      "ch 1 show", [](const std::string& show) { return show.find("output=off") != std::string::npos; },
+      std::chrono::seconds(1));
+  EXPECT_NE(after.find("output=off"), std::string::npos) << after;
+  EXPECT_NE(after.find("nv_access=ram"), std::string::npos) << after;
+  EXPECT_NE(after.find("rpcmem=off"), std::string::npos) << after;
+  EXPECT_LT(motor_current(card.control("ch 1 motor")), 0.05) << "current still flows after the stop";
+  if (stopped.err.find("i20: wrote " + csv.string()) != std::string::npos) {
+    const auto recorded = read(csv);
+    EXPECT_EQ(recorded.rfind("time_s,shaft_rad,torque_nm\n", 0), 0u) << recorded.substr(0, 80);
+    EXPECT_TRUE(recorded.ends_with("\n")) << "the record ends mid-row";
+  } else {
+    EXPECT_FALSE(std::filesystem::exists(csv)) << "a record was left that the tool did not say it wrote";
+  }
+}
+
+// The move's record on a full disk: the card's run is reported, then exit 6 (output lost)
+// naming the file, and no partial file under its name or beside it.
+TEST_F(CommissionCliSim, TuneAxisRecordOnAFullDiskIsLostOutputWithNoFileLeft) {
+  TempDir dir;
+  SmallDisk disk(dir / "disk", 64);
+  if (!disk.mounted()) GTEST_SKIP() << "mounting a tmpfs needs root";
+  const auto hal = commissioned(dir);
+  ASSERT_FALSE(HasFailure());
+  disk.fill();
+  const auto csv = disk.path() / "move.csv";
+  const auto r = kept_time("tune-axis", target(), tune_axis_options(hal, csv));
+  EXPECT_EQ(r.exit_code, 6) << r.out << r.err;
+  EXPECT_NE(r.out.find("inertia (total, at the motor)"), std::string::npos)
+      << "the run's report was not printed: " << r.out;
+  EXPECT_NE(r.err.find(csv.string()), std::string::npos) << "the lost file is not named: " << r.err;
+  EXPECT_EQ(r.err.find("i20: wrote"), std::string::npos) << r.err;
+  for (const auto& entry : std::filesystem::directory_iterator(disk.path()))
+    EXPECT_EQ(entry.path().filename(), "filler") << "left behind: " << entry.path();
 }

@@ -253,7 +253,7 @@ TEST(OpsHonestReads, FaultsOnUnknownFirmwareComeFromTheCardsOwnRpcTable) {
   EXPECT_FALSE(kqp.raw);
   EXPECT_NE(unknown_text(kqp).find("not confirmed for SWREVISION"), std::string::npos) << unknown_text(kqp);
   // FAULTMASK is in no RPC: masking is refused rather than judged on a guessed address.
-  EXPECT_THROW(set_fault_mask(*amp, "bus-under-voltage", true, {}), device::SafetyError);
+  EXPECT_THROW(FaultMaskChange(amp->db(), "bus-under-voltage", true, {}).run_on(*amp), device::SafetyError);
 }
 
 TEST(OpsHonestReads, AFreshConnectionLeavesModesADeadSessionLeftOn) {
