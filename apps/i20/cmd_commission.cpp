@@ -164,8 +164,9 @@ std::string report_yaml(const app::Json& report) {
   return std::string(y.c_str()) + "\n";
 }
 
-void print_text(const ops::CommissionReport& r) {
-  std::cout << "commission " << r.plan.preflight.target.url() << ": " << r.message << "\n";
+// The report under the name of the command the user ran (commission or tune-axis).
+void print_text(const ops::CommissionReport& r, const std::string& command) {
+  std::cout << command << " " << r.plan.preflight.target.url() << ": " << r.message << "\n";
   if (r.bldc) {
     const auto& b = *r.bldc;
     if (b.pattern)
@@ -248,7 +249,7 @@ ops::CommissionReport plan_ask_and_run(Context& ctx, const ops::CommissionOption
   else if (how.yaml)
     std::cout << report_yaml(tree);
   else
-    print_text(report);
+    print_text(report, name);
   ctx.record(report.outcome());
   if (!report.current_zeroed) std::cerr << "i20: card state: " << report.zero_note << "\n";
   return report;
