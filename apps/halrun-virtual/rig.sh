@@ -150,11 +150,14 @@ start_sim() {
   $SIM_RT ip netns exec "$ns_card" "$I20SIM" --eth "$CARD_IP" --card "$CARD" --channels "$CHANNELS" "${motor[@]}" \
     --no-stdin --control "$work/ctl" >"$work/sim.out" 2>"$work/sim.err" &
   sim_pid=$!
-  for _ in $(seq 50); do
-    grep -q "^$CARD_IP:27181" "$work/sim.out" 2>/dev/null && break
+  # Its address line says it serves: waited for while it lives (a loaded host starts it late;
+  # linuxcnc_axis once found no line after a fixed 5 s here), a minute bounding one that hangs.
+  local tenths=0
+  until grep -q "^$CARD_IP:27181" "$work/sim.out" 2>/dev/null; do
+    kill -0 "$sim_pid" 2>/dev/null || fail "i20sim did not start (it ended): $(cat "$work/sim.err")"
+    ((tenths++ < 600)) || fail "i20sim did not start within a minute: $(cat "$work/sim.err")"
     sleep 0.1
   done
-  grep -q "^$CARD_IP:27181" "$work/sim.out" || fail "i20sim did not start: $(cat "$work/sim.err")"
   # hm2_eth's first request (the card's MAC address, LBP16 command 0x4983 at 0x0002) waits
   # about a millisecond in all for its answer. Ask it once before LinuxCNC does: the host
   # learns the card's Ethernet address (ARP) and the card has run that path, so neither
