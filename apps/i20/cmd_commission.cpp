@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <sstream>
@@ -18,6 +19,7 @@
 #include "motor/units.hpp"
 #include "ops/commission/commission.hpp"
 #include "output_file.hpp"
+#include "profile/strip_chart.hpp"
 
 namespace i20::cli {
 namespace {
@@ -280,7 +282,7 @@ void run_commission_command(Context& ctx, Args& a) {
 // ------------------------------------------------------------------ tune-axis
 struct TuneAxisArgs {
   ops::CommissionOptions o;
-  std::string check, travel, lead, torque_constant, inertia_guess, friction_guess = "0Nm", csv;
+  std::string check, travel, lead, torque_constant, inertia_guess, friction_guess = "0Nm", csv, svg;
   bool yes = false, yaml = false, overwrite = false;
 };
 
@@ -307,8 +309,36 @@ std::string motion_csv(const ops::CommissionReport& r) {
   return out.str();
 }
 
+// The move and the fit on one time axis: where the shaft went, and the torque in effect beside
+// the torque the fitted mechanics give for each window's motion (gaps: windows the fit left
+// out, where the shaft reversed or crept). Where the two torques part, the model does not
+// describe the axis there.
+profile::StripChart identification_chart(const ops::CommissionReport& r) {
+  profile::StripChart chart{
+      "i20 tune-axis on " + r.plan.preflight.target.url() + ": the move and the fit", {}, {}};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> turns, recorded, fitted(r.motion.size(), nan);
+  const double start =
+      r.motion.empty() ? 0.0 : r.motion.front().time_s;  // the card's timer: from the move's start
+  std::size_t w = 0;
+  for (std::size_t k = 0; k < r.motion.size(); ++k) {
+    const auto& s = r.motion[k];
+    chart.time_s.push_back(s.time_s - start);
+    turns.push_back(s.position_rad / (2 * std::numbers::pi));
+    recorded.push_back(s.torque_nm);
+    while (w < r.fit.size() && r.fit[w].to_s <= s.time_s) ++w;
+    if (w < r.fit.size() && r.fit[w].from_s <= s.time_s) fitted[k] = r.fit[w].fitted_nm;
+  }
+  chart.strips.push_back({"Shaft, from where the index was found", "motor turns", {{"position", turns}}});
+  chart.strips.push_back(
+      {"Torque", "Nm", {{"in effect", recorded}, {"the fit (each window's mean)", fitted}}});
+  return chart;
+}
+
 void run_tune_axis_command(Context& ctx, TuneAxisArgs& a) {
   check_output_file(a.csv, a.overwrite);
+  check_output_file(a.svg, a.overwrite);
+  if (!a.svg.empty() && a.svg == a.csv) throw UsageError("--svg and --csv name the same file");
   a.o.check_file = ops::CheckFile{read_text(a.check), a.check};
   a.o.identify = ops::AxisIdentification{
       .half_window_turns = half_window_turns(a),
@@ -321,6 +351,11 @@ void run_tune_axis_command(Context& ctx, TuneAxisArgs& a) {
   if (!a.csv.empty() && !report.motion.empty()) {
     write_file_atomically(a.csv, motion_csv(report), a.overwrite);
     std::cerr << "i20: wrote " << a.csv << "\n";
+  }
+  if (!a.svg.empty() && report.motion.size() >= 2) {
+    write_file_atomically(a.svg, profile::strip_chart_svg(identification_chart(report)), a.overwrite);
+    std::cerr << "i20: drew the move" << (report.fit.empty() ? "" : " and the fit") << " in " << a.svg
+              << "\n";
   }
   if (report.mechanics && report.outcome() == ops::Outcome::Done && !ctx.options.json)
     std::cerr << "i20: next, the gains: i20 pid --inertia " << report.mechanics->inertia_kgm2.value << "kgm^2"
@@ -373,7 +408,10 @@ void register_tune_axis_command(CLI::App& app, Context& ctx) {
                   "MAXCURRENT; never above it)");
   cmd->add_option("--time-limit", a->o.time_limit_s, "Stop after this many seconds in all (default 60)");
   cmd->add_option("--csv", a->csv, "Write the move as recorded: time, shaft angle (rad), torque (Nm)");
-  cmd->add_flag("--overwrite", a->overwrite, "Replace an existing --csv file");
+  cmd->add_option("--svg", a->svg,
+                  "Draw the move and the fit (shaft angle; the torque in effect beside the torque the "
+                  "identified mechanics give) as an SVG, for a browser");
+  cmd->add_flag("--overwrite", a->overwrite, "Replace an existing --csv or --svg file");
   cmd->add_flag("--yes,-y", a->yes, "Do not ask before driving the motor (scripts)");
   cmd->add_flag("--yaml", a->yaml, "The report as YAML");
   cmd->callback([&ctx, a] { run_tune_axis_command(ctx, *a); });

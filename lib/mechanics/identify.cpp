@@ -28,6 +28,7 @@ std::string number(double v) {
 struct Window {
   Row x{};
   double y = 0;
+  double from_s = 0, to_s = 0;  // its edges' times
 };
 
 // Inverts a symmetric positive-definite matrix (Gauss-Jordan, partial pivoting); throws
@@ -84,6 +85,8 @@ std::vector<Window> windows_of(std::span<const MotionSample> s, const IdentifyOp
     for (std::size_t k = a; k < b; ++k) w.y += s[k].torque_nm * (s[k + 1].time_s - s[k].time_s);
     const double duration = s[b].time_s - s[a].time_s;
     w.x = {speed(b) - speed(a), s[b].position_rad - s[a].position_rad, direction * duration, duration};
+    w.from_s = s[a].time_s;
+    w.to_s = s[b].time_s;
     out.push_back(w);
   }
   return out;
@@ -141,6 +144,19 @@ Mechanics identify(std::span<const MotionSample> samples, const IdentifyOptions&
   m.windows = windows.size();
   m.residual_nm_s = std::sqrt(squares / static_cast<double>(windows.size()));
   return m;
+}
+
+std::vector<FitWindow> fit_windows(std::span<const MotionSample> samples, const Mechanics& m,
+                                   const IdentifyOptions& options) {
+  const Row fitted{m.inertia_kgm2.value, m.viscous_nm_per_rad_s.value, m.coulomb_nm.value, m.bias_nm.value};
+  std::vector<FitWindow> out;
+  for (const auto& w : windows_of(samples, options)) {
+    const double duration = w.to_s - w.from_s;
+    double predicted = 0;
+    for (std::size_t i = 0; i < kTerms; ++i) predicted += fitted[i] * w.x[i];
+    out.push_back({w.from_s, w.to_s, w.y / duration, predicted / duration});
+  }
+  return out;
 }
 
 }  // namespace i20::mechanics

@@ -23,6 +23,7 @@
 #include <cstddef>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "error/error.hpp"
 
@@ -66,5 +67,20 @@ struct IdentifyOptions {
 // Throws IdentifyError when the samples cannot determine all four values (too few
 // windows, motion in one direction only, no change of speed): the message says which.
 Mechanics identify(std::span<const MotionSample> samples, const IdentifyOptions& options = {});
+
+// One window of the fit, as the mean torque over it: what the record says was asked for (its
+// sum T dt over the window's length) and what the mechanics `m` give for the window's motion
+// (J dw + B dtheta + Tc sign(w) dt + G dt, over the same length). Where the two part, the
+// model does not describe the axis there: what a plot of the fit shows.
+struct FitWindow {
+  double from_s = 0, to_s = 0;
+  double recorded_nm = 0;
+  double fitted_nm = 0;
+};
+
+// The windows identify() fits (the same windows, speeds and options), each with the torque `m`
+// gives. Throws IdentifyError as identify() does for samples it cannot cut into windows.
+std::vector<FitWindow> fit_windows(std::span<const MotionSample> samples, const Mechanics& m,
+                                   const IdentifyOptions& options = {});
 
 }  // namespace i20::mechanics

@@ -69,30 +69,38 @@ Range range_of(const ChartStrip& strip) {
   return {r.lo - pad, r.hi + pad};
 }
 
-// A series as a polyline, at most two points per pixel column (its least and greatest in the
-// column, in the order they came): a 10,000-sample peak still shows at 900 pixels.
-std::string polyline(const std::vector<double>& t, const std::vector<double>& v, double t0, double t1,
-                     Range r, double x0, double w, double y0, double h) {
-  std::string points;
+// A series as polylines, one per run of finite values (a value that is not a number is a gap:
+// nothing was measured there), each with at most two points per pixel column (its least and
+// greatest in the column, in the order they came): a 10,000-sample peak still shows at 900
+// pixels.
+std::vector<std::string> polylines(const std::vector<double>& t, const std::vector<double>& v, double t0,
+                                   double t1, Range r, double x0, double w, double y0, double h) {
+  std::vector<std::string> runs;
   const auto x_of = [&](double time) { return x0 + (time - t0) / (t1 - t0) * w; };
   const auto y_of = [&](double value) { return y0 + h - (value - r.lo) / (r.hi - r.lo) * h; };
   std::size_t k = 0;
   while (k < t.size()) {
-    const int column = static_cast<int>(x_of(t[k]));
-    std::size_t lo = k, hi = k, end = k;
-    while (end < t.size() && static_cast<int>(x_of(t[end])) == column) {
-      if (v[end] < v[lo]) lo = end;
-      if (v[end] > v[hi]) hi = end;
-      ++end;
+    if (!std::isfinite(v[k])) {
+      ++k;
+      continue;
     }
-    for (std::size_t i : {std::min(lo, hi), std::max(lo, hi)}) {
-      if (!std::isfinite(v[i])) continue;
-      put(points, {svg_coordinate(x_of(t[i])), ",", svg_coordinate(y_of(v[i])), " "});
-      if (lo == hi) break;
+    std::string& points = runs.emplace_back();
+    while (k < t.size() && std::isfinite(v[k])) {
+      const int column = static_cast<int>(x_of(t[k]));
+      std::size_t lo = k, hi = k, end = k;
+      while (end < t.size() && std::isfinite(v[end]) && static_cast<int>(x_of(t[end])) == column) {
+        if (v[end] < v[lo]) lo = end;
+        if (v[end] > v[hi]) hi = end;
+        ++end;
+      }
+      for (std::size_t i : {std::min(lo, hi), std::max(lo, hi)}) {
+        put(points, {svg_coordinate(x_of(t[i])), ",", svg_coordinate(y_of(v[i])), " "});
+        if (lo == hi) break;
+      }
+      k = end;
     }
-    k = end;
   }
-  return points;
+  return runs;
 }
 
 void require_consistent(const StripChart& chart) {
@@ -154,10 +162,12 @@ std::string strip_chart_svg(const StripChart& chart, int width, int strip_height
                 kColours[(colour + k) % std::size(kColours)], "\">", xml_escaped(strip.series[k].label),
                 "</text>\n"});
     }
-    for (const auto& s : strip.series)
-      put(svg, {"<polyline fill=\"none\" stroke=\"", kColours[colour++ % std::size(kColours)],
-                "\" stroke-width=\"1.3\" points=\"",
-                polyline(chart.time_s, s.values, t0, t1, r, kLeft, plot_w, y0, h), "\"/>\n"});
+    for (const auto& s : strip.series) {
+      const char* stroke = kColours[colour++ % std::size(kColours)];
+      for (const auto& points : polylines(chart.time_s, s.values, t0, t1, r, kLeft, plot_w, y0, h))
+        put(svg, {"<polyline fill=\"none\" stroke=\"", stroke, "\" stroke-width=\"1.3\" points=\"", points,
+                  "\"/>\n"});
+    }
     put(svg, {"</g>\n"});
   }
   put(svg, {"<text x=\"", svg_coordinate(kLeft + plot_w / 2), "\" y=\"", std::to_string(height - 6),
@@ -185,7 +195,8 @@ std::string strip_chart_csv(const StripChart& chart) {
   for (std::size_t k = 0; k < chart.time_s.size(); ++k) {
     out += number(chart.time_s[k]);
     for (const auto& strip : chart.strips)
-      for (const auto& s : strip.series) put(out, {",", number(s.values[k])});
+      for (const auto& s : strip.series)  // a gap is an empty field
+        put(out, {",", std::isfinite(s.values[k]) ? number(s.values[k]) : std::string()});
     out += "\n";
   }
   return out;

@@ -13,7 +13,7 @@ namespace i20::profile {
 
 struct ChartSeries {
   std::string label;
-  std::vector<double> values;  // one per time sample
+  std::vector<double> values;  // one per time sample; not a number: a gap (nothing there)
 };
 
 struct ChartStrip {

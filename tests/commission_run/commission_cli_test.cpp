@@ -367,13 +367,14 @@ TEST_F(CommissionCliSim, TuneAxisIdentifiesTheVirtualAxisWithinItsWindow) {
   const auto hal = commissioned(dir);
   ASSERT_FALSE(HasFailure());
   const auto csv = dir / "move.csv";
+  const auto svg = dir / "move.svg";
   auto json = target();
   json.push_back("--json");
   const auto r =
       kept_time("tune-axis", json,
                 {"--yes", "--check", hal.string(), "--travel", "360deg", "--torque-constant", "0.45Nm/A",
-                 "--inertia-guess", "0.6kgcm^2", "--friction-guess", "0.02Nm", "--csv", csv.string(),
-                 "--overwrite"});  // a run again after a starved one writes its own move
+                 "--inertia-guess", "0.6kgcm^2", "--friction-guess", "0.02Nm", "--csv", csv.string(), "--svg",
+                 svg.string(), "--overwrite"});  // a run again after a starved one writes its own move
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const auto report = YAML::Load(r.out);
   const auto m = report["mechanics"];
@@ -387,6 +388,17 @@ TEST_F(CommissionCliSim, TuneAxisIdentifiesTheVirtualAxisWithinItsWindow) {
   const auto recorded = read(csv);
   EXPECT_EQ(recorded.rfind("time_s,shaft_rad,torque_nm\n", 0), 0u) << recorded.substr(0, 80);
   EXPECT_GT(std::count(recorded.begin(), recorded.end(), '\n'), 4000) << "one row per 1 ms cycle";
+  // The drawing: the shaft's strip, and the torque in effect beside the fit's, which has gaps
+  // (the windows left out where the shaft reversed), so it is drawn as several lines.
+  const auto drawn = read(svg);
+  EXPECT_EQ(drawn.rfind("<svg ", 0), 0u) << drawn.substr(0, 80);
+  EXPECT_NE(drawn.find("Shaft, from where the index was found (motor turns)"), std::string::npos);
+  EXPECT_NE(drawn.find(">the fit (each window's mean)<"), std::string::npos) << "no fit in the legend";
+  std::size_t lines = 0;
+  for (auto at = drawn.find("<polyline"); at != std::string::npos; at = drawn.find("<polyline", at + 1))
+    ++lines;
+  EXPECT_GT(lines, 4u) << "the fit was not drawn window by window";
+  EXPECT_NE(r.err.find("i20: drew the move and the fit in " + svg.string()), std::string::npos) << r.err;
 }
 
 // Ctrl-C mid-move: tune-axis sets the current to 0 and stops the port (the 8I20's watchdog

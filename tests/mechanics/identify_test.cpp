@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -143,4 +144,31 @@ TEST(IdentifyMechanics, AMoveOneWayOnlyCannotTellFrictionFromABias) {
   } catch (const mechanics::IdentifyError& e) {
     EXPECT_NE(std::string(e.what()).find("must run both ways"), std::string::npos) << e.what();
   }
+}
+
+// The fit as a plot shows it: with the identified mechanics each window's torque is the
+// record's to within the fit's residual; with the inertia doubled the windows where the shaft
+// speeds up or slows down part from it.
+TEST(IdentifyMechanics, TheFitsWindowsMatchTheRecordAndAWrongInertiaPartsFromIt) {
+  const motor::MotorParams p = servo();
+  const mechanics::Excitation path(kQuarterTurn);
+  const auto move = mechanics::rehearse_identification(p, path, p.inertia_kgm2, p.coulomb_nm);
+  const auto got = mechanics::identify(move.samples);
+  const auto windows = mechanics::fit_windows(move.samples, got);
+  ASSERT_EQ(windows.size(), got.windows) << "fit_windows cut other windows than identify";
+  const auto rms_gap = [](const std::vector<mechanics::FitWindow>& ws) {
+    double sum = 0;
+    for (const auto& w : ws) sum += (w.recorded_nm - w.fitted_nm) * (w.recorded_nm - w.fitted_nm);
+    return std::sqrt(sum / static_cast<double>(ws.size()));
+  };
+  double peak = 0;
+  for (const auto& w : windows) {
+    EXPECT_LT(w.from_s, w.to_s);
+    peak = std::max(peak, std::abs(w.recorded_nm));
+  }
+  const double fitted_gap = rms_gap(windows);
+  EXPECT_LT(fitted_gap, 0.1 * peak) << described(p, got);
+  auto wrong = got;
+  wrong.inertia_kgm2.value *= 2;
+  EXPECT_GT(rms_gap(mechanics::fit_windows(move.samples, wrong)), 2 * fitted_gap) << described(p, got);
 }

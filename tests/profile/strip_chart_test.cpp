@@ -87,3 +87,21 @@ TEST(StripChart, InconsistentDataIsRefused) {
   EXPECT_THROW(strip_chart_csv(c), i20::UsageError);
   EXPECT_THROW(strip_chart_svg(two_strips(1)), i20::UsageError);
 }
+
+// A value that is not a number is a gap: the line stops there and starts again after it (no
+// line drawn across what was not measured), and the CSV leaves its field empty.
+TEST(StripChart, AGapBreaksTheLineAndLeavesItsCsvFieldEmpty) {
+  StripChart c = two_strips(100);
+  auto& e = c.strips[1].series[0].values;
+  for (std::size_t k = 40; k < 60; ++k) e[k] = std::nan("");
+  const auto lines = ys(strip_chart_svg(c));
+  ASSERT_EQ(lines.size(), 4u) << "the gapped series is not two lines";
+  EXPECT_FALSE(lines[2].empty());
+  EXPECT_FALSE(lines[3].empty());
+  const std::string csv = strip_chart_csv(c);
+  EXPECT_NE(csv.find("\n0.05,"), std::string::npos);
+  const auto row =
+      csv.substr(csv.find("\n0.05,") + 1, csv.find('\n', csv.find("\n0.05,") + 1) - csv.find("\n0.05,") - 1);
+  EXPECT_EQ(row.back(), ',') << "a gap's field is not empty: " << row;
+  EXPECT_EQ(csv.find("nan"), std::string::npos);
+}

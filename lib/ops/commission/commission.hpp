@@ -200,6 +200,9 @@ struct CommissionReport {
   // it started (motor turns).
   std::optional<mechanics::Mechanics> mechanics;
   std::vector<mechanics::MotionSample> motion;  // the move as recorded: time, shaft angle, torque
+  // The fit's windows with the torque the fitted mechanics give, before the current loop's
+  // share is taken out of the inertia (what --svg draws beside the record).
+  std::vector<mechanics::FitWindow> fit;
   double widest_turns = 0;
 
   Outcome outcome() const;

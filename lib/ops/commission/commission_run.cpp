@@ -459,6 +459,7 @@ void Procedure::identify_axis(const BldcSetup& setup) {
     const mechanics::IdentifyOptions fit{.window_s = std::max(0.02, 10 * dt),
                                          .speed_span_s = std::max(0.004, 2 * dt)};
     report_.mechanics = mechanics::identify(report_.motion, fit);
+    report_.fit = mechanics::fit_windows(report_.motion, *report_.mechanics, fit);  // the fit as made
     correct_for_current_loop(*report_.mechanics);
     if (!(report_.mechanics->inertia_kgm2.value > 0)) {
       report_.stop = StopReason::CouldNotTell;
@@ -495,8 +496,8 @@ bool Procedure::torque_in_effect(const std::vector<HeldAngle>& held) {
     if (share < kLeastTorqueShare) ++weak;
   }
   report_.notes.push_back("the loop: " + std::to_string(not_taken) + " of " + std::to_string(held.size()) +
-                          " commands a busy card did not take; the torque in effect at least " + fixed(100 * lowest, 1) +
-                          "% of the command along the angle the 8I20 held");
+                          " commands a busy card did not take; the torque in effect at least " +
+                          fixed(100 * lowest, 1) + "% of the command along the angle the 8I20 held");
   if (static_cast<double>(weak) <= kMostWeakShare * static_cast<double>(motion.size())) return true;
   report_.stop = StopReason::CouldNotTell;
   report_.message = "this host did not keep the " + fixed(timing::kIdentifyPeriod.count(), 0) +
