@@ -198,7 +198,7 @@ void print_text(const ops::CommissionReport& r, const std::string& command) {
   if (r.mechanics) {
     const auto& m = *r.mechanics;
     const auto line = [](const char* what, const mechanics::Estimate& e, double scale, const char* unit) {
-      std::cout << "  " << what << e.value * scale << " +- " << e.sigma * scale << " " << unit << "\n";
+      std::cout << "  " << what << " " << e.value * scale << " +- " << e.sigma * scale << " " << unit << "\n";
     };
     line("inertia (total, at the motor)  ", m.inertia_kgm2, 1e4, "kg cm^2");
     line("viscous friction               ", m.viscous_nm_per_rad_s, 1e3, "mNm/(rad/s)");

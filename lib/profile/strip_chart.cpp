@@ -32,15 +32,13 @@ std::string number(double v) {
 
 // Ticks at 1, 2 or 5 times a power of ten spanning [lo, hi], about `about` of them.
 std::vector<double> ticks(double lo, double hi, int about) {
-  const double span = hi - lo;
-  const double raw = span / about;
+  const double raw = (hi - lo) / about;
   const double power = std::pow(10, std::floor(std::log10(raw)));
+  // The round step (1, 2 or 5 times a power of ten) nearest the wanted one: the next one up
+  // can leave a strip with one tick (+-0.44 in steps of 0.5 has only 0).
   double step = power;
-  for (double m : {1.0, 2.0, 5.0, 10.0})
-    if (raw <= m * power) {
-      step = m * power;
-      break;
-    }
+  for (double m : {2.0, 5.0, 10.0})
+    if (std::abs(std::log(m * power / raw)) < std::abs(std::log(step / raw))) step = m * power;
   std::vector<double> out;
   for (double t = std::ceil(lo / step) * step; t <= hi + step * 1e-9; t += step)
     out.push_back(std::abs(t) < step * 1e-9 ? 0 : t);

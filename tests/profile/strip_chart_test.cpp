@@ -105,3 +105,16 @@ TEST(StripChart, AGapBreaksTheLineAndLeavesItsCsvFieldEmpty) {
   EXPECT_EQ(row.back(), ',') << "a gap's field is not empty: " << row;
   EXPECT_EQ(csv.find("nan"), std::string::npos);
 }
+
+// Each strip reads off ticks of its own: a strip of +-0.4 gets several, not the one at 0 that
+// a step rounded up to 0.5 would leave.
+TEST(StripChart, AStripOfASmallRangeHasSeveralTicks) {
+  StripChart c{"ticks", {}, {{"Shaft", "turns", {{"position", {}}}}}};
+  for (std::size_t k = 0; k < 200; ++k) {
+    c.time_s.push_back(static_cast<double>(k) * 1e-3);
+    c.strips[0].series[0].values.push_back(0.41 * std::sin(static_cast<double>(k) * 0.05));
+  }
+  const std::string svg = strip_chart_svg(c);
+  for (const char* tick : {">-0.4<", ">-0.2<", ">0<", ">0.2<", ">0.4<"})
+    EXPECT_NE(svg.find(tick), std::string::npos) << "no tick " << tick;
+}
