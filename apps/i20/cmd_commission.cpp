@@ -348,11 +348,15 @@ void run_tune_axis_command(Context& ctx, TuneAxisArgs& a) {
       .inertia_guess_kgm2 = quantity(motor::Quantity::Inertia, "--inertia-guess", a.inertia_guess),
       .friction_guess_nm = quantity(motor::Quantity::Torque, "--friction-guess", a.friction_guess)};
   const auto report = plan_ask_and_run(ctx, a.o, {"tune-axis", "Move the axis", "it", a.yes, a.yaml});
-  if (!a.csv.empty() && !report.motion.empty()) {
+  // A run that stopped before the move recorded nothing to write: said, not left silent.
+  const bool moved = report.motion.size() >= 2;
+  for (const auto* file : {&a.csv, &a.svg})
+    if (!file->empty() && !moved) std::cerr << "i20: " << *file << " not written: the run recorded no move\n";
+  if (!a.csv.empty() && moved) {
     write_file_atomically(a.csv, motion_csv(report), a.overwrite);
     std::cerr << "i20: wrote " << a.csv << "\n";
   }
-  if (!a.svg.empty() && report.motion.size() >= 2) {
+  if (!a.svg.empty() && moved) {
     write_file_atomically(a.svg, profile::strip_chart_svg(identification_chart(report)), a.overwrite);
     std::cerr << "i20: drew the move" << (report.fit.empty() ? "" : " and the fit") << " in " << a.svg
               << "\n";

@@ -39,7 +39,16 @@ struct FaultReadings {
 // faults" from some other register. The rest are read where confirmed.
 FaultReadings read_fault_registers(Amp& amp);
 
-struct ClearResult;
+struct ClearResult {
+  std::uint16_t fault_before = 0;
+  FaultReadings after;
+  std::chrono::milliseconds took{0};
+  bool faults_remain() const { return after.fault != 0; }
+  Outcome outcome() const { return faults_remain() ? Outcome::FaultsRemain : Outcome::Done; }
+  // The bits the clear took away, and those still latched (masked ones marked).
+  faults::Report cleared() const;
+  faults::Report remaining() const;
+};
 
 // A fault clear (`i20 clear-faults`, `wpd FAULT 0`, the console's button), judged by the
 // rules that need no card when it is made, so a front end makes it before it opens (or
@@ -56,17 +65,6 @@ class FaultClear {
  private:
   device::WriteOptions write_;
   std::chrono::milliseconds wait_;  // how long CLEARFAULT may stay set
-};
-
-struct ClearResult {
-  std::uint16_t fault_before = 0;
-  FaultReadings after;
-  std::chrono::milliseconds took{0};
-  bool faults_remain() const { return after.fault != 0; }
-  Outcome outcome() const { return faults_remain() ? Outcome::FaultsRemain : Outcome::Done; }
-  // The bits the clear took away, and those still latched (masked ones marked).
-  faults::Report cleared() const;
-  faults::Report remaining() const;
 };
 
 struct MaskResult {

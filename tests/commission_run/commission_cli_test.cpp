@@ -433,6 +433,7 @@ TEST_F(CommissionCliSim, TuneAxisStoppedByCtrlCZeroesTheCurrentAndSaysSo) {
     EXPECT_TRUE(recorded.ends_with("\n")) << "the record ends mid-row";
   } else {
     EXPECT_FALSE(std::filesystem::exists(csv)) << "a record was left that the tool did not say it wrote";
+    EXPECT_NE(stopped.err.find(csv.string() + " not written"), std::string::npos) << stopped.err;
   }
 }
 
