@@ -27,12 +27,19 @@ namespace {
 
 const std::string kMotor = (i20::test::source_dir() / "motors/servo-halls-index.yaml").string();
 
+// The whole command line of `i20 COMMAND ARGS` on `target` (run here, or spawned).
+std::vector<std::string> command_line(const std::vector<std::string>& target, const std::string& command,
+                                      const std::vector<std::string>& args) {
+  std::vector<std::string> line{"--no-user-params"};
+  line.insert(line.end(), target.begin(), target.end());
+  line.push_back(command);
+  line.insert(line.end(), args.begin(), args.end());
+  return line;
+}
+
 Result i20_command(const std::string& command, const std::vector<std::string>& target,
-                   std::vector<std::string> args) {
-  args.insert(args.begin(), command);
-  args.insert(args.begin(), target.begin(), target.end());
-  args.insert(args.begin(), "--no-user-params");
-  return run("i20", args);
+                   const std::vector<std::string>& args) {
+  return run("i20", command_line(target, command, args));
 }
 
 Result commission(const std::vector<std::string>& target, std::vector<std::string> args) {
@@ -64,14 +71,19 @@ std::optional<double> worst_doit_gap_us(const std::string& out) {
 // run leaves latched, as a host's start clears it). tune-axis judges its own 1 ms loop (the
 // angle the 8I20 held against the rotor's) and refuses to fit a record the host starved; that
 // run is run again too. A fit it did make is judged in full.
+// The watchdog bit with the run's own worst DOIT gap at 40 ms or more: the host starved it.
+bool starved_by_host(const Result& r) {
+  const auto gap = worst_doit_gap_us(r.out);
+  return (r.out + r.err).find("WATCHDOG") != std::string::npos && gap && *gap >= 40000;
+}
+
 Result kept_time(const std::string& command, const std::vector<std::string>& target,
                  const std::vector<std::string>& args) {
   Result r;
   for (int attempt = 1; attempt <= 3; ++attempt) {
     r = i20_command(command, target, args);
     const auto gap = worst_doit_gap_us(r.out);
-    const bool watchdog = (r.out + r.err).find("WATCHDOG") != std::string::npos;
-    const bool starved = watchdog && gap && *gap >= 40000;
+    const bool starved = starved_by_host(r);
     // tune-axis's own verdict on its 1 ms loop (commission_run.cpp's torque_in_effect)
     const bool loop_not_kept = r.out.find("this host did not keep the") != std::string::npos;
     if (r.exit_code == 0 || !(starved || loop_not_kept)) break;
@@ -157,10 +169,8 @@ class CommissionCliSim : public ::testing::Test {
         motor = card.control("ch 1 motor");
       if (motor_current(motor) >= 0.5) return run;
       ended = run->finish(SIGKILL);
+      if (!starved_by_host(ended)) break;
       const auto gap = worst_doit_gap_us(ended.out);
-      const bool starved =
-          (ended.out + ended.err).find("WATCHDOG") != std::string::npos && gap && *gap >= 40000;
-      if (!starved) break;
       std::cout << "run " << attempt << ": the loop was starved (a DOIT gap of " << *gap
                 << " us), run again\n";
     }
@@ -180,11 +190,7 @@ class CommissionCliSim : public ::testing::Test {
   // The whole command line of `i20 COMMAND OPTIONS` on the virtual card (a spawned run).
   std::vector<std::string> command_line(const std::string& command,
                                         const std::vector<std::string>& options) const {
-    std::vector<std::string> args{"--no-user-params"};
-    for (const auto& a : target()) args.push_back(a);
-    args.push_back(command);
-    args.insert(args.end(), options.begin(), options.end());
-    return args;
+    return ::command_line(target(), command, options);
   }
 };
 
